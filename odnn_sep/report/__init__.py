@@ -1,0 +1,1 @@
+"""Shared reporting helpers: JSON-ready conversion and matplotlib figure set-up."""
