@@ -1,0 +1,326 @@
+"""Disturbance classes: where the unmodelled part g(x) is allowed to live.
+
+Subspace classes (``Even``, ``Periodic``, ``Band``, ``Subspace``) are linear: ``prepare(x)``
+returns an orthogonal projector P onto the class, and theta is exactly the least-squares fit of
+``(I - P) y`` on ``(I - P) F``. ``Orthogonal`` is the paper's Eq. 3 (g orthogonal to the basis).
+``Convex`` and ``Monotone`` are cones: they only set-identify theta (see ``cone.py``).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+
+
+def _uniform_step(x: np.ndarray, who: str) -> float:
+    if x.ndim != 1:
+        raise InputError(f"{who} needs 1-D sample points x; got shape {x.shape}")
+    if x.size < 3:
+        raise InputError(f"{who} needs at least 3 samples; got {x.size}")
+    d = np.diff(x)
+    dt = float(np.median(d))
+    if dt <= 0 or np.max(np.abs(d - dt)) > 1e-6 * abs(dt) + 1e-12 * np.max(np.abs(x)):
+        raise InputError(
+            f"{who} needs uniformly spaced, increasing x (spacing varies from {d.min():.6g} to {d.max():.6g}); "
+            "resample onto a uniform grid first"
+        )
+    return dt
+
+
+class Projector:
+    """An orthogonal projector onto a disturbance subspace, applied without forming the n x n matrix."""
+
+    rank: int
+
+    def apply(self, v: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def apply_torch(self, v):  # pragma: no cover - interface
+        raise NotImplementedError
+
+
+class _OrbitProjector(Projector):
+    """Average over the orbits of a group of index permutations (reflections)."""
+
+    def __init__(self, perms: list[np.ndarray]):
+        self.perms = perms
+        n = perms[0].size
+        # number of orbits = rank of the averaging projector
+        self.rank = int(round(sum(float((p == np.arange(n)).sum()) for p in perms) / len(perms)))
+
+    def apply(self, v):
+        return sum(v[p] for p in self.perms) / len(self.perms)
+
+    def apply_torch(self, v):
+        import torch
+        return sum(v[torch.as_tensor(p)] for p in self.perms) / len(self.perms)
+
+
+class _LabelProjector(Projector):
+    """Mean over samples that share a label (e.g. the same phase of a period)."""
+
+    def __init__(self, labels: np.ndarray):
+        self.labels = labels
+        self.counts = np.bincount(labels).astype(float)
+        self.rank = int((self.counts > 0).sum())
+
+    def apply(self, v):
+        v = np.asarray(v)
+        if v.ndim == 1:
+            return (np.bincount(self.labels, weights=v, minlength=self.counts.size) / np.maximum(self.counts, 1))[self.labels]
+        out = np.empty_like(v, dtype=float)
+        for k in range(v.shape[1]):
+            out[:, k] = self.apply(v[:, k])
+        return out
+
+    def apply_torch(self, v):
+        import torch
+        lab = torch.as_tensor(self.labels)
+        sums = torch.zeros(self.counts.size, dtype=v.dtype).index_add(0, lab, v)
+        return (sums / torch.as_tensor(np.maximum(self.counts, 1), dtype=v.dtype))[lab]
+
+
+class _QProjector(Projector):
+    """Projector Q Q^T for an orthonormal basis Q of the subspace."""
+
+    def __init__(self, G: np.ndarray, rcond: float = 1e-10):
+        U, s, _ = np.linalg.svd(G, full_matrices=False)
+        keep = s > rcond * (s[0] if s.size else 0)
+        self.Q = U[:, keep]
+        self.rank = int(keep.sum())
+
+    def apply(self, v):
+        return self.Q @ (self.Q.T @ v)
+
+    def apply_torch(self, v):
+        import torch
+        Q = torch.as_tensor(self.Q, dtype=v.dtype)
+        return Q @ (Q.T @ v)
+
+
+class _FFTProjector(Projector):
+    def __init__(self, n: int, mask: np.ndarray):
+        self.n = n
+        self.mask = mask.astype(float)
+        nyq = (n % 2 == 0)
+        weights = np.full(mask.size, 2)
+        weights[0] = 1
+        if nyq:
+            weights[-1] = 1
+        self.rank = int((weights * mask).sum())
+
+    def apply(self, v):
+        v = np.asarray(v, dtype=float)
+        m = self.mask if v.ndim == 1 else self.mask[:, None]
+        return np.fft.irfft(np.fft.rfft(v, axis=0) * m, n=self.n, axis=0)
+
+    def apply_torch(self, v):
+        import torch
+        m = torch.as_tensor(self.mask, dtype=v.dtype)
+        return torch.fft.irfft(torch.fft.rfft(v) * m, n=self.n)
+
+
+@dataclass(frozen=True)
+class Orthogonal:
+    """g is orthogonal to every basis column (explicit orthogonality, the paper's Eq. 3).
+
+    Theta is then the (weighted) least-squares fit of y on the basis, whatever g is.
+    """
+
+    kind = "orthogonal"
+
+    def describe(self) -> str:
+        return "orthogonal to the physics basis (explicit)"
+
+
+@dataclass(frozen=True)
+class Even:
+    """g is symmetric: unchanged by reflecting x about ``center`` along ``axes``.
+
+    Parameters
+    ----------
+    center : float or sequence of float
+        Reflection centre (per axis for 2-D x).
+    axes : sequence of int, optional
+        Axes to reflect for 2-D x (default: all). Symmetric about both axes means g is invariant
+        under every combination of the reflections.
+    """
+
+    center: float | tuple = 0.0
+    axes: tuple | None = None
+    kind = "subspace"
+
+    def describe(self) -> str:
+        return f"even (mirror-symmetric) about {self.center}"
+
+    def prepare(self, x: np.ndarray) -> Projector:
+        X = x[:, None] if x.ndim == 1 else x
+        d = X.shape[1]
+        center = np.broadcast_to(np.asarray(self.center, dtype=float), (d,))
+        axes = tuple(range(d)) if self.axes is None else tuple(self.axes)
+        for a in axes:
+            if not 0 <= a < d:
+                raise InputError(f"Even(axes={self.axes}) names axis {a}, but x has {d} dimension(s)")
+        scale = np.ptp(X, axis=0)
+        tol = np.where(scale > 0, scale, 1.0) * 1e-7
+        keys = {tuple(k): i for i, k in enumerate(np.round(X / tol).astype(np.int64))}
+        if len(keys) != X.shape[0]:
+            raise InputError("Even needs distinct sample points; x has repeated points")
+        perms = []
+        for r in range(len(axes) + 1):
+            for subset in itertools.combinations(axes, r):
+                Xr = X.copy()
+                for a in subset:
+                    Xr[:, a] = 2 * center[a] - Xr[:, a]
+                kr = np.round(Xr / tol).astype(np.int64)
+                perm = np.fromiter((keys.get(tuple(k), -1) for k in kr), dtype=np.int64, count=X.shape[0])
+                missing = np.flatnonzero(perm < 0)
+                if missing.size:
+                    i = int(missing[0])
+                    raise InputError(
+                        f"Even(center={self.center}) needs samples symmetric about the centre: {missing.size} of "
+                        f"{X.shape[0]} samples have no mirror image (first at x={X[i].tolist() if d > 1 else X[i, 0]}); "
+                        "sample on a grid symmetric about the centre or change center"
+                    )
+                perms.append(perm)
+        return _OrbitProjector(perms)
+
+
+@dataclass(frozen=True)
+class Periodic:
+    """g repeats with a known period.
+
+    With uniform sampling and a period that is a whole number of sample steps, g may be any
+    periodic sequence (exact phase averaging). Otherwise g is a Fourier series with
+    ``harmonics`` terms (default: as many as the sampling resolves).
+    """
+
+    period: float
+    harmonics: int | None = None
+    kind = "subspace"
+
+    def describe(self) -> str:
+        return f"periodic with period {self.period:g}"
+
+    def prepare(self, x: np.ndarray) -> Projector:
+        if not np.isfinite(self.period) or self.period <= 0:
+            raise InputError(f"Periodic(period={self.period}) must be a positive finite number")
+        if x.ndim != 1:
+            raise InputError(f"Periodic needs 1-D sample points x; got shape {x.shape}")
+        span = float(np.ptp(x))
+        d = np.diff(np.sort(x))
+        dt = float(np.median(d)) if d.size else 0.0
+        if self.period > span / 2:
+            raise InputError(
+                f"Periodic(period={self.period:g}) does not fit the sampling: the data span {span:g} holds fewer "
+                "than two periods; use a longer record or a shorter period"
+            )
+        if self.period < 2 * dt:
+            raise InputError(
+                f"Periodic(period={self.period:g}) does not fit the sampling: it is shorter than two sample steps "
+                f"(step {dt:g}); the sampling cannot resolve it"
+            )
+        ratio = self.period / dt
+        uniform = np.max(np.abs(d - dt)) <= 1e-6 * dt
+        if self.harmonics is None and uniform and abs(ratio - round(ratio)) < 1e-6 * ratio:
+            m = int(round(ratio))
+            labels = np.round((x - x.min()) / dt).astype(np.int64) % m
+            return _LabelProjector(labels)
+        kmax = int(np.floor((ratio - 1) / 2)) if uniform else int(np.floor(ratio / 4))
+        K = self.harmonics if self.harmonics is not None else kmax
+        K = max(0, min(K, (x.size - 2) // 4))
+        w = 2 * np.pi * (x - x.min()) / self.period
+        cols = [np.ones_like(x)] + [f(k * w) for k in range(1, K + 1) for f in (np.cos, np.sin)]
+        return _QProjector(np.stack(cols, axis=1))
+
+
+@dataclass(frozen=True)
+class Band:
+    """g's spectrum lies inside the frequency band [lo, hi] (cycles per unit of x; uniform sampling).
+
+    Uses Parseval: functions in disjoint DFT bands are exactly orthogonal on the sample grid.
+    """
+
+    lo: float
+    hi: float
+    kind = "subspace"
+
+    def describe(self) -> str:
+        return f"band-limited to [{self.lo:g}, {self.hi:g}]"
+
+    def prepare(self, x: np.ndarray) -> Projector:
+        dt = _uniform_step(x, "Band")
+        n = x.size
+        nyq = 0.5 / dt
+        if not (0 <= self.lo < self.hi):
+            raise InputError(f"Band(lo={self.lo}, hi={self.hi}) needs 0 <= lo < hi")
+        if self.lo > nyq:
+            raise InputError(
+                f"Band(lo={self.lo:g}, hi={self.hi:g}) does not fit the sampling: lo is above the Nyquist frequency "
+                f"{nyq:g}; lower the band or sample faster"
+            )
+        freqs = np.fft.rfftfreq(n, dt)
+        mask = (freqs >= self.lo - 1e-12) & (freqs <= self.hi + 1e-12)
+        if not mask.any():
+            raise InputError(
+                f"Band(lo={self.lo:g}, hi={self.hi:g}) does not fit the sampling: it holds no DFT frequency "
+                f"(resolution {1 / (n * dt):g}); widen the band or use a longer record"
+            )
+        return _FFTProjector(n, mask)
+
+
+class Subspace:
+    """g lies in the span of given nuisance columns (known shapes, unknown amounts).
+
+    Parameters
+    ----------
+    G : (n, k) array, or a Basis evaluated at x
+    """
+
+    kind = "subspace"
+
+    def __init__(self, G):
+        self.G = G
+
+    def describe(self) -> str:
+        return "inside a given nuisance subspace"
+
+    def prepare(self, x: np.ndarray) -> Projector:
+        from odnn_sep.core.basis import Basis
+
+        G = self.G.evaluate(x) if isinstance(self.G, Basis) else np.asarray(self.G, dtype=float)
+        if G.ndim == 1:
+            G = G[:, None]
+        if G.shape[0] != x.shape[0]:
+            raise InputError(f"Subspace matrix has {G.shape[0]} rows but x has {x.shape[0]} samples; they must match")
+        return _QProjector(G)
+
+    def __repr__(self) -> str:
+        return "Subspace(G)"
+
+
+@dataclass(frozen=True)
+class Convex:
+    """g is a convex function of 1-D x. Only set-identifies theta (cone, not subspace)."""
+
+    kind = "cone"
+
+    def describe(self) -> str:
+        return "convex"
+
+
+@dataclass(frozen=True)
+class Monotone:
+    """g is monotone in 1-D x (non-decreasing, or non-increasing with ``increasing=False``)."""
+
+    increasing: bool = True
+    kind = "cone"
+
+    def describe(self) -> str:
+        return "monotone " + ("non-decreasing" if self.increasing else "non-increasing")
+
+
+DISTURBANCES = (Orthogonal, Even, Periodic, Band, Subspace, Convex, Monotone)

@@ -1,0 +1,73 @@
+"""The result of a separation: parameters with uncertainty, the three parts of y, diagnostics."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Result:
+    """Outcome of ``Separator.fit``.
+
+    ``physics + disturbance + residual == y`` holds to rounding. ``interval`` is a 95 % confidence
+    interval for point-identified theta, and the identified set (profile-likelihood, 95 %) for cone
+    classes, where ``identified == "set"`` and ``theta`` is the interval centre.
+    """
+
+    theta: np.ndarray
+    names: tuple
+    stderr: np.ndarray
+    interval: np.ndarray
+    physics: np.ndarray
+    disturbance: np.ndarray
+    residual: np.ndarray
+    solver: str
+    disturbance_class: str
+    identified: str = "point"
+    phi: dict = field(default_factory=dict)
+    phi_stderr: dict = field(default_factory=dict)
+    loss_history: tuple = ()
+    converged: bool = True
+    diagnostics: dict = field(default_factory=dict)
+
+    def theta_dict(self) -> dict:
+        return dict(zip(self.names, (float(t) for t in self.theta)))
+
+    def as_dict(self) -> dict:
+        """JSON-ready summary (no per-sample arrays)."""
+        params = {
+            n: {"value": float(t), "stderr": float(s), "interval": [float(a), float(b)]}
+            for n, t, s, (a, b) in zip(self.names, self.theta, self.stderr, self.interval)
+        }
+        return {
+            "parameters": params,
+            "phi": {k: {"value": float(v), "stderr": float(self.phi_stderr.get(k, np.nan))} for k, v in self.phi.items()},
+            "identified": self.identified,
+            "solver": self.solver,
+            "disturbance_class": self.disturbance_class,
+            "converged": bool(self.converged),
+            "diagnostics": {k: _jsonable(v) for k, v in self.diagnostics.items()},
+        }
+
+    def summary(self) -> str:
+        lines = [f"ODNN separation ({self.solver} solver, disturbance {self.disturbance_class}, "
+                 f"{self.identified}-identified)"]
+        lab = "identified set" if self.identified == "set" else "95% CI"
+        for n, t, s, (a, b) in zip(self.names, self.theta, self.stderr, self.interval):
+            lines.append(f"  {n:>16s} = {t: .6g}  ± {s:.2g}   {lab} [{a:.6g}, {b:.6g}]")
+        for k, v in self.phi.items():
+            lines.append(f"  {k:>16s} = {v: .8g}  ± {self.phi_stderr.get(k, np.nan):.2g}  (nonlinear)")
+        return "\n".join(lines)
+
+
+def _jsonable(v):
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, dict):
+        return {k: _jsonable(w) for k, w in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_jsonable(w) for w in v]
+    return v
