@@ -70,7 +70,7 @@ def ols(F, y) -> np.ndarray:
     return theta
 
 
-def _torch_fit(x, y, F, *, lam, hidden, depth, epochs, lr, random_state):
+def _torch_fit(x, y, F, *, lam, hidden, depth, epochs, lr, random_state, theta_init, return_loss=False):
     import torch
 
     from odnn_sep.core.nets import MLP
@@ -85,7 +85,8 @@ def _torch_fit(x, y, F, *, lam, hidden, depth, epochs, lr, random_state):
     Yt = torch.as_tensor(y / y_sd, dtype=torch.float32)
     Ft = torch.as_tensor(F / f_sd, dtype=torch.float32)
     net = MLP(in_dim=Xt.shape[1], hidden=hidden, depth=depth)
-    theta = torch.zeros(F.shape[1], requires_grad=True)  # Eq. 2 trained from scratch
+    t0 = np.zeros(F.shape[1]) if theta_init is None else np.broadcast_to(theta_init, (F.shape[1],))
+    theta = torch.tensor(t0 * f_sd / y_sd, dtype=torch.float32, requires_grad=True)
     opt = torch.optim.Adam([*net.parameters(), theta], lr=lr)
     if lam:
         Q, _ = torch.linalg.qr(Ft)  # orthonormal basis of span(F): P_F h = Q Q^T h
@@ -97,10 +98,19 @@ def _torch_fit(x, y, F, *, lam, hidden, depth, epochs, lr, random_state):
             loss = loss + lam * torch.mean((Q @ (Q.T @ h)) ** 2)
         loss.backward()
         opt.step()
-    return theta.detach().double().numpy() * y_sd / f_sd
+    theta_hat = theta.detach().double().numpy() * y_sd / f_sd
+    if return_loss:
+        with torch.no_grad():
+            mse = float(torch.mean((Yt - Ft @ theta - net(Xt)) ** 2)) * y_sd**2
+        return theta_hat, mse
+    return theta_hat
 
 
-def _check_train(hidden, depth, epochs, lr):
+def _check_train(hidden, depth, epochs, lr, theta_init, p):
+    if theta_init is not None:
+        t0 = np.asarray(theta_init, dtype=float)
+        if t0.ndim > 1 or (t0.ndim == 1 and t0.shape[0] != p) or not np.all(np.isfinite(t0)):
+            raise InputError(f"theta_init must be a finite scalar or have {p} entries; got {theta_init!r}")
     for name, v in (("hidden", hidden), ("depth", depth), ("epochs", epochs)):
         if int(v) != v or v < 1:
             raise InputError(f"{name} must be a positive integer; got {v!r}")
@@ -108,11 +118,13 @@ def _check_train(hidden, depth, epochs, lr):
         raise InputError(f"lr must be > 0; got {lr!r}")
 
 
-def regular_dnn(x, y, F, *, hidden: int = 32, depth: int = 2, epochs: int = 600, lr: float = 1e-2,
-                random_state: int = 0) -> np.ndarray:
+def regular_dnn(x, y, F, *, hidden: int = 64, depth: int = 3, epochs: int = 1000, lr: float = 3e-3,
+                random_state: int = 0, theta_init=None, return_loss: bool = False) -> np.ndarray:
     """Eq. 2: unconstrained MLP ``h(x)`` plus ``F @ theta`` trained jointly by full-batch Adam.
 
-    theta starts at zero. Inputs, outputs and columns are standardised internally.
+    theta starts at ``theta_init`` (zero by default). Inputs, outputs and columns are standardised
+    internally. Because the MLP can absorb the physics (Proposition 1), the theta returned depends
+    on ``theta_init``, the seed and the training length, while the training loss stays small.
 
     Parameters
     ----------
@@ -125,10 +137,16 @@ def regular_dnn(x, y, F, *, hidden: int = 32, depth: int = 2, epochs: int = 600,
     hidden, depth, epochs, lr : network width, number of hidden layers, Adam steps and step size.
     random_state : int
         Seed for the network initialisation.
+    theta_init : float or array_like, shape (p,), optional
+        Starting value of theta (zeros when omitted).
+    return_loss : bool
+        Also return the final training mean squared error (in units of y squared).
 
     Returns
     -------
     theta : ndarray, shape (p,)
+    mse : float
+        Only with ``return_loss=True``.
 
     Examples
     --------
@@ -139,13 +157,13 @@ def regular_dnn(x, y, F, *, hidden: int = 32, depth: int = 2, epochs: int = 600,
     (1,)
     """
     F, y, x = _check(F, y, x)
-    _check_train(hidden, depth, epochs, lr)
+    _check_train(hidden, depth, epochs, lr, theta_init, F.shape[1])
     return _torch_fit(x, y, F, lam=0.0, hidden=hidden, depth=depth, epochs=epochs, lr=lr,
-                      random_state=random_state)
+                      random_state=random_state, theta_init=theta_init, return_loss=return_loss)
 
 
-def pinn_penalty(x, y, F, *, lam: float = 1.0, hidden: int = 32, depth: int = 2, epochs: int = 600,
-                 lr: float = 1e-2, random_state: int = 0) -> np.ndarray:
+def pinn_penalty(x, y, F, *, lam: float = 1.0, hidden: int = 64, depth: int = 3, epochs: int = 1000,
+                 lr: float = 3e-3, random_state: int = 0, theta_init=None) -> np.ndarray:
     """PINN-style soft constraint: Eq. 2 plus ``lam * mean((P_F h)**2)``.
 
     ``P_F`` projects on span(F) (computed on the standardised columns). This is the additive
@@ -156,7 +174,7 @@ def pinn_penalty(x, y, F, *, lam: float = 1.0, hidden: int = 32, depth: int = 2,
     x, y, F : as in :func:`regular_dnn`.
     lam : float
         Penalty weight, > 0.
-    hidden, depth, epochs, lr, random_state : as in :func:`regular_dnn`.
+    hidden, depth, epochs, lr, random_state, theta_init : as in :func:`regular_dnn`.
 
     Returns
     -------
@@ -170,11 +188,11 @@ def pinn_penalty(x, y, F, *, lam: float = 1.0, hidden: int = 32, depth: int = 2,
     (1,)
     """
     F, y, x = _check(F, y, x)
-    _check_train(hidden, depth, epochs, lr)
+    _check_train(hidden, depth, epochs, lr, theta_init, F.shape[1])
     if not (np.isfinite(lam) and lam > 0):
         raise InputError(f"lam must be a finite number > 0; got {lam!r} (use regular_dnn for lam = 0)")
     return _torch_fit(x, y, F, lam=float(lam), hidden=hidden, depth=depth, epochs=epochs, lr=lr,
-                      random_state=random_state)
+                      random_state=random_state, theta_init=theta_init)
 
 
 def sindy(F, y, *, threshold: float = 0.05, alpha: float = 0.0) -> np.ndarray:

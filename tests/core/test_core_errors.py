@@ -1,0 +1,101 @@
+"""Every bad input gets one clear error, tested with its exact message."""
+import numpy as np
+import pytest
+
+from odnn_sep.core import Band, Basis, Even, Periodic, Separator
+from odnn_sep.errors import InputError, NotIdentifiableError
+
+x = np.linspace(-1, 1, 101)
+b = Basis([lambda x: x ** 3], names=["a"])
+
+
+def fit(basis, y, x=x, dist=None):
+    return Separator(basis, disturbance=dist).fit(x, y)
+
+
+def test_empty():
+    with pytest.raises(InputError, match=r"y is empty \(shape \(0,\)\); pass at least one sample"):
+        fit(b, [], x=[])
+
+
+def test_nan_reported_with_count_and_first_index():
+    y = x.copy()
+    y[[5, 9]] = np.nan
+    with pytest.raises(InputError, match=r"y contains 2 NaN value\(s\) \(first at index 5\)"):
+        fit(b, y)
+
+
+def test_inf_reported_separately():
+    y = x.copy()
+    y[7] = np.inf
+    with pytest.raises(InputError, match=r"y contains 1 inf value\(s\) \(first at index 7\)"):
+        fit(b, y)
+
+
+def test_mismatched_shapes():
+    with pytest.raises(InputError, match="x has 101 samples but y has 100; they must have the same length"):
+        fit(b, x[:100])
+
+
+def test_zero_column():
+    with pytest.raises(InputError, match="basis column 'z' is all zeros at the given x"):
+        fit(Basis([lambda x: 0 * x], names=["z"]), x)
+
+
+def test_duplicate_columns():
+    bb = Basis([lambda x: x, lambda x: 2 * x], names=["p", "q"])
+    with pytest.raises(InputError, match="basis columns 'p' and 'q' are duplicates"):
+        fit(bb, x)
+
+
+def test_too_few_samples():
+    bb = Basis([lambda x: x, lambda x: x ** 2, lambda x: x ** 3], names=["a", "b", "c"])
+    with pytest.raises(InputError, match=r"too few samples: n=3 for 3 parameter\(s\); need at least 4"):
+        fit(bb, [1.0, 2.0, 3.0], x=[0.1, 0.2, 0.3])
+
+
+def test_period_longer_than_half_span():
+    with pytest.raises(InputError, match=r"Periodic\(period=1.5\) does not fit the sampling: the data span 2 holds"):
+        fit(b, x, dist=Periodic(1.5))
+
+
+def test_period_below_two_samples():
+    with pytest.raises(InputError, match="shorter than two sample steps"):
+        fit(b, x, dist=Periodic(0.01))
+
+
+def test_band_above_nyquist():
+    with pytest.raises(InputError, match=r"Band\(lo=100, hi=200\) does not fit the sampling: lo is above the Nyquist"):
+        fit(b, x, dist=Band(100, 200))
+
+
+def test_nonuniform_band():
+    xx = np.sort(np.random.default_rng(0).random(50))
+    with pytest.raises(InputError, match="Band needs uniformly spaced, increasing x"):
+        fit(b, xx, x=xx, dist=Band(0, 3))
+
+
+def test_basis_inside_disturbance_class():
+    with pytest.raises(NotIdentifiableError, match="basis column 'e' lies inside the disturbance class"):
+        fit(Basis([lambda x: x ** 2], names=["e"]), x, dist=Even())
+
+
+def test_asymmetric_grid_for_even():
+    xx = np.linspace(-1, 2, 50)
+    with pytest.raises(InputError, match="samples have no mirror image"):
+        fit(b, xx, x=xx, dist=Even())
+
+
+def test_unknown_solver_and_class():
+    with pytest.raises(InputError, match="solver must be 'exact' or 'network'; got 'magic'"):
+        Separator(b, solver="magic").fit(x, x)
+    with pytest.raises(InputError, match="disturbance must be one of"):
+        Separator(b, disturbance="even").fit(x, x)
+
+
+def test_caller_arrays_not_mutated():
+    y = np.cos(x) + x ** 3
+    y0, x0 = y.copy(), x.copy()
+    fit(b, y, dist=Even())
+    np.testing.assert_array_equal(y, y0)
+    np.testing.assert_array_equal(x, x0)
