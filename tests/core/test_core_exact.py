@@ -4,7 +4,18 @@ import warnings
 import numpy as np
 import pytest
 
-from odnn_sep.core import Band, Basis, Convex, Even, Monotone, Orthogonal, ParametricBasis, Periodic, Separator, Subspace
+from odnn_sep.core import (
+    Band,
+    Basis,
+    Convex,
+    Even,
+    Monotone,
+    Orthogonal,
+    ParametricBasis,
+    Periodic,
+    Separator,
+    Subspace,
+)
 from odnn_sep.errors import IdentifiabilityWarning
 
 rng = np.random.default_rng(1)
