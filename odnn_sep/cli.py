@@ -46,7 +46,17 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # Everything after a bare "--" is handed to the command a batch runs (argparse's own "--"
+    # handling does not reach sub-parsers reliably).
+    passthrough: list[str] = []
+    if "--" in argv:
+        i = argv.index("--")
+        argv, passthrough = argv[:i], argv[i + 1:]
     args = parser.parse_args(argv)
+    if passthrough and args.command != "batch":
+        parser.error("options after '--' are only used by 'batch'")
+    args.passthrough = passthrough
     logging.basicConfig(
         level=logging.DEBUG if args.debug else logging.WARNING,
         format="%(levelname)s: %(message)s",
