@@ -1,0 +1,76 @@
+"""Generate the bundled samples (no third-party media): run `python samples/make_samples.py`.
+
+- hum_demo.wav: a synthetic speech/music-like host with drifting mains hum and harmonics.
+- watermark_demo.png: a procedurally generated photo-like image with a text watermark.
+- oscillator_demo.csv: a damped oscillator recording whose damping law the simple model omits.
+Outputs are deterministic; existing files are replaced atomically.
+"""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+
+
+def main() -> None:
+    import numpy as np
+
+    from odnn_sep.io_utils import atomic_output
+
+    made = []
+    try:
+        import soundfile as sf
+
+        from odnn_sep.audio.synth import make_hum_demo
+
+        y, sr, truth = make_hum_demo(duration_s=8.0, sr=16000, random_state=0)
+        with atomic_output(HERE / "hum_demo.wav") as tmp:
+            sf.write(tmp, y, sr, subtype="PCM_16", format="WAV")
+        made.append("hum_demo.wav")
+        (HERE / "hum_demo_truth.json").write_text(json.dumps(_plain(truth), indent=2) + "\n")
+    except ImportError as exc:
+        print(f"skipping audio sample: {exc}", file=sys.stderr)
+    try:
+        import cv2
+
+        from odnn_sep.image.synth import make_watermark_demo
+
+        marked, clean, truth = make_watermark_demo(random_state=0)
+        with atomic_output(HERE / "watermark_demo.png") as tmp:
+            cv2.imwrite(str(tmp), cv2.cvtColor(marked, cv2.COLOR_RGB2BGR))
+        made.append("watermark_demo.png")
+        (HERE / "watermark_demo_truth.json").write_text(json.dumps(_plain(truth), indent=2) + "\n")
+    except ImportError as exc:
+        print(f"skipping image sample: {exc}", file=sys.stderr)
+    try:
+        from odnn_sep.mismatch.synth import make_mismatch_demo
+
+        t, y, truth = make_mismatch_demo(random_state=0)
+        with atomic_output(HERE / "oscillator_demo.csv") as tmp:
+            np.savetxt(tmp, np.c_[t, y], delimiter=",", header="t,x", comments="", fmt="%.6f")
+        made.append("oscillator_demo.csv")
+        (HERE / "oscillator_demo_truth.json").write_text(json.dumps(_plain(truth), indent=2) + "\n")
+    except ImportError as exc:
+        print(f"skipping mismatch sample: {exc}", file=sys.stderr)
+    print("made: " + ", ".join(made))
+
+
+def _plain(obj):
+    import numpy as np
+
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return obj.tolist() if obj.size <= 64 else f"<array of shape {obj.shape}>"
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+if __name__ == "__main__":
+    main()
