@@ -19,6 +19,7 @@ COMMAND_MODULES = (
     "odnn_sep.audio.command",
     "odnn_sep.image.command",
     "odnn_sep.mismatch.command",
+    "odnn_sep.fit.command",
     "odnn_sep.signals.command",
     "odnn_sep.batch",
 )

@@ -1,0 +1,62 @@
+"""``odnn-sep separate``: identify physics coefficients in a 1-D signal or 2-D field."""
+from __future__ import annotations
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "separate",
+        help="fit known physics terms to a 1-D signal (CSV) or 2-D field (.npz) with a constrained disturbance",
+        description="Model DATA as sum_j theta_j f_j + g + noise, with the basis f_j written as expressions in the "
+        "coordinates (x, or x and y for .npz fields) and g confined to a class that cannot imitate them. "
+        "Prints theta with 95%% intervals (identified sets for convex/monotone classes).",
+        epilog="example: odnn-sep separate data.csv --basis 'x**2*sin(5*x)' --disturbance even",
+    )
+    p.add_argument("data", help="CSV (header; first column x) or .npz with x, y, z")
+    p.add_argument("--basis", action="append", required=True, metavar="EXPR",
+                   help="a physics term, e.g. 'sin(5*x)' (repeat for several)")
+    p.add_argument("--name", action="append", help="names for the --basis terms, in order")
+    p.add_argument("--disturbance", default="orthogonal",
+                   help="orthogonal | even[:center] | periodic:PERIOD | band:LO:HI | convex | monotone[:dec] "
+                   "(default: orthogonal)")
+    p.add_argument("--column", help="value column of a CSV (name or index; default: the second)")
+    p.add_argument("--solver", choices=["exact", "network"], default="exact")
+    p.add_argument("--seed", type=int, default=0, help="random seed for the network solver")
+    p.add_argument("-o", "--output", help="CSV with x, y, physics, disturbance, residual")
+    p.add_argument("--report", help="JSON report path")
+    p.add_argument("--plot", help="figure path (PNG)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import warnings
+
+    from odnn_sep.core import Separator
+    from odnn_sep.errors import InputError
+    from odnn_sep.fit.data import load_signal, write_components
+    from odnn_sep.fit.expr import basis_from_expressions, parse_disturbance
+    from odnn_sep.io_utils import check_output_path, write_json
+
+    for out in (args.output, args.report, args.plot):
+        if out:
+            check_output_path(out, args.data)
+    if args.name and len(args.name) != len(args.basis):
+        raise InputError(f"{len(args.name)} --name value(s) for {len(args.basis)} --basis term(s); give one each")
+    x, y, coords, grid = load_signal(args.data, args.column)
+    basis = basis_from_expressions(args.basis, coords, args.name)
+    dist = parse_disturbance(args.disturbance, ndim=len(coords))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = Separator(basis, disturbance=dist, solver=args.solver, random_state=args.seed).fit(x, y).result_
+    print(res.summary())
+    for w in caught:
+        print(f"Warning: {w.message}")
+    if args.output:
+        write_components(args.output, x, y, res)
+    if args.report:
+        write_json(args.report, {"input": args.data, "basis": args.basis, "disturbance": args.disturbance,
+                                 **res.as_dict(), "warnings": [str(w.message) for w in caught]})
+    if args.plot:
+        from odnn_sep.report.separation import plot_separation
+
+        plot_separation(x, y, res, grid, args.plot)
+    return 0
