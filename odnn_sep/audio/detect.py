@@ -1,0 +1,259 @@
+"""Hum detection: which fundamental (50, 60 Hz or a given one) and which harmonics are present.
+
+A line is "present" when the power in a narrow band around it is significantly above the local
+noise floor of a Welch spectrum (chi-square test on the averaged periodogram, Bonferroni-corrected
+over every candidate line tested). The same statistic, in dB, is the "line level above the local
+floor" reported before and after processing.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import signal, stats
+
+log = logging.getLogger(__name__)
+
+DRIFT_TOL_HZ = 0.1      # fundamental wander the detection band allows for (per harmonic: k times this)
+MAX_HARMONICS = 40
+FLOOR_GAP_HZ = 1.0      # gap between a line band and the floor region
+FLOOR_WIDTH_HZ = 8.0    # width of the floor region on each side
+
+
+@dataclass
+class Spectrum:
+    freqs: np.ndarray        # (nf,)
+    psd: np.ndarray          # (nf, channels), mean power per Hz over segments
+    n_segments: int          # Welch segments averaged (per channel)
+    seconds: float           # signal duration analysed
+    segments: np.ndarray | None = None   # (nf, channels, n_segments) per-segment PSD (for detection)
+
+    @property
+    def df(self) -> float:
+        return float(self.freqs[1] - self.freqs[0])
+
+    @property
+    def dof_per_bin(self) -> float:
+        # Hann, 50 % overlap: each extra segment adds about 0.9 of an independent one
+        return 2.0 * max(1.0, 0.9 * self.n_segments)
+
+
+@dataclass
+class Detection:
+    mains_hz: float | None                 # refined fundamental (Hz), None when no hum was found
+    nominal_hz: float | None               # 50, 60 or the requested value
+    harmonics: list[int]                   # harmonic numbers that will be removed
+    tones: list[float]                     # refined tone frequencies (Hz)
+    candidates: list[dict] = field(default_factory=list)   # every line tested, with its statistics
+    floors: dict = field(default_factory=dict)             # (kind, k) -> per-channel floor PSD
+    alpha: float = 1e-3
+
+
+def excerpt_spectrum(source, *, seg_s: float = 4.0, max_total_s: float = 240.0,
+                     n_excerpts: int = 8, keep_segments_hz: float | None = None) -> Spectrum:
+    """Welch PSD of the whole input, or of evenly spaced excerpts when it is longer than
+    ``max_total_s`` (bounded time and memory on long files).
+
+    ``keep_segments_hz``: also keep the per-segment periodograms below this frequency (used by
+    the persistence test in :func:`detect_hum`).
+    """
+    sr, n = source.sr, source.frames
+    nper = int(min(seg_s * sr, max(n // 2, 16)))
+    nper = max(nper, min(n, 16))
+    total = int(max_total_s * sr)
+    if n <= total:
+        spans = [(0, n)]
+    else:
+        length = total // n_excerpts
+        starts = np.linspace(0, n - length, n_excerpts).astype(int)
+        spans = [(int(s), length) for s in starts]
+    acc, nseg, segs = None, 0, []
+    for s, length in spans:
+        x = source.read(s, length)
+        if x.shape[0] < nper:
+            continue
+        f, _, P = signal.spectrogram(x, fs=sr, window="hann", nperseg=nper, noverlap=nper // 2, axis=0,
+                                     detrend="constant", mode="psd")
+        # P: (nf, channels, segments)
+        acc = P.sum(axis=-1) if acc is None else acc + P.sum(axis=-1)
+        nseg += P.shape[-1]
+        if keep_segments_hz is not None:
+            segs.append(P[f <= keep_segments_hz].astype(np.float32))
+    return Spectrum(freqs=f, psd=acc / nseg, n_segments=nseg, seconds=sum(s[1] for s in spans) / sr,
+                    segments=np.concatenate(segs, axis=-1) if segs else None)
+
+
+def band_halfwidth(spec: Spectrum, k: float) -> float:
+    return 2.0 * spec.df + DRIFT_TOL_HZ * k
+
+
+def persistence_p_value(spec: Spectrum, f: float, bw: float, floor: np.ndarray) -> float:
+    """P-value that the line is present throughout, not only in a few segments.
+
+    Statistic: the median over segments of the band-mean periodogram over the floor. Under
+    "no line" each segment's band mean is Gamma(M, 1/M) (M effective bins), and the median of L
+    of them exceeds x with probability binom.sf(ceil(L/2) - 1, L, q(x)). A transient host note
+    that sits on a harmonic raises the mean spectrum but not this median, so it is not taken for
+    hum.
+    """
+    S = spec.segments
+    if S is None:
+        return 1.0
+    fr = spec.freqs[: S.shape[0]]
+    band = np.abs(fr - f) <= bw
+    if not band.any():
+        return 1.0
+    bm = S[band].mean(axis=0).sum(axis=0) / max(float(np.sum(floor)), 1e-300)   # (segments,)
+    L = bm.shape[0]
+    x = float(np.median(bm))
+    m_eff = max(1.0, band.sum() / 1.5) * S.shape[1]
+    q = float(stats.gamma.sf(x * m_eff, m_eff, scale=1.0))
+    # overlapping segments are not independent: count them as 0.9 each
+    L_eff = max(1, int(round(0.9 * L)))
+    return float(stats.binom.sf(int(np.ceil(L_eff / 2)) - 1, L_eff, q))
+
+
+def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
+    """Power in ``f +- bw`` relative to the local floor, per channel and pooled, with a p-value.
+
+    ``exclude``: (frequency, half-width) of other lines kept out of the floor estimate.
+    """
+    fr = spec.freqs
+    d = np.abs(fr - f)
+    band = d <= bw
+    if not band.any():
+        band = d == d.min()
+    near = (d >= bw + FLOOR_GAP_HZ) & (d <= bw + FLOOR_GAP_HZ + FLOOR_WIDTH_HZ) & (fr > 0.5)
+    for fo, bo in exclude:
+        near &= np.abs(fr - fo) > bo + 0.5 * FLOOR_GAP_HZ
+    if near.sum() < 4:
+        return {"level_db": np.full(spec.psd.shape[1], np.nan), "pooled_db": np.nan, "p_value": 1.0,
+                "floor": np.full(spec.psd.shape[1], np.nan)}
+    nu = spec.dof_per_bin
+    # the median of a chi2(nu)/nu variable sits below its mean; correct so the floor is a mean
+    med_corr = stats.chi2.median(nu) / nu
+    floor = np.median(spec.psd[near], axis=0) / med_corr
+    level = spec.psd[band].mean(axis=0)
+    ratio = level / np.maximum(floor, 1e-300)
+    pooled = level.sum() / max(floor.sum(), 1e-300)
+    m = int(band.sum())
+    dof = nu * spec.psd.shape[1] * max(1.0, m / 1.5)   # neighbouring Hann bins are correlated
+    p = float(stats.chi2.sf(pooled * dof, dof))
+    with np.errstate(divide="ignore"):
+        return {"level_db": 10 * np.log10(ratio), "pooled_db": float(10 * np.log10(pooled)),
+                "p_value": p, "floor": floor}
+
+
+def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float = 0.01) -> float:
+    """Fundamental maximising the floor-normalised power summed over harmonics (SNR weighting)."""
+    pooled = spec.psd.sum(axis=1)
+    lo, hi = nominal * (1 - rel_search), nominal * (1 + rel_search)
+    grid = np.arange(lo, hi, min(0.002, spec.df / 20))
+    score = np.zeros_like(grid)
+    for k in ks:
+        st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds),
+                        k * nominal, band_halfwidth(spec, k) + k * nominal * rel_search)
+        fl = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else 1.0
+        score += np.interp(k * grid, spec.freqs, pooled) / max(fl, 1e-300)
+    i = int(np.argmax(score))
+    if 0 < i < len(grid) - 1:
+        a, b, c = score[i - 1: i + 2]
+        den = a - 2 * b + c
+        off = 0.5 * (a - c) / den if den < 0 else 0.0
+        return float(grid[i] + off * (grid[1] - grid[0]))
+    return float(grid[i])
+
+
+def _candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> list[int]:
+    nyq = sr / 2
+    top = 0.95 * nyq if max_hz is None else min(0.95 * nyq, max_hz)
+    kmax = MAX_HARMONICS if harmonics == "auto" else int(harmonics)
+    return [k for k in range(1, kmax + 1) if k * f0 * (1 + 0.002) + 2.0 < top]
+
+
+def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones=(),
+               alpha: float = 1e-3, max_hz: float | None = None) -> Detection:
+    """Decide the fundamental and the harmonics to remove (see the module docstring)."""
+    nominals = [50.0, 60.0] if mains == "auto" else [float(mains)]
+    fams = {}
+    n_tests = 0
+    for nom in nominals:
+        ks = _candidate_harmonics(nom, sr, "auto" if harmonics == "auto" else harmonics, max_hz)
+        if not ks:
+            continue
+        f0 = refine_fundamental(spec, nom, ks)
+        fams[nom] = (f0, ks)
+        n_tests += len(ks)
+    n_tests = max(n_tests, 1)
+    candidates, best, best_ev = [], None, 0.0
+    floors = {}
+    for nom, (f0, ks) in fams.items():
+        excl = [(k * f0, band_halfwidth(spec, k)) for k in ks] + [(t, band_halfwidth(spec, 1)) for t in tones]
+        ev, sig = 0.0, []
+        for k in ks:
+            bw = band_halfwidth(spec, k)
+            st = line_level(spec, k * f0, bw, [e for e in excl if abs(e[0] - k * f0) > 1e-9])
+            if np.isfinite(st["floor"]).all():
+                st["p_value"] = max(st["p_value"], persistence_p_value(spec, k * f0, bw, st["floor"]))
+            p_adj = min(1.0, st["p_value"] * n_tests)
+            significant = p_adj < alpha
+            if significant:
+                sig.append(k)
+                ev += -np.log10(max(p_adj, 1e-300))
+            candidates.append({"family_hz": nom, "harmonic": k, "freq_hz": k * f0,
+                               "level_db": [float(v) for v in st["level_db"]], "pooled_db": st["pooled_db"],
+                               "p_value_bonferroni": p_adj, "significant": bool(significant)})
+            floors[(nom, k)] = st["floor"]
+        if ev > best_ev:
+            best, best_ev = nom, ev
+    if harmonics != "auto" and fams:
+        # the caller fixed the harmonic count: use the requested (or best) family and every harmonic
+        nom = best if best is not None else nominals[0]
+        f0, ks = fams[nom]
+        chosen = ks
+    elif best is None:
+        nom, f0, chosen = None, None, []
+    else:
+        nom = best
+        f0, ks = fams[nom]
+        chosen = [c["harmonic"] for c in candidates if c["family_hz"] == nom and c["significant"]]
+    tone_list = []
+    pooled = spec.psd.sum(axis=1)
+    for t in tones:
+        m = np.abs(spec.freqs - t) <= 0.5
+        if m.sum() >= 3:
+            idx = np.flatnonzero(m)
+            i = idx[int(np.argmax(pooled[idx]))]
+            if 0 < i < len(pooled) - 1:
+                a, b, c = np.log(pooled[i - 1: i + 2] + 1e-300)
+                den = a - 2 * b + c
+                off = 0.5 * (a - c) / den if den < 0 else 0.0
+                tone_list.append(float(spec.freqs[i] + off * spec.df))
+                continue
+        tone_list.append(float(t))
+    for t in tone_list:
+        st = line_level(spec, t, band_halfwidth(spec, 0), [])
+        candidates.append({"family_hz": None, "harmonic": None, "freq_hz": t,
+                           "level_db": [float(v) for v in st["level_db"]], "pooled_db": st["pooled_db"],
+                           "p_value_bonferroni": st["p_value"], "significant": bool(st["p_value"] < alpha)})
+        floors[("tone", t)] = st["floor"]
+    det = Detection(mains_hz=f0 if chosen else None, nominal_hz=nom if chosen else None, harmonics=chosen,
+                    tones=tone_list, candidates=candidates, floors=floors, alpha=alpha)
+    det.floors = {("h", k): floors[(nom, k)] for k in chosen} | {("tone", t): floors[("tone", t)]
+                                                                 for t in tone_list}
+    log.info("hum detection: fundamental %s Hz (nominal %s), harmonics %s, tones %s",
+             None if det.mains_hz is None else round(det.mains_hz, 4), det.nominal_hz, chosen, tone_list)
+    return det
+
+
+def line_levels(spec: Spectrum, freqs, *, half_width_hz=None) -> list[dict]:
+    """Level of each given line above its local floor (dB, per channel), for the report."""
+    out = []
+    all_lines = list(freqs)
+    for i, f in enumerate(all_lines):
+        bw = half_width_hz if half_width_hz is not None else band_halfwidth(spec, max(1.0, f / 60.0))
+        excl = [(g, bw) for j, g in enumerate(all_lines) if j != i]
+        st = line_level(spec, f, bw, excl)
+        out.append({"freq_hz": float(f), "level_db": [float(v) for v in st["level_db"]]})
+    return out

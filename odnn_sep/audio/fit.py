@@ -1,0 +1,100 @@
+"""Per-block hum basis and the linear solve (the ODNN Orthogonal separation on one block).
+
+Within block b the fundamental follows the tracked polynomial
+``f(tau) = f_b + r_b tau + q_b tau^2 / 2`` (tau = time from the block centre), so harmonic k has
+phase ``k * phi(tau)`` with ``phi = 2 pi (f_b tau + r_b tau^2 / 2 + q_b tau^3 / 6)`` and the basis is
+``cos(k phi), sin(k phi)``: the drifting lines are fitted exactly while their amplitude and phase
+(the linear theta) stay constant over the block. The disturbance (music, speech) is the
+Orthogonal class: its projection on a narrow-line basis over a many-cycle, Hann-weighted block is
+small, so theta is the weighted least-squares theta on the raw samples.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+from scipy import linalg
+
+log = logging.getLogger(__name__)
+
+COND_LIMIT = 1e8
+
+
+def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
+                ks, tones) -> np.ndarray:
+    """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per tone; Fortran order."""
+    ks = list(ks)
+    p = 2 * (len(ks) + len(tones))
+    F = np.empty((n, p), order="F")
+    if ks:
+        tau = (np.arange(idx0, idx0 + n) - centre) / sr
+        phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
+        z = np.cos(phi) + 1j * np.sin(phi)
+        zk = z.copy()
+        col, kprev = 0, 1
+        for k in ks:
+            for _ in range(k - kprev):
+                zk *= z
+            kprev = k
+            F[:, col] = zk.real
+            F[:, col + 1] = zk.imag
+            col += 2
+    col = 2 * len(ks)
+    for ft in tones:
+        # absolute time, reduced modulo one cycle so long files keep full phase precision
+        cyc = np.mod(np.arange(idx0, idx0 + n, dtype=float) * (ft / sr), 1.0)
+        F[:, col] = np.cos(2 * np.pi * cyc)
+        F[:, col + 1] = np.sin(2 * np.pi * cyc)
+        col += 2
+    return F
+
+
+def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray):
+    """Weighted least squares for every channel at once: theta (p, C).
+
+    Normal equations with Cholesky: a hum basis over a many-cycle block is nearly orthogonal
+    (condition number close to 1), where this is as accurate as QR and about 30x faster on
+    100k-row blocks. Ill-conditioned blocks (very short edge blocks, a tone close to a
+    harmonic) fall back to the core engine's pivoted-QR solver.
+    """
+    Fw = F * w[:, None]
+    G = F.T @ Fw
+    rhs = Fw.T @ Y
+    d = np.sqrt(np.maximum(np.diag(G), 1e-300))
+    Gs = G / np.outer(d, d)
+    try:
+        c, low = linalg.cho_factor(Gs, check_finite=False)
+        rc = np.diag(c).min() / np.diag(c).max()
+        if rc ** 2 < 1.0 / COND_LIMIT:
+            raise linalg.LinAlgError("ill-conditioned")
+        theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
+        return theta
+    except linalg.LinAlgError:
+        from odnn_sep.core.linear import lstsq
+
+        theta, _, rank = lstsq(F, Y, w)
+        if rank < F.shape[1]:
+            log.debug("block basis rank %d < %d columns (short block); minimum-norm solution", rank, F.shape[1])
+        return theta.reshape(F.shape[1], -1)
+
+
+def solve_block_network(F, Y, w, names, random_state=None, epochs: int = 300):
+    """The same block problem through the core's torch ODNN solver (Orthogonal disturbance).
+
+    The weighted problem is whitened first (rows scaled by sqrt(w)), so the network's projection
+    layer removes span(F) in exactly the inner product the exact solver uses and both give the
+    same theta up to optimisation tolerance.
+    """
+    from odnn_sep.core import Basis, Orthogonal, Separator
+
+    keep = w > 0
+    sw = np.sqrt(w[keep])
+    Fk = F[keep] * sw[:, None]
+    x = np.linspace(-1.0, 1.0, int(keep.sum()))
+    theta = np.empty((F.shape[1], Y.shape[1]))
+    for c in range(Y.shape[1]):
+        sep = Separator(Basis.from_matrix(Fk, names=names), disturbance=Orthogonal(), solver="network",
+                        random_state=random_state, epochs=epochs)
+        sep.fit(x, Y[keep, c] * sw)
+        theta[:, c] = sep.result_.theta
+    return theta

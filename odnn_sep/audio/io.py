@@ -1,0 +1,155 @@
+"""Audio sources (in-memory arrays or files read in blocks) and the progressive writer.
+
+Denoising reads the input twice (tracking pass, then fit-and-write pass), always in bounded
+blocks, so a file of any length uses a fixed amount of memory.
+"""
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from odnn_sep.errors import FormatError, InputError, as_float_array
+
+log = logging.getLogger(__name__)
+
+
+class ArraySource:
+    """An in-memory signal, shaped (n, channels)."""
+
+    def __init__(self, y, sr):
+        arr = as_float_array("y", y, ndim=(1, 2))
+        self.mono = arr.ndim == 1
+        self.data = arr[:, None] if arr.ndim == 1 else arr
+        if self.data.shape[1] > self.data.shape[0]:
+            raise InputError(
+                f"y has shape {arr.shape}: more channels than samples; pass samples along the first "
+                f"axis, shape (n_samples, n_channels)")
+        self.sr = _check_sr(sr)
+        self.frames, self.channels = self.data.shape
+        self.name = "y"
+
+    def read(self, start: int, n: int) -> np.ndarray:
+        return self.data[max(start, 0): max(start + n, 0)]
+
+    def close(self):
+        pass
+
+
+class FileSource:
+    """A sound file read with soundfile in blocks (float64, always 2-D)."""
+
+    def __init__(self, path):
+        import soundfile as sf
+
+        from odnn_sep.io_utils import check_input_path
+
+        self.path = check_input_path(path, what="input audio file")
+        self.name = str(self.path)
+        try:
+            self.f = sf.SoundFile(str(self.path))
+        except (sf.LibsndfileError, RuntimeError, OSError, TypeError) as exc:
+            msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise FormatError(
+                f"could not read input audio file {self.name!r}: {msg}; supported formats: WAV, FLAC, OGG, "
+                f"AIFF, MP3 (where libsndfile supports it)") from None
+        self.sr = int(self.f.samplerate)
+        self.channels = int(self.f.channels)
+        self.frames = int(self.f.frames)
+        self.format, self.subtype, self.endian = self.f.format, self.f.subtype, self.f.endian
+        self.mono = self.channels == 1
+        if self.frames <= 0:
+            self.f.close()
+            raise FormatError(f"input audio file {self.name!r} has no samples (0 frames)")
+
+    def read(self, start: int, n: int) -> np.ndarray:
+        import soundfile as sf
+
+        start = max(start, 0)
+        n = max(0, min(n, self.frames - start))
+        try:
+            self.f.seek(start)
+            out = self.f.read(n, dtype="float64", always_2d=True)
+        except (sf.LibsndfileError, RuntimeError) as exc:
+            raise FormatError(f"could not read input audio file {self.name!r} at frame {start}: "
+                              f"{str(exc).splitlines()[0]} (the file may be truncated or corrupt)") from None
+        if out.shape[0] < n:
+            raise FormatError(f"input audio file {self.name!r} ended at frame {start + out.shape[0]} but its "
+                              f"header says {self.frames} frames (truncated or corrupt file)")
+        bad = ~np.isfinite(out)
+        if bad.any():
+            r, c = np.argwhere(bad)[0]
+            kind = "NaN" if np.isnan(out[r, c]) else "inf"
+            raise InputError(f"input audio file {self.name!r} contains {kind} samples (first at frame "
+                             f"{start + int(r)}, channel {int(c)}); repair the file before denoising")
+        return out
+
+    def close(self):
+        self.f.close()
+
+
+def _check_sr(sr) -> int:
+    try:
+        v = float(sr)
+    except (TypeError, ValueError):
+        raise InputError(f"sr must be a positive sample rate in Hz; got {sr!r}") from None
+    if not np.isfinite(v) or v <= 0 or v != int(v):
+        raise InputError(f"sr must be a positive integer sample rate in Hz; got {sr!r}")
+    return int(v)
+
+
+def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str, str]:
+    """Container format and subtype for the output: same as the input unless the suffix or the
+    caller asks otherwise."""
+    import soundfile as sf
+
+    ext = out.suffix.lower().lstrip(".")
+    fmt = {"wav": "WAV", "flac": "FLAC", "ogg": "OGG", "oga": "OGG", "aif": "AIFF", "aiff": "AIFF",
+           "mp3": "MP3", "w64": "W64", "caf": "CAF"}.get(ext)
+    if fmt is None:
+        raise InputError(f"output file {str(out)!r} has an unsupported extension {out.suffix!r}; use .wav, "
+                         f".flac, .ogg, .aiff or .mp3")
+    st = subtype or (src.subtype if fmt == src.format else None)
+    if st is None or not sf.check_format(fmt, st):
+        if st is not None and subtype is not None:
+            raise InputError(f"subtype {st!r} cannot be written to a {fmt} file; choose one of "
+                             f"{sorted(sf.available_subtypes(fmt))}")
+        keep = src.subtype if sf.check_format(fmt, src.subtype) else sf.default_subtype(fmt)
+        if keep != src.subtype:
+            log.warning("output format %s cannot hold subtype %s; writing %s", fmt, src.subtype, keep)
+        st = keep
+    return fmt, st
+
+
+class ClipCounter:
+    """Clips to [-1, 1] for integer subtypes and remembers how much was cut (never silently)."""
+
+    def __init__(self, integer: bool):
+        self.integer = integer
+        self.n_clipped = 0
+        self.peak = 0.0
+
+    def __call__(self, block: np.ndarray) -> np.ndarray:
+        if block.size:
+            self.peak = max(self.peak, float(np.abs(block).max()))
+        if self.integer:
+            over = np.abs(block) > 1.0
+            if over.any():
+                self.n_clipped += int(over.sum())
+                block = np.clip(block, -1.0, 1.0)
+        return block
+
+    def message(self) -> str | None:
+        if self.peak <= 1.0:
+            return None
+        db = 20 * np.log10(self.peak)
+        if self.integer:
+            return (f"output clipped: {self.n_clipped} sample(s) exceeded full scale by up to {db:.2f} dB "
+                    f"(peak {self.peak:.4f}); lower the input gain or write a float subtype (--subtype FLOAT)")
+        return (f"output peak {self.peak:.4f} exceeds full scale by {db:.2f} dB (float file, not clipped); "
+                f"players may clip it")
+
+
+def is_integer_subtype(subtype: str) -> bool:
+    return subtype.startswith(("PCM", "ULAW", "ALAW", "DWVW", "DPCM", "IMA", "MS_ADPCM", "GSM", "G72"))

@@ -1,0 +1,151 @@
+"""Tracking the instantaneous hum fundamental, one estimate per block, shared by all harmonics.
+
+Pass 1 demodulates the input at k * f_ref (every harmonic to remove) and sums over 10 ms chunks.
+Both steps are one matrix product per read, so the pass costs little more than reading the file.
+The chunk sums are a low-rate complex baseband of every hum line; per block the fundamental offset
+``delta`` maximises the floor-normalised harmonic energy
+
+    E(delta) = sum_{c,k} w_ck | sum_j win_j D_jck exp(-2 pi i k delta (t_j - t_b)) |^2
+
+(an SNR-weighted harmonic-sum periodogram). The chunk length is sr/100, so the chunk-sum kernel has
+its zeros on every alias of the baseband and host energy far from the lines cannot fold onto them.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Track:
+    t: np.ndarray          # (B,) block centres (s)
+    f0: np.ndarray         # (B,) fundamental (Hz)
+    rate: np.ndarray       # (B,) df/dt (Hz/s)
+    curv: np.ndarray       # (B,) d2f/dt2 (Hz/s^2)
+    confident: np.ndarray  # (B,) bool: hum clearly present in the block
+    strength: np.ndarray   # (B,) peak harmonic energy over its noise-only value
+
+
+def chunk_length(sr: int) -> int:
+    return max(1, int(round(sr / 100.0)))
+
+
+def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress=None) -> np.ndarray:
+    """Chunk sums ``D[j, c, k] = sum_{t in chunk j} y_c(t) exp(-2 pi i k f_ref t)``, complex64."""
+    sr, n, C = source.sr, source.frames, source.channels
+    m = chunk_length(sr)
+    kf = f_ref * np.asarray(ks, dtype=float)
+    J = -(-n // m)
+    D = np.empty((J, C, len(kf)), dtype=np.complex64)
+    tau = np.arange(m) / sr
+    ang = 2 * np.pi * np.outer(tau, kf)
+    Er, Ei = np.cos(ang), -np.sin(ang)                  # (m, K)
+    per = max(1, read_frames // m) * m
+    for start in range(0, n, per):
+        x = source.read(start, per)
+        nj = -(-x.shape[0] // m)
+        if x.shape[0] < nj * m:
+            x = np.vstack([x, np.zeros((nj * m - x.shape[0], C))])
+        X = x.reshape(nj, m, C).transpose(0, 2, 1).reshape(nj * C, m)
+        S = (X @ Er + 1j * (X @ Ei)).reshape(nj, C, len(kf))
+        j = np.arange(start // m, start // m + nj, dtype=float)
+        # reference phase at each chunk start, reduced modulo one cycle before scaling (precision)
+        cyc = np.mod(np.outer(j * (m / sr), kf), 1.0)
+        D[start // m: start // m + nj] = S * np.exp(-2j * np.pi * cyc)[:, None, :]
+        if progress is not None:
+            progress(x.shape[0])
+    return D
+
+
+def _energy(A, tau, ks, grid):
+    """E(delta) for each delta in grid; A = win_j * D_jck * w_ck^(1/2) (J, C, K)."""
+    ph = np.exp(-2j * np.pi * grid[:, None, None] * tau[None, :, None] * ks[None, None, :])  # (G, J, K)
+    X = np.einsum("jck,gjk->gck", A, ph)
+    return (np.abs(X) ** 2).sum(axis=(1, 2))
+
+
+def _parabolic(grid, E, i):
+    if 0 < i < len(grid) - 1:
+        a, b, c = np.log(E[i - 1: i + 2] + 1e-300)
+        den = a - 2 * b + c
+        if den < 0:
+            return float(grid[i] + 0.5 * (a - c) / den * (grid[1] - grid[0]))
+    return float(grid[i])
+
+
+def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, hop: int,
+                      max_offset_hz: float | None = None, min_strength: float = 4.0,
+                      progress=None) -> Track:
+    """Per-block fundamental estimates from the chunk sums (see module docstring).
+
+    ``weights`` (C, K): inverse noise-floor PSD per channel and harmonic (SNR weighting).
+    """
+    m = chunk_length(sr)
+    L = 2 * hop
+    J = D.shape[0]
+    ks = np.asarray(ks, dtype=float)
+    sqw = np.sqrt(np.asarray(weights, dtype=float))[None, :, :]
+    t_chunk = (np.arange(J) * m + (m - 1) / 2) / sr
+    nb = (n_frames - 1) // hop + 2
+    L_s = L / sr
+    k_coarse = float(min(ks.max(), 8.0))
+    coarse_ks = ks <= max(k_coarse, ks.min())
+    step = 0.25 / (L_s * k_coarse)
+    if max_offset_hz is None:
+        max_offset_hz = max(0.5, 0.005 * f_ref)
+    f = np.full(nb, np.nan)
+    strength = np.zeros(nb)
+    prev = 0.0
+    for b in range(nb):
+        s0, s1 = (b - 1) * hop, (b + 1) * hop
+        j0, j1 = max(0, s0 // m), min(J, -(-s1 // m))
+        if j1 - j0 < 3:
+            continue
+        tc = t_chunk[j0:j1]
+        win = np.sin(np.pi * (tc * sr - s0) / L) ** 2
+        win[(tc * sr < s0) | (tc * sr >= s1)] = 0.0
+        A = D[j0:j1].astype(np.complex128) * win[:, None, None] * sqw
+        tau = tc - b * hop / sr
+        half = 0.06 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
+        centre = prev
+        for _ in range(6):
+            grid = centre + np.arange(-half, half + step / 2, step)
+            E = _energy(A[:, :, coarse_ks], tau, ks[coarse_ks], grid)
+            i = int(np.argmax(E))
+            if 0 < i < len(grid) - 1 or abs(grid[i]) >= max_offset_hz:
+                break
+            centre = grid[i]
+        fine = grid[i] + np.linspace(-step, step, 11)
+        Ef = _energy(A, tau, ks, fine)
+        i2 = int(np.argmax(Ef))
+        est = _parabolic(fine, Ef, i2)
+        # E for pure noise is about sum_j win_j^2 |D|^2 ; for a pure line it is (sum win)^2 |d|^2
+        noise = float(((np.abs(D[j0:j1]) ** 2) * (win ** 2)[:, None, None] * sqw ** 2).sum())
+        strength[b] = float(Ef[i2]) / max(noise, 1e-300)
+        if abs(est) > max_offset_hz:
+            est = float(np.clip(est, -max_offset_hz, max_offset_hz))
+            strength[b] = 0.0
+        f[b] = est
+        if strength[b] >= min_strength:
+            prev = est
+        if progress is not None:
+            progress(1)
+    t = np.arange(nb) * hop / sr
+    ok = np.isfinite(f) & (strength >= min_strength)
+    if ok.sum() == 0:
+        log.warning("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
+                    f_ref)
+        off = np.zeros(nb)
+    elif ok.sum() == 1:
+        off = np.full(nb, f[ok][0])
+    else:
+        off = np.interp(t, t[ok], f[ok])
+    f0 = f_ref + off
+    hop_s = hop / sr
+    rate = np.gradient(f0, hop_s) if nb > 1 else np.zeros(nb)
+    curv = np.gradient(rate, hop_s) if nb > 2 else np.zeros(nb)
+    return Track(t=t, f0=f0, rate=rate, curv=curv, confident=ok, strength=strength)
