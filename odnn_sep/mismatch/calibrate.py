@@ -1,0 +1,125 @@
+"""Calibration: refit the simulation's own parameters, with the disturbance kept in its class.
+
+The disturbance class for oscillatory records ("slow") is a set of slowly varying cosine modes
+below a quarter of the dominant physical frequency, made orthogonal to a constant and a straight
+line. It cannot imitate the physics (which lives at the oscillation frequency), and it deliberately
+leaves a constant offset and a linear drift outside, because those are effects in the vocabulary
+that the finder must be able to name. Slow presets (cooling, free fall, 2D fields) and user
+models default to no disturbance class: their physics is itself slow, so any slow class would
+imitate it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+from odnn_sep.mismatch.fitting import Fit, fit
+from odnn_sep.mismatch.presets import _dominant_omega
+
+SLOW_FAMILIES = {"oscillator", "pendulum", "hum"}
+MAX_SLOW_MODES = 60
+
+
+def slow_disturbance(t, *, cutoff_hz=None, y=None):
+    """Columns spanning slow wander below ``cutoff_hz``, orthogonal to [1, t]. Shape (n, q), q may be 0."""
+    t = np.asarray(t, float)
+    T = float(t[-1] - t[0])
+    if cutoff_hz is None:
+        if y is None:
+            raise InputError("slow_disturbance needs cutoff_hz or y to find the dominant frequency")
+        cutoff_hz = _dominant_omega(t, y) / (2 * np.pi) / 4.0
+    # cosine mode k has frequency k / (2 T); keep modes strictly below the cut-off
+    K = int(np.floor(2 * T * cutoff_hz))
+    K = min(K, MAX_SLOW_MODES, len(t) // 10)
+    if K < 2:
+        return np.zeros((len(t), 0))
+    u = (t - t[0]) / max(T, 1e-300)
+    cols = np.column_stack([np.cos(np.pi * k * u) for k in range(1, K + 1)])
+    P = np.column_stack([np.ones_like(u), u - 0.5])
+    Qp, _ = np.linalg.qr(P)
+    cols = cols - Qp @ (Qp.T @ cols)
+    q, r = np.linalg.qr(cols)
+    keep = np.abs(np.diag(r)) > 1e-8 * np.abs(np.diag(r)).max()
+    return q[:, keep]
+
+
+def disturbance_columns(disturbance, model, t, y):
+    """Resolve the ``disturbance`` option into a column matrix (or None)."""
+    if isinstance(disturbance, np.ndarray):
+        G = np.asarray(disturbance, float)
+        if G.ndim != 2 or G.shape[0] != len(y):
+            raise InputError(f"disturbance columns must have shape (n, q) with n = {len(y)}; got {G.shape}")
+        return G
+    if disturbance == "auto":
+        disturbance = "slow" if model.family in SLOW_FAMILIES and np.ndim(t) == 1 else "none"
+    if disturbance == "none":
+        return None
+    if disturbance == "slow":
+        G = slow_disturbance(t, y=y)
+        return G if G.shape[1] else None
+    raise InputError(f"disturbance must be 'auto', 'slow', 'none' or an (n, q) array; got {disturbance!r}")
+
+
+@dataclass
+class Calibration:
+    fit: Fit
+    G: np.ndarray | None
+
+    def as_dict(self) -> dict:
+        f = self.fit
+        iv = f.intervals()
+        return {
+            "model": f.model.name,
+            "parameters": {k: {"value": f.params[k], "stderr": f.stderr.get(k),
+                               "interval95": list(iv[k]) if k in iv else None} for k in f.free},
+            "fixed": {k: f.params[k] for k in f.model.fixed if k in f.params},
+            "disturbance": {"class": "slow band (orthogonal to offset and drift)" if self.G is not None
+                            else "none", "columns": 0 if self.G is None else int(self.G.shape[1]),
+                            "rms": float(np.sqrt(np.mean(f.disturbance ** 2)))},
+            "residual_rms": f.rms,
+            "converged": f.converged,
+        }
+
+
+def calibrate(model, t, y, *, user_params=None, G=None, max_nfev=400) -> Calibration:
+    """Refit the model's parameters from the user's starts and from data-driven starts; keep the best.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 20, 400); y = np.cos(2.0 * t) * np.exp(-0.05 * t)
+    >>> cal = calibrate(make_model("oscillator"), t, y)
+    >>> round(cal.fit.params["k"], 3), round(cal.fit.params["c"], 3)
+    (4.0, 0.1)
+    """
+    user_params = dict(user_params or {})
+    starts = []
+    if model.preset is not None:
+        guess = model.preset.initial_guess(t, y, {**model.start, **user_params})
+        s = dict(model.start)
+        s.update(guess)
+        s.update({k: v for k, v in user_params.items() if k in s and not isinstance(v, str)
+                  and k not in model.fixed})
+        starts.append(s)   # data-driven, but honouring what the user set
+        s2 = dict(model.start)
+        s2.update({k: v for k, v in guess.items() if k not in user_params})
+        starts.append(s2)  # the user's values as given
+        g2 = dict(model.start)
+        g2.update(guess)
+        starts.append(g2)  # purely data-driven
+    else:
+        starts.append(dict(model.start))
+    best = None
+    seen = []
+    for s in starts:
+        key = tuple(sorted((k, v) for k, v in s.items() if not isinstance(v, str)))
+        if key in seen:
+            continue
+        seen.append(key)
+        f = fit(model, t, y, start=s, G=G, max_nfev=max_nfev)
+        if best is None or f.rss < best.rss:
+            best = f
+    return Calibration(best, G)

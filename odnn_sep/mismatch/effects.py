@@ -1,0 +1,118 @@
+"""The fixed vocabulary of physical effects the mismatch finder can name.
+
+Each effect is a small record: its name (the string that appears in reports), a one-line
+description, its extra parameters with neutral values (the value at which the effect vanishes)
+and bounds, and the model families it applies to. *How* an effect enters a model lives with the
+model: presets fold family-specific effects into their ODE right-hand side or closed form, and the
+generic effects (offset, drift, time_delay, periodic_forcing, amplitude_modulation) wrap any model's
+output, including user callables (see :func:`apply_generic`).
+
+Effects that a family's own parameters already absorb exactly are not offered for that family
+(a time delay in an autonomous ODE whose initial state is refitted, a constant offset in Newton
+cooling whose ambient temperature is refitted): they could never be told apart from the
+calibration and would only add look-elsewhere false alarms.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One named effect: extra parameters, their neutral values and bounds."""
+
+    name: str
+    description: str
+    params: dict            # parameter -> neutral value (effect absent)
+    bounds: dict            # parameter -> (lo, hi)
+    families: frozenset     # model families it applies to ("*" = any, via the generic wrapper)
+    generic: bool = False   # True: implemented by apply_generic on the model output
+    discrete: dict = field(default_factory=dict)  # parameter -> number of discrete choices searched
+
+    def n_params(self) -> int:
+        return len(self.params)
+
+
+_MECH = frozenset({"oscillator", "pendulum"})
+INF = np.inf
+
+EFFECTS: dict[str, Effect] = {e.name: e for e in [
+    Effect("linear_damping", "linear (viscous, Stokes) damping force -b v missing from the model",
+           {"b_lin": 0.0}, {"b_lin": (0.0, INF)}, frozenset({"freefall"})),
+    Effect("quadratic_drag", "quadratic (air) drag force -q v|v| missing from the model",
+           {"q_drag": 0.0}, {"q_drag": (0.0, INF)}, _MECH | {"freefall"}),
+    Effect("coulomb_friction", "Coulomb (dry) friction force -mu sign(v) missing from the model",
+           {"mu": 0.0}, {"mu": (0.0, INF)}, _MECH),
+    Effect("cubic_stiffness", "cubic (Duffing) stiffness -beta x^3 missing from the restoring force",
+           {"beta": 0.0}, {"beta": (-INF, INF)}, frozenset({"oscillator"})),
+    Effect("large_angle", "large-angle restoring force: sin(theta) instead of theta (s=1 is the full sine)",
+           {"s_angle": 0.0}, {"s_angle": (-5.0, 5.0)}, frozenset({"pendulum"})),
+    Effect("periodic_forcing", "periodic forcing F cos(omega t + phase) at an unknown frequency",
+           {"F": 0.0, "omega_f": 1.0, "phase_f": 0.0},
+           {"F": (-INF, INF), "omega_f": (0.0, INF), "phase_f": (-INF, INF)},
+           _MECH | {"cooling", "freefall", "user"}, generic=True),
+    Effect("offset", "constant offset added to the observations (sensor bias)",
+           {"offset": 0.0}, {"offset": (-INF, INF)},
+           _MECH | {"hum", "heat2d", "user"}, generic=True),
+    Effect("drift", "linear drift d (t - t_start) added to the observations",
+           {"drift": 0.0}, {"drift": (-INF, INF)},
+           _MECH | {"cooling", "freefall", "hum", "user"}, generic=True),
+    Effect("time_delay", "time delay / clock offset: observations follow the model at t - tau",
+           {"tau": 0.0}, {"tau": (-INF, INF)}, frozenset({"freefall", "user"}), generic=True),
+    Effect("amplitude_modulation", "amplitude modulation (1 + m cos(2 pi f_am t + phase)) of the output",
+           {"m_am": 0.0, "f_am": 0.1, "phase_am": 0.0},
+           {"m_am": (-1.0, 1.0), "f_am": (0.0, INF), "phase_am": (-INF, INF)},
+           _MECH | {"hum", "user"}, generic=True),
+    Effect("radiation", "radiative heat loss (T^4 - T_amb^4), linearised coefficient r",
+           {"r_rad": 0.0}, {"r_rad": (-INF, INF)}, frozenset({"cooling"})),
+    Effect("evaporation", "evaporative heat loss following the vapour pressure psat(T) - psat(T_amb)",
+           {"e_evap": 0.0}, {"e_evap": (-INF, INF)}, frozenset({"cooling"})),
+    Effect("two_body_heat", "second body exchanging heat (two-exponential cooling B exp(-lam t))",
+           {"B_2": 0.0, "lam_2": 1.0}, {"B_2": (-INF, INF), "lam_2": (0.0, INF)}, frozenset({"cooling"})),
+    Effect("missing_harmonic", "a harmonic k f0 of the hum that the model leaves out",
+           {"k_h": 2.0, "a_h": 0.0, "b_h": 0.0}, {"a_h": (-INF, INF), "b_h": (-INF, INF)},
+           frozenset({"hum"}), discrete={"k_h": 6}),
+    Effect("frequency_drift", "mains frequency drifting linearly, f(t) = f0 + f1 (t - t_mid) (FM)",
+           {"f1": 0.0}, {"f1": (-INF, INF)}, frozenset({"hum"})),
+    Effect("channel_coupling", "hum coupled with a different gain and phase into each channel",
+           {}, {}, frozenset({"hum_multichannel"})),
+    Effect("extra_source", "an extra point source (position xs, ys; strength S_extra) in the 2D field",
+           {"xs": 0.0, "ys": 0.0, "S_extra": 0.0},
+           {"xs": (-INF, INF), "ys": (-INF, INF), "S_extra": (-INF, INF)}, frozenset({"heat2d"})),
+]}
+
+VOCABULARY = tuple(EFFECTS)
+
+
+def applicable(family: str) -> list[str]:
+    """Names of the effects that apply to a model family (``"user"`` for callables)."""
+    return [name for name, e in EFFECTS.items() if family in e.families]
+
+
+def apply_generic(names, predict_fn, *, t0: float):
+    """Wrap ``predict_fn(t, p)`` with the generic effects named in ``names``.
+
+    The caller passes only the generic effects its model does not implement natively (a preset
+    folds periodic forcing into its equation of motion, for instance). ``t0`` is the first time
+    stamp, so drift is anchored at the start of the record.
+    """
+    names = list(names)
+    if not names:
+        return predict_fn
+
+    def wrapped(t, p):
+        tt = t - p["tau"] if "time_delay" in names else t
+        out = predict_fn(tt, p)
+        if "amplitude_modulation" in names:
+            out = out * (1.0 + p["m_am"] * np.cos(2 * np.pi * p["f_am"] * t + p["phase_am"]))
+        if "periodic_forcing" in names:
+            out = out + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
+        if "offset" in names:
+            out = out + p["offset"]
+        if "drift" in names:
+            out = out + p["drift"] * (t - t0)
+        return out
+
+    return wrapped

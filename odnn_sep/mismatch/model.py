@@ -1,0 +1,222 @@
+"""A model = a preset or user function + the effects added to it + parameter starts and bounds."""
+from __future__ import annotations
+
+import difflib
+import inspect
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+from odnn_sep.mismatch.effects import EFFECTS, applicable, apply_generic
+from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, _integrate
+
+
+def _suggest(word, options):
+    close = difflib.get_close_matches(str(word), list(options), n=1, cutoff=0.5)
+    return f"did you mean {close[0]!r}? " if close else ""
+
+
+@dataclass(frozen=True)
+class Model:
+    """Immutable model description; ``predict(t, p)`` evaluates it.
+
+    Build one with :func:`make_model` (preset name), :func:`custom_model` (a callable
+    ``f(t, **params)``) or :func:`ode_model` (a right-hand side ``rhs(t, state, **params)``).
+    """
+
+    name: str
+    family: str
+    start: dict
+    bounds: dict
+    fixed: frozenset
+    builder: Callable = field(repr=False)
+    native: frozenset = frozenset()
+    effects: tuple = ()
+    ndim: int = 1
+    autonomous: bool = True
+    preset: object = field(default=None, repr=False)
+
+    @property
+    def free(self) -> list:
+        return [k for k in self.start if k not in self.fixed]
+
+    def predict(self, t, p=None):
+        """Evaluate the model at ``t`` with parameters ``p`` (defaults: the starts)."""
+        p = dict(self.start if p is None else p)
+        t = np.asarray(t, dtype=float)
+        t0 = float(t[0]) if t.ndim == 1 else 0.0
+        generic = [e for e in self.effects if e not in self.native]
+        fn = apply_generic(generic, self.builder(self.effects), t0=t0)
+        out = np.asarray(fn(t, p), dtype=float)
+        if out.shape != (len(t),):
+            raise InputError(f"model {self.name!r} returned shape {out.shape}; expected ({len(t)},) to match t")
+        if not np.all(np.isfinite(out)):
+            raise ModelIntegrationError(f"model {self.name!r} returned non-finite values with parameters "
+                                        f"{ {k: v for k, v in p.items() if not isinstance(v, str)} }; "
+                                        f"check the starting values (--param)")
+        return out
+
+    def applicable_effects(self) -> list:
+        return [e for e in applicable(self.family) if e not in self.effects]
+
+    def with_effect(self, name: str, start: dict | None = None) -> "Model":
+        if name not in EFFECTS:
+            raise InputError(f"unknown effect {name!r}; {_suggest(name, EFFECTS)}"
+                             f"known effects: {', '.join(EFFECTS)}")
+        eff = EFFECTS[name]
+        new_start = dict(self.start)
+        new_start.update(eff.params)
+        if start:
+            new_start.update(start)
+        bounds = dict(self.bounds)
+        bounds.update(eff.bounds)
+        fixed = self.fixed | frozenset(eff.discrete)
+        return replace(self, start=new_start, bounds=bounds, fixed=fixed, effects=self.effects + (name,))
+
+    def with_start(self, values: dict) -> "Model":
+        s = dict(self.start)
+        s.update(values)
+        return replace(self, start=s)
+
+
+def make_model(name, params: dict | None = None) -> Model:
+    """Build a preset model; ``params`` are starting guesses (unknown names raise with a suggestion).
+
+    Examples
+    --------
+    >>> m = make_model("oscillator", {"k": 4.0})
+    >>> m.free
+    ['k', 'c', 'x0', 'v0']
+    """
+    if isinstance(name, Model):
+        return name.with_start(params or {})
+    key = str(name)
+    if key not in PRESETS:
+        raise InputError(f"unknown model {key!r}; {_suggest(key, PRESETS)}"
+                         f"available presets: {', '.join(PRESETS)}")
+    preset = PRESETS[key]
+    start = dict(preset.params)
+    params = dict(params or {})
+    allowed = set(start)
+    if key == "hum":
+        allowed |= set(preset.amplitude_names(int(float(params.get("harmonics", start["harmonics"])))))
+    if key == "heat2d":
+        from odnn_sep.mismatch.presets import parse_sources
+        n_src = len(parse_sources(params.get("sources", start["sources"])))
+        allowed |= {f"S{i + 1}" for i in range(n_src)}
+    for k in params:
+        if k not in allowed:
+            raise InputError(f"unknown parameter {k!r} for model {key!r}; {_suggest(k, allowed)}"
+                             f"parameters: {', '.join(sorted(allowed))}")
+    for k, v in params.items():
+        if k == "sources":
+            start[k] = str(v)
+        elif k == "harmonics":
+            h = int(float(v))
+            if h < 1 or h != float(v):
+                raise InputError(f"harmonics must be a positive integer (number of harmonics); got {v!r}")
+            start[k] = h
+        else:
+            try:
+                start[k] = float(v)
+            except (TypeError, ValueError):
+                raise InputError(f"parameter {k!r} must be a number; got {v!r}") from None
+    if key == "hum":
+        for n in preset.amplitude_names(start["harmonics"]):
+            start.setdefault(n, 0.0)
+    if key == "heat2d":
+        from odnn_sep.mismatch.presets import parse_sources
+        for i in range(len(parse_sources(start["sources"]))):
+            start.setdefault(f"S{i + 1}", 1.0)
+    return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
+                 fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
+                 ndim=preset.ndim, autonomous=preset.autonomous, preset=preset)
+
+
+def _check_user_params(func, params, what):
+    if not params:
+        raise InputError(f"{what} needs params={{name: starting value}} for the parameters to calibrate")
+    for k, v in params.items():
+        try:
+            float(v)
+        except (TypeError, ValueError):
+            raise InputError(f"parameter {k!r} must be a number; got {v!r}") from None
+    try:
+        sig = inspect.signature(func)
+    except (TypeError, ValueError):
+        return
+    has_kw = any(p.kind == p.VAR_KEYWORD for p in sig.parameters.values())
+    if not has_kw:
+        names = list(sig.parameters)
+        for k in params:
+            if k not in names:
+                raise InputError(f"unknown parameter {k!r} for the user model; {_suggest(k, names)}"
+                                 f"its signature accepts: {', '.join(names)}")
+
+
+def custom_model(func, params: dict, *, bounds: dict | None = None, fixed=(), name="user") -> Model:
+    """Wrap ``func(t, **params) -> y`` as a model; the generic effects apply to it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = custom_model(lambda t, a, b: a * np.exp(-b * t), {"a": 1.0, "b": 0.5})
+    >>> m.predict(np.array([0.0, 1.0])).round(3).tolist()
+    [1.0, 0.607]
+    """
+    _check_user_params(func, params, "custom_model")
+    start = {k: float(v) for k, v in params.items()}
+
+    def builder(effects):
+        def predict(t, p):
+            try:
+                return func(t, **{k: p[k] for k in start})
+            except (ArithmeticError, ValueError, FloatingPointError) as exc:
+                raise ModelIntegrationError(f"model {name!r} failed to evaluate with parameters "
+                                            f"{ {k: p[k] for k in start} }: {exc}") from None
+        return predict
+
+    return Model(name=name, family="user", start=start, bounds=dict(bounds or {}), fixed=frozenset(fixed),
+                 builder=builder, autonomous=False)
+
+
+def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None, fixed=(),
+              name="user_ode") -> Model:
+    """Wrap an ODE ``rhs(t, state, **params) -> dstate/dt`` as a model observed through ``state[output]``.
+
+    ``state0`` lists the initial state: numbers, or names of entries of ``params`` (refitted).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = ode_model(lambda t, s, k: [-k * s[0]], {"k": 1.0, "T0": 2.0}, ["T0"])
+    >>> float(m.predict(np.array([0.0, 1.0]))[1].round(3))
+    0.736
+    """
+    start = {k: float(v) for k, v in params.items()}
+    if not start:
+        raise InputError("ode_model needs params={name: starting value} for the parameters to calibrate")
+    for s in state0:
+        if isinstance(s, str) and s not in start:
+            raise InputError(f"state0 entry {s!r} is not a parameter; {_suggest(s, start)}"
+                             f"parameters: {', '.join(start)}")
+    rhs_names = [k for k in start if k not in {s for s in state0 if isinstance(s, str)}]
+
+    def builder(effects):
+        def predict(t, p):
+            y0 = [p[s] if isinstance(s, str) else float(s) for s in state0]
+            kw = {k: p[k] for k in rhs_names}
+
+            def f(tt, s):
+                return rhs(tt, s, **kw)
+            try:
+                return _integrate(name, f, y0, t, p)[:, output]
+            except (ArithmeticError, ValueError, TypeError) as exc:
+                raise ModelIntegrationError(f"model {name!r} failed to integrate with parameters "
+                                            f"{ {k: p[k] for k in start} }: {exc}") from None
+        return predict
+
+    return Model(name=name, family="user", start=start, bounds=dict(bounds or {}), fixed=frozenset(fixed),
+                 builder=builder, autonomous=False)
