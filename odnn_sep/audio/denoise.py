@@ -168,8 +168,19 @@ def _progress_bar(enabled: bool, total: int, desc: str):
     return tqdm(total=total, desc=desc, unit="smp", unit_scale=True, file=sys.stderr, leave=False)
 
 
-def _run(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-         after_source_fn):
+def _run(source, sink, **kw):
+    # Many small matrix products: BLAS threads only add spin-wait overhead here (and collapse
+    # when the machine is busy), so run them single-threaded.
+    try:
+        from threadpoolctl import threadpool_limits   # present through librosa -> scikit-learn
+    except ImportError:  # pragma: no cover
+        return _run_inner(source, sink, **kw)
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _run_inner(source, sink, **kw)
+
+
+def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
+               after_source_fn):
     sr, N, C = source.sr, source.frames, source.channels
     mains = _parse_mains(mains, sr)
     harmonics = _parse_harmonics(harmonics)
@@ -268,7 +279,7 @@ def _run(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_h
     )
 
 
-def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float = 4.0, solver: str = "exact",
+def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float = 8.0, solver: str = "exact",
             alpha: float = 1e-3, max_hz: float | None = None, progress: bool = False,
             random_state=0) -> DenoiseResult:
     """Remove mains hum (drift-tracked fundamental and harmonics) and named tones from audio.
@@ -331,7 +342,7 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float =
 
 
 def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto", harmonics="auto", tones=(),
-                 block_s: float = 4.0, solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
+                 block_s: float = 8.0, solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
                  progress: bool = False, random_state=0) -> DenoiseResult:
     """Stream ``path_in`` through :func:`denoise` into ``path_out`` (atomic; same rate, channels and
     subtype unless ``subtype`` is given). Options as in :func:`denoise`.

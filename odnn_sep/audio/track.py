@@ -99,6 +99,8 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         max_offset_hz = max(0.5, 0.005 * f_ref)
     f = np.full(nb, np.nan)
     strength = np.zeros(nb)
+    coverage = np.zeros(nb)
+    t_eff = np.arange(nb) * hop / sr
     prev = 0.0
     for b in range(nb):
         s0, s1 = (b - 1) * hop, (b + 1) * hop
@@ -106,8 +108,14 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         if j1 - j0 < 3:
             continue
         tc = t_chunk[j0:j1]
-        win = np.sin(np.pi * (tc * sr - s0) / L) ** 2
-        win[(tc * sr < s0) | (tc * sr >= s1)] = 0.0
+        # Hann over the part of the block inside the signal: at the ends a one-sided window
+        # would leak the host's energy onto the lines
+        a0, a1 = max(s0, 0), min(s1, n_frames)
+        win = np.sin(np.pi * np.clip((tc * sr - a0) / max(a1 - a0, 1), 0, 1)) ** 2
+        # a block cut by the start/end of the signal sees one side of its window only: its
+        # estimate is the frequency at the window's centroid, not at the block centre
+        coverage[b] = win.sum() / (L / m / 2)
+        t_eff[b] = float((win * tc).sum() / max(win.sum(), 1e-300))
         A = D[j0:j1].astype(np.complex128) * win[:, None, None] * sqw
         tau = tc - b * hop / sr
         half = 0.06 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
@@ -136,14 +144,21 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
             progress(1)
     t = np.arange(nb) * hop / sr
     ok = np.isfinite(f) & (strength >= min_strength)
+    ok &= coverage >= 0.25
     if ok.sum() == 0:
         log.warning("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
                     f_ref)
         off = np.zeros(nb)
-    elif ok.sum() == 1:
+    elif ok.sum() == 1 or np.ptp(t_eff[ok]) == 0:
         off = np.full(nb, f[ok][0])
     else:
-        off = np.interp(t, t[ok], f[ok])
+        ti, fi = t_eff[ok], f[ok]
+        off = np.interp(t, ti, fi)
+        # linear extrapolation beyond the first/last trusted estimate (not a flat hold)
+        lo, hi = t < ti[0], t > ti[-1]
+        off[lo] = fi[0] + (t[lo] - ti[0]) * (fi[1] - fi[0]) / (ti[1] - ti[0])
+        off[hi] = fi[-1] + (t[hi] - ti[-1]) * (fi[-1] - fi[-2]) / (ti[-1] - ti[-2])
+        off = np.clip(off, -max_offset_hz, max_offset_hz)
     f0 = f_ref + off
     hop_s = hop / sr
     rate = np.gradient(f0, hop_s) if nb > 1 else np.zeros(nb)

@@ -1,0 +1,142 @@
+"""Ground-truth recovery of the audio front-end on generated hum (API level)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from odnn_sep.audio import denoise, make_hum_demo, make_hum_mix
+from odnn_sep.audio.metrics import line_metrics, snr_improvement_db
+from odnn_sep.errors import InputError
+
+
+@pytest.fixture(scope="module")
+def mix50():
+    return make_hum_mix(24.0, 8000, mains_hz=50.0, snr_db=0.0, random_state=11)
+
+
+@pytest.fixture(scope="module")
+def res50(mix50):
+    y, sr, _ = mix50
+    return denoise(y, sr)
+
+
+def test_demo_is_deterministic_and_small():
+    y1, sr1, t1 = make_hum_demo()
+    y2, sr2, t2 = make_hum_demo()
+    assert sr1 == 16000 and y1.shape == (8 * 16000,)
+    assert np.array_equal(y1, y2)
+    assert np.abs(y1).max() <= 0.9 + 1e-12
+    np.testing.assert_allclose(y1, t1["host"] + t1["hum"])
+    assert not np.array_equal(y1, make_hum_demo(random_state=1)[0])
+
+
+def test_detects_50hz_family_and_present_harmonics(res50, mix50):
+    _, _, truth = mix50
+    assert res50.nominal_hz == 50.0
+    # the strong harmonics (all > 10 dB above the floor here) are found
+    assert set(range(1, 7)) <= set(res50.harmonics)
+
+
+def test_snr_improvement_and_amplitudes(res50, mix50):
+    y, sr, truth = mix50
+    impr = snr_improvement_db(truth["host"], truth["hum"], res50.y)
+    assert impr > 25.0, impr
+    for k, a in zip(truth["harmonics"][:5], truth["amplitudes"][0][:5]):
+        est = res50.line_amplitude(f"h{k}")[0]
+        assert abs(est - a) / a < 0.02, (k, est, a)
+
+
+def test_track_follows_the_drift(res50, mix50):
+    _, _, truth = mix50
+    f_true = np.interp(res50.track_t, truth["t_track"], truth["f0_track"])
+    err = np.abs(res50.track_hz - f_true)[1:-1]
+    assert err.max() < 0.005, err.max()
+
+
+def test_hum_plus_output_is_input_and_input_untouched(mix50):
+    y, sr, _ = mix50
+    y0 = y.copy()
+    r = denoise(y, sr, harmonics=3)
+    assert np.array_equal(y, y0)
+    np.testing.assert_allclose(r.y + r.hum, y, atol=1e-12)
+    assert r.harmonics == [1, 2, 3]
+
+
+def test_60hz_and_clock_offset_fundamental():
+    y, sr, truth = make_hum_mix(16.0, 8000, mains_hz=60.055, drift_hz=0.0, amplitudes=(1, 0.5, 0.7),
+                                snr_db=3.0, random_state=2)
+    r = denoise(y, sr)
+    assert r.nominal_hz == 60.0
+    assert abs(r.mains_hz - 60.055) < 0.003
+    r2 = denoise(y, sr, mains=60.055)
+    assert abs(r2.mains_hz - 60.055) < 0.003
+
+
+def test_absent_harmonics_are_not_removed():
+    # only harmonics 2 and 3 (acoustic 120 Hz-dominant hum): the fundamental line is absent
+    y, sr, _ = make_hum_mix(16.0, 8000, mains_hz=60.0, amplitudes=(0.0, 1.0, 0.5), snr_db=0.0,
+                            near_partials=False, random_state=4)
+    r = denoise(y, sr)
+    assert r.nominal_hz == 60.0
+    assert 1 not in r.harmonics and {2, 3} <= set(r.harmonics)
+
+
+def test_no_hum_leaves_signal_unchanged():
+    rng = np.random.default_rng(0)
+    y = 0.1 * rng.standard_normal(8000 * 6)
+    r = denoise(y, 8000)
+    assert r.harmonics == [] and r.mains_hz is None
+    np.testing.assert_array_equal(r.y, y)
+
+
+def test_multichannel_shared_track_per_channel_amplitude():
+    y, sr, truth = make_hum_mix(16.0, 8000, channels=2, snr_db=0.0, random_state=5)
+    r = denoise(y, sr)
+    assert r.y.shape == y.shape and r.amplitudes.shape[1] == 2
+    for c in range(2):
+        est = r.line_amplitude("h1")[c]
+        assert abs(est - truth["amplitudes"][c][0]) / truth["amplitudes"][c][0] < 0.02
+    assert snr_improvement_db(truth["host"], truth["hum"], r.y) > 20
+
+
+def test_tone_is_removed():
+    y, sr, truth = make_hum_mix(8.0, 8000, snr_db=6.0, random_state=6)
+    t = np.arange(len(y)) / sr
+    tone = 0.05 * np.cos(2 * np.pi * 1000.2 * t + 0.3)
+    r = denoise(y + tone, sr, tones=[1000])
+    assert abs(r.tones[0] - 1000.2) < 0.05
+    m = line_metrics(y + tone, r.y, sr, [r.tones[0]])
+    assert m["level_in_db"][0] > 20 and abs(m["level_db"][0]) < 3
+
+
+def test_no_offline_distortion(res50, mix50):
+    y, sr, _ = mix50
+    m = line_metrics(y, res50.y, sr, [k * res50.mains_hz for k in res50.harmonics], f0=res50.mains_hz)
+    assert m["offline_removed_db"] < -50
+
+
+@pytest.mark.parametrize("kw, msg", [
+    ({"mains": 5000}, r"mains=5000 Hz is at or above the Nyquist frequency \(4000 Hz for sr=8000\)"),
+    ({"mains": "abc"}, r"mains must be 'auto', 50, 60 or a frequency in Hz; got 'abc'"),
+    ({"harmonics": 0}, r"harmonics must be 'auto' or a positive integer; got 0"),
+    ({"tones": [4500]}, r"tone=4500 Hz must be between 0 and the Nyquist frequency \(4000 Hz\)"),
+    ({"solver": "magic"}, r"solver must be 'exact' or 'network'; got 'magic'"),
+    ({"block_s": 0.01}, r"block_s must be between 0.1 and 60 s; got 0.01"),
+])
+def test_option_errors(kw, msg):
+    y = np.zeros(8000)
+    with pytest.raises(InputError, match=msg):
+        denoise(y, 8000, **kw)
+
+
+def test_input_errors():
+    y = np.zeros(8000)
+    y[10] = np.nan
+    with pytest.raises(InputError, match=r"y contains 1 NaN value\(s\) \(first at index 10\)"):
+        denoise(y, 8000)
+    with pytest.raises(InputError, match=r"input is too short \(100 samples = 0.013 s at 8000 Hz\)"):
+        denoise(np.zeros(100), 8000)
+    with pytest.raises(InputError, match=r"sr must be a positive integer sample rate in Hz; got -5"):
+        denoise(np.zeros(8000), -5)
+    with pytest.raises(InputError, match=r"y has shape \(2, 8000\): more channels than samples"):
+        denoise(np.zeros((2, 8000)), 8000)
