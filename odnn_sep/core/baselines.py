@@ -70,7 +70,20 @@ def ols(F, y) -> np.ndarray:
     return theta
 
 
-def _torch_fit(x, y, F, *, lam, hidden, depth, epochs, lr, random_state, theta_init, return_loss=False):
+def _torch_fit(x, y, F, **kw):
+    import torch
+
+    # Nets this small gain nothing from intra-op threads, and on a busy machine thread contention
+    # makes them many times slower; run single-threaded and restore the caller's setting.
+    prev = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        return _torch_fit1(x, y, F, **kw)
+    finally:
+        torch.set_num_threads(prev)
+
+
+def _torch_fit1(x, y, F, *, lam, hidden, depth, epochs, lr, random_state, theta_init, return_loss=False):
     import torch
 
     from odnn_sep.core.nets import MLP
