@@ -68,6 +68,8 @@ class FileSource:
 
         start = max(start, 0)
         n = max(0, min(n, self.frames - start))
+        if n == 0:
+            return np.zeros((0, self.channels))
         try:
             self.f.seek(start)
             out = self.f.read(n, dtype="float64", always_2d=True)

@@ -23,7 +23,7 @@ def _drift(t: np.ndarray, rng: np.random.Generator, drift_hz: float):
     amps *= drift_hz / amps.sum()
     df = np.zeros_like(t)
     integ = np.zeros_like(t)
-    for a, p, ph in zip(amps, periods, phases):
+    for a, p, ph in zip(amps, periods, phases, strict=False):
         w = 2 * np.pi / p
         df += a * np.sin(w * t + ph)
         integ += a * (np.cos(ph) - np.cos(w * t + ph)) / w
@@ -125,7 +125,7 @@ def make_hum_mix(duration_s: float = 30.0, sr: int = 16000, *, mains_hz: float =
         gain = 1.0 if c == 0 else rng.uniform(0.4, 1.2)
         hum = np.zeros(n)
         a_c = amps * gain
-        for k, a in zip(ks, a_c):
+        for k, a in zip(ks, a_c, strict=False):
             hum += a * np.cos(k * phase + rng.uniform(0, 2 * np.pi))
         hosts.append(host)
         hums.append(hum)

@@ -41,7 +41,7 @@ def test_snr_improvement_and_amplitudes(res50, mix50):
     y, sr, truth = mix50
     impr = snr_improvement_db(truth["host"], truth["hum"], res50.y)
     assert impr > 25.0, impr
-    for k, a in zip(truth["harmonics"][:5], truth["amplitudes"][0][:5]):
+    for k, a in zip(truth["harmonics"][:5], truth["amplitudes"][0][:5], strict=False):
         est = res50.line_amplitude(f"h{k}")[0]
         assert abs(est - a) / a < 0.02, (k, est, a)
 

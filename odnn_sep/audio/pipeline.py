@@ -172,7 +172,7 @@ def _run(source, sink, **kw):
     # Many small matrix products: BLAS threads only add spin-wait overhead here (and collapse
     # when the machine is busy), so run them single-threaded.
     try:
-        from threadpoolctl import threadpool_limits   # present through librosa -> scikit-learn
+        from threadpoolctl import threadpool_limits  # present through librosa -> scikit-learn
     except ImportError:  # pragma: no cover
         return _run_inner(source, sink, **kw)
     with threadpool_limits(limits=1, user_api="blas"):
@@ -387,5 +387,7 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
 
 
 def _flushed(fo, tmp):
-    fo.flush()
+    # finish the file (FLAC/OGG cannot be read back while open for writing); the surrounding
+    # ``with`` closing it again is a no-op
+    fo.close()
     return FileSource(tmp)
