@@ -17,32 +17,55 @@ from scipy import optimize
 CHI2_1_95 = 3.841458820694124
 
 
-def cone_generators(x: np.ndarray, disturbance) -> tuple[np.ndarray, np.ndarray]:
-    """Return (A, H): g = A u + H d with u free and d >= 0 spans exactly the cone on the samples.
+MAX_KNOTS = 400
 
-    ``x`` must be sorted increasing.
+
+def _knots(inner: np.ndarray) -> np.ndarray:
+    # NNLS cost grows ~ cubically with the knot count; beyond MAX_KNOTS we keep an evenly spread
+    # subset, i.e. an inner approximation of the cone (reported in the diagnostics).
+    if inner.size <= MAX_KNOTS:
+        return inner
+    return inner[np.unique(np.linspace(0, inner.size - 1, MAX_KNOTS).round().astype(int))]
+
+
+def cone_generators(x: np.ndarray, disturbance) -> tuple[np.ndarray, np.ndarray]:
+    """Return (A, H): g = A u + H d with u free and d >= 0 spans the cone on the samples.
+
+    Exact (a generator at every sample) up to ``MAX_KNOTS`` knots. ``x`` must be sorted increasing.
     """
     n = x.size
     one = np.ones((n, 1))
     if disturbance.kind != "cone":
         raise ValueError("not a cone class")
     if type(disturbance).__name__ == "Convex":
-        knots = x[1:-1]
+        knots = _knots(x[1:-1])
         H = np.maximum(x[:, None] - knots[None, :], 0.0)  # hinge at every interior sample
         return np.hstack([one, x[:, None]]), H
-    steps = (x[:, None] >= x[None, 1:]).astype(float)   # step up at every sample
+    steps = (x[:, None] >= _knots(x[1:])[None, :]).astype(float)   # step up at every sample
     return one, steps if disturbance.increasing else -steps
+
+
+class _ConeLS:
+    """min ||y - A u - H d||^2 over free u and d >= 0, for many y with the same A and H.
+
+    The free part is projected out once (QR), leaving a plain NNLS per right-hand side.
+    """
+
+    def __init__(self, A: np.ndarray, H: np.ndarray):
+        self.A, self.H = A, H
+        self.Q, _ = np.linalg.qr(A)
+        self.Hp = H - self.Q @ (self.Q.T @ H)
+
+    def __call__(self, y: np.ndarray):
+        yp = y - self.Q @ (self.Q.T @ y)
+        d, rnorm = optimize.nnls(self.Hp, yp, maxiter=50 * self.H.shape[1])
+        u, *_ = np.linalg.lstsq(self.A, y - self.H @ d, rcond=None)
+        return u, d, float(rnorm) ** 2
 
 
 def _solve(A: np.ndarray, H: np.ndarray, y: np.ndarray):
     """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss)."""
-    Q, _ = np.linalg.qr(A)
-    Hp = H - Q @ (Q.T @ H)
-    yp = y - Q @ (Q.T @ y)
-    d, _ = optimize.nnls(Hp, yp, maxiter=50 * H.shape[1])
-    u, *_ = np.linalg.lstsq(A, y - H @ d, rcond=None)
-    r = y - A @ u - H @ d
-    return u, d, float(r @ r)
+    return _ConeLS(A, H)(y)
 
 
 def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_chi2: float = CHI2_1_95):
@@ -64,13 +87,14 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     scale = float(ys @ ys) or 1.0
     thresh = rss_min + level_chi2 * sigma2 + 1e-10 * scale
 
-    def profile(j: int, t: float) -> float:
-        keep = [k for k in range(p) if k != j]
-        Aj = np.hstack([Fs[:, keep], A0])
-        return _solve(Aj, H, ys - t * Fs[:, j])[2]
-
     interval = np.empty((p, 2))
     for j in range(p):
+        keep = [k for k in range(p) if k != j]
+        solver_j = _ConeLS(np.hstack([Fs[:, keep], A0]), H)
+
+        def profile(j: int, t: float, solver_j=solver_j) -> float:
+            return solver_j(ys - t * Fs[:, j])[2]
+
         t0 = theta_ls[j]
         step0 = max(abs(t0), 1.0) * 1e-3
         for side, sgn in ((0, -1.0), (1, 1.0)):
@@ -90,7 +114,7 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
                     inside = mid
                 else:
                     out = mid
-                if abs(out - inside) <= 1e-9 * max(1.0, abs(t0)):
+                if abs(out - inside) <= 1e-7 * max(1.0, abs(t0)):
                     break
             interval[j, side] = inside
     theta_mid = np.where(np.isfinite(interval).all(axis=1), interval.mean(axis=1), theta_ls)
@@ -101,5 +125,6 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     g[order] = g_sorted
     return {
         "theta_ls": theta_ls, "interval": interval, "theta_mid": theta_mid, "g": g,
-        "rss_min": rss_min, "sigma2": sigma2, "active": n_active,
+        "rss_min": rss_min, "sigma2": sigma2, "active": n_active, "generators": H.shape[1],
+        "exact_cone": H.shape[1] >= (xs.size - 2 if type(disturbance).__name__ == "Convex" else xs.size - 1),
     }

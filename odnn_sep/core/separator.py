@@ -143,6 +143,7 @@ class Separator:
                     "disturbance": c["g"],
                     "diagnostics": {"theta_least_squares": c["theta_ls"].tolist(), "rss_min": c["rss_min"],
                                     "sigma": float(np.sqrt(c["sigma2"])), "active_cone_generators": c["active"],
+                                    "cone_generators": c["generators"], "exact_cone": c["exact_cone"],
                                     "interval_relative_width": rel.tolist()}}
         if dist.kind == "orthogonal":
             Fp, yp, rank_g = F, y, 0
