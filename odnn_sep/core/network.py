@@ -17,8 +17,20 @@ from odnn_sep.errors import ConvergenceWarning
 log = logging.getLogger(__name__)
 
 
-def fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, epochs=1500, lr=1e-2,
-                hidden=32, depth=3, lbfgs_iter=300):
+def fit_network(F, x, y, dist, projector, **kw):
+    import torch
+
+    # The networks are tiny: one thread is as fast and does not fight other processes for cores.
+    saved = torch.get_num_threads()
+    torch.set_num_threads(1 if F.shape[0] <= 20000 else saved)
+    try:
+        return _fit_network(F, x, y, dist, projector, **kw)
+    finally:
+        torch.set_num_threads(saved)
+
+
+def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, epochs=1500, lr=1e-2,
+                 hidden=32, depth=3, lbfgs_iter=300):
     import torch
 
     from odnn_sep.core.nets import ICNN, MLP, MonotoneMLP
