@@ -48,6 +48,10 @@ def atomic_output(out, suffix: str | None = None):
     os.close(fd)
     try:
         yield Path(tmp)
+        # mkstemp creates 0600; give the result the permissions a normally created file would have
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, o)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
