@@ -16,7 +16,13 @@ Examples
 from odnn_sep.errors import InputError
 from odnn_sep.signals._base import Dataset
 from odnn_sep.signals.explicit import explicit_1d, explicit_2d
-from odnn_sep.signals.implicit import figure2, implicit_convex, implicit_monotone, implicit_periodic, implicit_symmetric
+from odnn_sep.signals.implicit import (
+    figure2,
+    implicit_convex,
+    implicit_monotone,
+    implicit_periodic,
+    implicit_symmetric,
+)
 from odnn_sep.signals.physical import aiba_edwards_mu, biology, heat2d, oscillator, pendulum, population
 
 #: name -> generator, in Table 1 order.

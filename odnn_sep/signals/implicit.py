@@ -13,6 +13,18 @@ from odnn_sep.core import Basis, Convex, Even, Monotone, Periodic
 from odnn_sep.signals._base import Dataset, check_n, check_theta, make, pick, rng_from
 
 
+def _cone_interval(dg: np.ndarray, ds: np.ndarray, theta: float) -> tuple[float, float]:
+    """Exact noise-free identified set of theta on the samples.
+
+    ``y - t s = g + (theta - t) s`` is in the cone iff ``dg + c ds >= 0`` for every difference
+    (first differences: monotone; second differences: convex), with ``c = theta - t``.
+    """
+    pos, neg = ds > 1e-15, ds < -1e-15
+    c_lo = float(np.max(-dg[pos] / ds[pos])) if pos.any() else -np.inf
+    c_hi = float(np.min(-dg[neg] / ds[neg])) if neg.any() else np.inf
+    return theta - c_hi, theta - c_lo
+
+
 def _sin5(x):
     return np.sin(5 * x)
 
@@ -30,8 +42,9 @@ def implicit_convex(*, n: int = 400, snr_db: float = 30.0, theta: dict | None = 
     """Convex disturbance: ``y = g(x) + theta sin 5x`` on x in [-2, 2] (paper: ``x^2 + sin 5x``).
 
     ``g = a x^2 + b x + c + d exp(x/2)`` with a in [0.5, 1.5], d in [0, 0.5] (convex). Class:
-    ``Convex()``. Set-identified: ``g + c sin 5x`` stays convex while ``25 |c| <= min g''``, so the
-    identified interval has half-width about ``min g'' / 25`` (0.04-0.13 here).
+    ``Convex()``. Set-identified: ``g + c sin 5x`` stays convex while ``25 |c| <= min g''`` roughly,
+    so a whole interval of theta fits; ``extras["identified_set"]`` is that interval, computed
+    exactly on the samples (second differences) for the noise-free data.
 
     Parameters
     ----------
@@ -61,11 +74,11 @@ def implicit_convex(*, n: int = 400, snr_db: float = 30.0, theta: dict | None = 
     g = a * x**2 + b * x + c + d * np.exp(x / 2)
     basis = Basis([_sin5], names=["theta"])
     physics = th["theta"] * _sin5(x)
-    half = (2 * a + d * np.exp(-1.0) / 4) / 25
+    lo, hi = _cone_interval(np.diff(g, 2), np.diff(_sin5(x), 2), th["theta"])
     desc = ("implicit convex: y = a x^2 + b x + c + d exp(x/2) + theta sin 5x; class Convex(); "
-            f"set-identified (theta +- about {half:.3f} fits exactly)")
+            f"set-identified (without noise every theta in [{lo:.4f}, {hi:.4f}] fits exactly)")
     return make("implicit_convex", x, basis, Convex(), th, physics, g, snr_db, rng, desc, identified="set",
-                extras={"identified_half_width_approx": half})
+                extras={"identified_set": (lo, hi)})
 
 
 def implicit_periodic(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0,
@@ -129,8 +142,9 @@ def implicit_monotone(*, n: int = 400, snr_db: float = 30.0, theta: dict | None 
     """Monotone disturbance: ``y = g(x) + theta sin 5x`` on x in [-1, 1.5] (paper: ``exp x + sin 5x``).
 
     ``g = a exp(x) + b x + c`` with a in [0.5, 2], b in [0, 1] (non-decreasing). Class:
-    ``Monotone()``. Set-identified: ``g + c sin 5x`` stays monotone while ``5 |c| <= min g'``, an
-    interval of half-width about ``(a/e + b) / 5``.
+    ``Monotone()``. Set-identified: ``g + c sin 5x`` stays monotone for a range of c, so a whole
+    interval of theta fits; ``extras["identified_set"]`` is that interval, computed exactly on the
+    samples (first differences) for the noise-free data.
 
     Examples
     --------
@@ -146,11 +160,11 @@ def implicit_monotone(*, n: int = 400, snr_db: float = 30.0, theta: dict | None 
     g = a * np.exp(x) + b * x + c
     basis = Basis([_sin5], names=["theta"])
     physics = th["theta"] * _sin5(x)
-    half = (a * np.exp(-1.0) + b) / 5
+    lo, hi = _cone_interval(np.diff(g), np.diff(_sin5(x)), th["theta"])
     desc = ("implicit monotone: y = a exp(x) + b x + c + theta sin 5x; class Monotone(); "
-            f"set-identified (theta +- about {half:.3f} fits exactly)")
+            f"set-identified (without noise every theta in [{lo:.4f}, {hi:.4f}] fits exactly)")
     return make("implicit_monotone", x, basis, Monotone(), th, physics, g, snr_db, rng, desc, identified="set",
-                extras={"identified_half_width_approx": half})
+                extras={"identified_set": (lo, hi)})
 
 
 def figure2(*, n: int = 1001, snr_db: float = 30.0, theta: dict | None = None, random_state=None) -> Dataset:

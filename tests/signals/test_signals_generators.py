@@ -7,7 +7,15 @@ import pytest
 
 from odnn_sep.core import Band, Convex, Even, Monotone, Orthogonal, Periodic, Separator, Subspace
 from odnn_sep.errors import InputError
-from odnn_sep.signals import GENERATORS, aiba_edwards_mu, biology, explicit_1d, heat2d, make_dataset, population
+from odnn_sep.signals import (
+    GENERATORS,
+    aiba_edwards_mu,
+    biology,
+    explicit_1d,
+    heat2d,
+    make_dataset,
+    population,
+)
 
 NAMES = list(GENERATORS)
 
@@ -105,7 +113,7 @@ def test_exact_separator_recovers_truth_without_noise(name):
         r = Separator(ds.basis, disturbance=ds.disturbance).fit(ds.x, ds.y).result_
     est = {**r.theta_dict(), **r.phi}
     if ds.identified == "set":
-        for k, (lo, hi) in zip(r.names, r.interval):
+        for k, (lo, hi) in zip(r.names, r.interval, strict=True):
             assert lo - 1e-6 <= ds.theta_true[k] <= hi + 1e-6
     else:
         for k, v in ds.theta_true.items():
@@ -160,3 +168,20 @@ def test_theta_override_and_heat_grid_is_symmetric():
 def test_bad_options_fail_clearly(call, match):
     with pytest.raises(InputError, match=match):
         call()
+
+
+@pytest.mark.parametrize("name", ["implicit_convex", "implicit_monotone"])
+def test_cone_cases_identified_set(name):
+    ds = make_dataset(name, snr_db=np.inf, random_state=1)
+    lo, hi = ds.extras["identified_set"]
+    t = ds.theta_true["theta"]
+    assert lo < t < hi and hi - lo > 0.05 * t  # a real interval, not a point
+    s = ds.design()[:, 0]
+    order = 2 if name == "implicit_convex" else 1
+    for edge, inside in ((lo, True), (hi, True), (lo - 1e-3, False), (hi + 1e-3, False)):
+        d = np.diff(ds.y - edge * s, order)
+        assert bool(np.all(d >= -1e-9)) is inside
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = Separator(ds.basis, disturbance=ds.disturbance).fit(ds.x, ds.y).result_
+    np.testing.assert_allclose(r.interval[0], [lo, hi], atol=0.01 * t)
