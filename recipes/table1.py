@@ -70,16 +70,16 @@ def run_dataset(name, *, trials, dnn_trials, network_trials, snr_db, net_epochs,
             errs["odnn_network"].append(mape(rn.theta_dict(), ds.theta_true, lin))
         F = ds.design()  # baselines get the true phi
         truth = ds.theta_true
-        errs["ols"].append(mape(dict(zip(lin, ols(F, ds.y))), truth, lin))
-        errs["sindy"].append(mape(dict(zip(lin, sindy(F, ds.y))), truth, lin))
+        errs["ols"].append(mape(dict(zip(lin, ols(F, ds.y), strict=True)), truth, lin))
+        errs["sindy"].append(mape(dict(zip(lin, sindy(F, ds.y), strict=True)), truth, lin))
         if i < dnn_trials:
             th = regular_dnn(ds.x, ds.y, F, epochs=dnn_epochs, random_state=i)
-            errs["regular_dnn"].append(mape(dict(zip(lin, th)), truth, lin))
+            errs["regular_dnn"].append(mape(dict(zip(lin, th, strict=True)), truth, lin))
             th = pinn_penalty(ds.x, ds.y, F, epochs=dnn_epochs, random_state=i)
-            errs["pinn_penalty"].append(mape(dict(zip(lin, th)), truth, lin))
+            errs["pinn_penalty"].append(mape(dict(zip(lin, th, strict=True)), truth, lin))
         progress.update(1)
-    return {"errs": errs, "phi_err": phi_err, "widths": widths, "true_widths": true_widths, "covered": covered, "identified": identified,
-            "net_unconverged": net_unconv, "phi_names": list(ds.basis.phi_names), "lin": list(ds.basis.names)}
+    return {"errs": errs, "phi_err": phi_err, "widths": widths, "true_widths": true_widths, "covered": covered,
+            "identified": identified, "net_unconverged": net_unconv, "phi_names": list(ds.basis.phi_names), "lin": list(ds.basis.names)}
 
 
 def fmt(v) -> str:
