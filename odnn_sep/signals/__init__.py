@@ -6,6 +6,9 @@ Each generator is seedable (``random_state``), draws random true parameters unle
 is a core class the true disturbance provably belongs to, ready for
 ``Separator(ds.basis, disturbance=ds.disturbance).fit(ds.x, ds.y)``.
 
+Attributes are loaded lazily so that ``odnn_sep.signals.command`` (imported by ``odnn-sep --help``)
+does not pull in numpy/scipy.
+
 Examples
 --------
 >>> from odnn_sep.signals import make_dataset
@@ -13,42 +16,37 @@ Examples
 >>> ds.theta_true
 {'theta': 0.5}
 """
-from odnn_sep.errors import InputError
-from odnn_sep.signals._base import Dataset
-from odnn_sep.signals.explicit import explicit_1d, explicit_2d
-from odnn_sep.signals.implicit import (
-    figure2,
-    implicit_convex,
-    implicit_monotone,
-    implicit_periodic,
-    implicit_symmetric,
-)
-from odnn_sep.signals.physical import aiba_edwards_mu, biology, heat2d, oscillator, pendulum, population
+import importlib
 
-#: name -> generator, in Table 1 order.
-GENERATORS = {
-    "explicit_1d": explicit_1d,
-    "explicit_2d": explicit_2d,
-    "implicit_convex": implicit_convex,
-    "implicit_periodic": implicit_periodic,
-    "implicit_symmetric": implicit_symmetric,
-    "implicit_monotone": implicit_monotone,
-    "figure2": figure2,
-    "pendulum": pendulum,
-    "biology": biology,
-    "oscillator": oscillator,
-    "population": population,
-    "heat2d": heat2d,
+_WHERE = {
+    "Dataset": "_base",
+    "explicit_1d": "explicit", "explicit_2d": "explicit",
+    "implicit_convex": "implicit", "implicit_periodic": "implicit", "implicit_symmetric": "implicit",
+    "implicit_monotone": "implicit", "figure2": "implicit",
+    "pendulum": "physical", "biology": "physical", "oscillator": "physical", "population": "physical",
+    "heat2d": "physical", "aiba_edwards_mu": "physical",
 }
 
-
-def make_dataset(name: str, **kwargs) -> Dataset:
-    """Build the dataset called ``name`` (a key of :data:`GENERATORS`) with the generator's options."""
-    if name not in GENERATORS:
-        raise InputError(f"unknown dataset {name!r}; choose one of {', '.join(GENERATORS)}")
-    return GENERATORS[name](**kwargs)
+#: Dataset names in Table 1 order (``GENERATORS`` maps them to their functions).
+NAMES = ("explicit_1d", "explicit_2d", "implicit_convex", "implicit_periodic", "implicit_symmetric",
+         "implicit_monotone", "figure2", "pendulum", "biology", "oscillator", "population", "heat2d")
 
 
-__all__ = ["Dataset", "GENERATORS", "make_dataset", "explicit_1d", "explicit_2d", "implicit_convex",
-           "implicit_periodic", "implicit_symmetric", "implicit_monotone", "figure2", "pendulum", "biology",
-           "oscillator", "population", "heat2d", "aiba_edwards_mu"]
+def __getattr__(name):
+    if name in _WHERE:
+        return getattr(importlib.import_module(f"odnn_sep.signals.{_WHERE[name]}"), name)
+    if name == "GENERATORS":
+        return {n: __getattr__(n) for n in NAMES}
+    raise AttributeError(f"module 'odnn_sep.signals' has no attribute {name!r}")
+
+
+def make_dataset(name: str, **kwargs):
+    """Build the dataset called ``name`` (one of :data:`NAMES`) with the generator's options."""
+    if name not in NAMES:
+        from odnn_sep.errors import InputError
+
+        raise InputError(f"unknown dataset {name!r}; choose one of {', '.join(NAMES)}")
+    return __getattr__(name)(**kwargs)
+
+
+__all__ = ["Dataset", "GENERATORS", "NAMES", "make_dataset", *NAMES, "aiba_edwards_mu"]
