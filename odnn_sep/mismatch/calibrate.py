@@ -1,10 +1,11 @@
 """Calibration: refit the simulation's own parameters, with the disturbance kept in its class.
 
 The disturbance class for oscillatory records ("slow") is a set of slowly varying cosine modes
-below a quarter of the dominant physical frequency, made orthogonal to a constant and a straight
-line. It cannot imitate the physics (which lives at the oscillation frequency), and it deliberately
-leaves a constant offset and a linear drift outside, because those are effects in the vocabulary
-that the finder must be able to name. Slow presets (cooling, free fall, 2D fields) and user
+below half the dominant physical frequency (at most 10 modes), plus a constant and a straight line.
+It cannot imitate the physics (which lives at the oscillation frequency). A constant offset and a
+linear drift are inside it on purpose: the mean and trend of a slow wander cannot be told apart
+from a sensor offset or drift, so under this class those two effects are reported as part of the
+disturbance instead of being offered as candidates (with ``disturbance="none"`` they are offered). Slow presets (cooling, free fall, 2D fields) and user
 models default to no disturbance class: their physics is itself slow, so any slow class would
 imitate it.
 """
@@ -19,27 +20,29 @@ from odnn_sep.mismatch.fitting import Fit, fit
 from odnn_sep.mismatch.presets import _dominant_omega
 
 SLOW_FAMILIES = {"oscillator", "pendulum", "hum"}
-MAX_SLOW_MODES = 60
+# at most 10 modes: with 20 cross-validation blocks the slowest held-out gap must stay
+# interpolable by the disturbance fitted on the other blocks
+MAX_SLOW_MODES = 10
+
+
+def slow_cutoff(t, y):
+    """Half the dominant frequency: the physical oscillation and its sidebands stay above it."""
+    return _dominant_omega(t, y) / (2 * np.pi) / 2.0
 
 
 def slow_disturbance(t, *, cutoff_hz=None, y=None):
-    """Columns spanning slow wander below ``cutoff_hz``, orthogonal to [1, t]. Shape (n, q), q may be 0."""
+    """Orthonormal columns spanning a constant, a line and cosine modes below ``cutoff_hz``. Shape (n, q)."""
     t = np.asarray(t, float)
     T = float(t[-1] - t[0])
     if cutoff_hz is None:
         if y is None:
             raise InputError("slow_disturbance needs cutoff_hz or y to find the dominant frequency")
-        cutoff_hz = _dominant_omega(t, y) / (2 * np.pi) / 4.0
+        cutoff_hz = slow_cutoff(t, y)
     # cosine mode k has frequency k / (2 T); keep modes strictly below the cut-off
     K = int(np.floor(2 * T * cutoff_hz))
     K = min(K, MAX_SLOW_MODES, len(t) // 10)
-    if K < 2:
-        return np.zeros((len(t), 0))
     u = (t - t[0]) / max(T, 1e-300)
-    cols = np.column_stack([np.cos(np.pi * k * u) for k in range(1, K + 1)])
-    P = np.column_stack([np.ones_like(u), u - 0.5])
-    Qp, _ = np.linalg.qr(P)
-    cols = cols - Qp @ (Qp.T @ cols)
+    cols = np.column_stack([np.ones_like(u), u - 0.5] + [np.cos(np.pi * k * u) for k in range(1, K + 1)])
     q, r = np.linalg.qr(cols)
     keep = np.abs(np.diag(r)) > 1e-8 * np.abs(np.diag(r)).max()
     return q[:, keep]
@@ -57,8 +60,7 @@ def disturbance_columns(disturbance, model, t, y):
     if disturbance == "none":
         return None
     if disturbance == "slow":
-        G = slow_disturbance(t, y=y)
-        return G if G.shape[1] else None
+        return slow_disturbance(t, y=y)
     raise InputError(f"disturbance must be 'auto', 'slow', 'none' or an (n, q) array; got {disturbance!r}")
 
 
@@ -75,7 +77,7 @@ class Calibration:
             "parameters": {k: {"value": f.params[k], "stderr": f.stderr.get(k),
                                "interval95": list(iv[k]) if k in iv else None} for k in f.free},
             "fixed": {k: f.params[k] for k in f.model.fixed if k in f.params},
-            "disturbance": {"class": "slow band (orthogonal to offset and drift)" if self.G is not None
+            "disturbance": {"class": "slow band (constant, drift and slow cosine modes)" if self.G is not None
                             else "none", "columns": 0 if self.G is None else int(self.G.shape[1]),
                             "rms": float(np.sqrt(np.mean(f.disturbance ** 2)))},
             "residual_rms": f.rms,

@@ -11,6 +11,7 @@ linear or quadratic drag) it is used instead.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from scipy.integrate import odeint
@@ -25,8 +26,10 @@ class ModelIntegrationError(InputError):
 
 
 def _integrate(name, rhs, state0, t, p):
-    with np.errstate(all="ignore"):
-        sol, info = odeint(rhs, state0, t, full_output=True, mxstep=20000, rtol=1e-8, atol=1e-10,
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        # a failure is reported below as one clear error, not as solver chatter
+        warnings.simplefilter("ignore")
+        sol, info = odeint(rhs, state0, t, full_output=True, mxstep=20000, rtol=1e-7, atol=1e-9,
                            tfirst=True)
     if info.get("message", "").lower().find("successful") < 0 or not np.all(np.isfinite(sol)):
         shown = {k: round(float(v), 6) for k, v in p.items()}

@@ -34,7 +34,10 @@ def result_dict(res) -> dict:
                                      v.effect_params[k] + 1.96 * (v.fit.stderr.get(k) or 0.0)]
                                  for k in v.effect_params if k in v.fit.stderr},
                    "score": v.score, "heldout_improvement": v.cv_improvement,
-                   "heldout_p_value": v.cv_p_value}
+                   # runners-up within 6 BIC units are not clearly worse ("positive" evidence at most)
+                   "ambiguous_with": [c.effect for c in res.candidates
+                                      if c is not v and abs(v.score - c.score) < 6.0],
+                   "heldout_gain": v.heldout_gain, "heldout_p_value": v.cv_p_value}
         after = _fit_summary(v.fit, v.heldout_rmse)
         # how the calibrated parameters were biased by leaving the effect out
         after["bias_of_calibration"] = {
@@ -73,7 +76,9 @@ def summary_text(res) -> str:
         ps = ", ".join(f"{k}={_fmt(x)}" for k, x in v["parameters"].items())
         lines.append(f"Verdict: {v['effect']} — {v['description']} ({ps}); "
                      f"BIC drop {v['score']:.1f}, held-out RMSE {100 * v['heldout_improvement']:.1f}% lower "
-                     f"(p={v['heldout_p_value']:.2g})")
+                     f"(held-out gain {v['heldout_gain']:.1f})")
+        if v.get("ambiguous_with"):
+            lines.append(f"  not clearly better than: {', '.join(v['ambiguous_with'])} (BIC within 6)")
     lines.append("Calibration (without the effect):")
     for k, p in d["calibration"]["parameters"].items():
         lo, hi = p["interval95"] or (None, None)
@@ -92,10 +97,10 @@ def summary_text(res) -> str:
                              f"rms {w['rms_over_noise']:.2f}x noise (p={w['p_value']:.2g})")
     else:
         lines.append("Where: nowhere does the residual exceed the noise significantly.")
-    lines.append("Candidates (score = BIC drop; > 10 and held-out p < 0.01 needed):")
+    lines.append("Candidates (score = BIC drop; a verdict needs score > 10 and held-out gain > 6):")
     for c in d["candidates"][:6]:
-        hi = "" if c["heldout_p_value"] is None else \
-            f", held-out {100 * c['heldout_improvement']:+.1f}% (p={c['heldout_p_value']:.2g})"
+        hi = "" if c["heldout_gain"] is None else \
+            f", held-out RMSE {100 * c['heldout_improvement']:+.1f}%, gain {c['heldout_gain']:.1f}"
         lines.append(f"  {c['effect']:<22} score {c['score']:9.1f}{hi}")
     b, a = d["fit"]["before"], d["fit"]["after"]
     lines.append(f"{'':22}{'before':>12}{'after':>12}")

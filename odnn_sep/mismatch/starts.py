@@ -45,7 +45,10 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
         base_pred = model.predict(t, start)
         cols = []
         for k in free:
-            h = rel_step * max(abs(float(start[k])), 1e-3)
+            # parameters at their neutral value 0 get an absolute step: a relative one would be
+            # lost in the ODE solver's error
+            x = abs(float(start[k]))
+            h = rel_step * x if x > 1e-6 else 1e-3
             p = dict(start)
             p[k] = float(start[k]) + h
             cols.append((model.predict(t, p) - base_pred) / h)
@@ -79,7 +82,7 @@ def effect_starts(effect, base, t, y, model=None, G=None):
     tt = t if np.ndim(t) == 1 else None
     out = []
     if effect == "periodic_forcing" and tt is not None:
-        for f in _peaks(tt, r):
+        for f in _peaks(tt, r, n_peaks=2):
             w = 2 * np.pi * f
             a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
             X = a - 1j * b   # response phasor: a cos + b sin = Re[X e^{i w t}]
