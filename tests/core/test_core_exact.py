@@ -138,3 +138,15 @@ def test_weighted_orthogonal_downweights_outliers():
     w[10] = 0
     r = Separator(Basis([np.ones_like, lambda x: x], names=["c", "m"])).fit(x, y, weights=w).result_
     np.testing.assert_allclose(r.theta, [1, 2], atol=1e-10)
+
+
+def test_parametric_basis_is_differentiable_by_torch():
+    torch = pytest.importorskip("torch")
+    pb = ParametricBasis(lambda t, xp=np, f=1.0: xp.stack([xp.sin(2 * np.pi * f * t), xp.cos(2 * np.pi * f * t)], 1),
+                         phi0={"f": 1.0}, names=["s", "c"])
+    t = torch.linspace(0, 1, 50, dtype=torch.float64)
+    f = torch.tensor(1.3, dtype=torch.float64, requires_grad=True)
+    F = pb.evaluate(t, {"f": f}, xp=torch)
+    F.sum().backward()
+    expected = (2 * np.pi * t * (torch.cos(2 * np.pi * 1.3 * t) - torch.sin(2 * np.pi * 1.3 * t))).sum()
+    assert float(f.grad) == pytest.approx(float(expected), rel=1e-9)
