@@ -89,6 +89,20 @@ def implicit_periodic(*, periods: int = 10, per_period: int = 100, snr_db: float
     ``Periodic(2 pi / 5)`` is exact; x covers ``periods`` whole periods starting at 0, with
     ``per_period`` samples per period so phase averaging is exact.
 
+    Parameters
+    ----------
+    periods, per_period : int
+        Record length in periods and samples per period.
+    snr_db : float
+        Physics-to-noise power ratio in dB (``inf``: no noise).
+    theta : dict, optional
+        ``{"theta": value}`` fixes the coefficient (else drawn uniformly from [0.5, 1.5]).
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    Dataset
+
     Examples
     --------
     >>> ds = implicit_periodic(random_state=0)
@@ -118,6 +132,20 @@ def implicit_symmetric(*, n: int = 1001, snr_db: float = 30.0, theta: dict | Non
 
     ``g = a cos 5x + b x^2 + c cos x + d`` is even, the physics is odd. Class: ``Even(0)``.
 
+    Parameters
+    ----------
+    n : int
+        Samples on [-pi, pi] (end points included, so the grid is symmetric).
+    snr_db : float
+        Physics-to-noise power ratio in dB (``inf``: no noise).
+    theta : dict, optional
+        ``{"theta": value}`` fixes the coefficient (else drawn uniformly from [0.5, 1.5]).
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    Dataset
+
     Examples
     --------
     >>> ds = implicit_symmetric(random_state=0)
@@ -146,6 +174,20 @@ def implicit_monotone(*, n: int = 400, snr_db: float = 30.0, theta: dict | None 
     interval of theta fits; ``extras["identified_set"]`` is that interval, computed exactly on the
     samples (first differences) for the noise-free data.
 
+    Parameters
+    ----------
+    n : int
+        Samples (uniform on [-1, 1.5]).
+    snr_db : float
+        Physics-to-noise power ratio in dB (``inf``: no noise).
+    theta : dict, optional
+        ``{"theta": value}`` fixes the coefficient (else drawn uniformly from [0.5, 1.5]).
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    Dataset
+
     Examples
     --------
     >>> implicit_monotone(random_state=0).identified
@@ -173,6 +215,20 @@ def figure2(*, n: int = 1001, snr_db: float = 30.0, theta: dict | None = None, r
     The physics is odd and the disturbance ``cos x`` even, so ``Even(0)`` point-identifies theta
     (theta* = 0.5 in the paper; pass ``theta={"theta": 0.5}``; random in [0.25, 1] otherwise). An
     unconstrained network (Eq. 2) can absorb ``x^2 sin 5x`` too, so its theta is not determined.
+
+    Parameters
+    ----------
+    n : int
+        Samples on [-pi, pi] (symmetric grid).
+    snr_db : float
+        Physics-to-noise power ratio in dB (``inf``: no noise).
+    theta : dict, optional
+        ``{"theta": value}`` fixes the coefficient (else drawn uniformly from [0.25, 1]).
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    Dataset
 
     Examples
     --------

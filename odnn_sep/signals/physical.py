@@ -207,6 +207,20 @@ def population(*, years: int = 10, per_year: int = 52, snr_db: float = 30.0, the
     coefficient ``log1p_r = log(1 + r)`` (``extras["r"]`` holds r). Noise is multiplicative on N,
     i.e. additive on y, at ``snr_db`` relative to the log-growth term ``t log(1 + r)``.
 
+    Parameters
+    ----------
+    years, per_year : int
+        Record length in years and samples per year.
+    snr_db : float
+        Physics-to-noise power ratio in dB (on the log scale).
+    theta : dict, optional
+        ``{"r": value}`` fixes the yearly growth rate (else uniform in [0.03, 0.2]).
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    Dataset
+
     Examples
     --------
     >>> ds = population(random_state=0)
@@ -255,6 +269,24 @@ def heat2d(*, nx: int = 41, ny: int = 33, L: float = 1.0, H: float = 0.8, alpha_
     Samples: ``nx x ny`` grid with end points on [0, L] x [0, H] (symmetric about the centre),
     flattened to ``x`` of shape (nx*ny, 2). ``alpha_t`` is diffusivity times time (kernel variance
     ``2 alpha_t`` per axis).
+
+    Parameters
+    ----------
+    nx, ny : int
+        Grid points along x and y.
+    L, H : float
+        Domain length and height.
+    alpha_t : float
+        Thermal diffusivity times elapsed time.
+    snr_db : float
+        Physics-to-noise power ratio in dB.
+    theta : dict, optional
+        Fix any of ``Q0, Q1, Q2`` (else uniform in [0.5, 2]).
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    Dataset
 
     Examples
     --------
