@@ -38,8 +38,8 @@ def register(subparsers) -> None:
     p.add_argument("--plot", metavar="P.png", help="write a figure: spectrograms, line levels, frequency track")
     p.add_argument("--solver", choices=("exact", "network"), default="exact",
                    help="exact least squares (default) or the torch ODNN network solver (slow)")
-    p.add_argument("--block-s", type=float, default=8.0, metavar="S",
-                   help="fit block length in seconds, 50%% overlap (default 8)")
+    p.add_argument("--block-s", default="auto", metavar="auto|S",
+                   help="fit block length in seconds, 50%% overlap; auto (default) picks 8 s or 16 s from the data")
     p.add_argument("--max-hz", type=float, default=None, metavar="HZ",
                    help="highest harmonic frequency to consider (default 0.95 x Nyquist, 40 harmonics)")
     p.add_argument("--subtype", default=None, metavar="ST",

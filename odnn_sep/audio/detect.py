@@ -257,3 +257,87 @@ def line_levels(spec: Spectrum, freqs, *, half_width_hz=None) -> list[dict]:
         st = line_level(spec, f, bw, excl)
         out.append({"freq_hz": float(f), "level_db": [float(v) for v in st["level_db"]]})
     return out
+
+
+@dataclass
+class Comb:
+    fundamental_hz: float
+    harmonics: list[int]
+    candidates: list[dict] = field(default_factory=list)
+
+
+def detect_extra_combs(spec: Spectrum, sr: int, nominal: float, main: list, *, min_sep_hz: float,
+                       alpha: float = 1e-3, max_hz: float | None = None, max_combs: int = 2,
+                       rel_search: float = 0.01, max_harmonic: int | None = None,
+                       main_f0: float | None = None, near_rel: float = 0.003) -> list[Comb]:
+    """Further hum combs near the same nominal fundamental (a second device, or the grid seen
+    through another sample clock), found on a high-resolution spectrum with the lines already
+    explained masked out.
+
+    ``main``: (frequency, half-width) of every line already removed. Further combs are searched
+    within ``near_rel`` (0.3 %) of ``main_f0``: a clock offset or a second device, not a musical
+    note series that happens to lie within 1 % of 50/60 Hz. A comb is kept when at least
+    two of its harmonics pass the line test at ``alpha`` after a Bonferroni correction over all
+    harmonics and all resolvable fundamentals in the search range (the look-elsewhere effect);
+    harmonics closer than ``min_sep_hz`` to a line already removed are left to that line's fit
+    (the two would be collinear over one block).
+    """
+    pooled = spec.psd.sum(axis=1)
+    df = spec.df
+    ks_all = _candidate_harmonics(nominal, sr, "auto", max_hz)
+    # a further comb is searched only as far up as the main comb reaches: isolated high lines
+    # are more likely tonal content than hum
+    k_top = max_harmonic if max_harmonic is not None else MAX_HARMONICS
+    ks_all = [k for k in ks_all if k <= k_top]
+    if not ks_all:
+        return []
+    known = list(main)
+    combs = []
+    # the same grid seen through another clock, or a second device: close to the main comb
+    centre = main_f0 if main_f0 is not None else nominal
+    lo, hi = centre * (1 - near_rel), centre * (1 + near_rel)
+    step = df / (4 * max(ks_all))
+    grid = np.arange(lo, hi, step)
+    n_grid_eff = max(1.0, (hi - lo) * max(ks_all) / df)
+    floors = {}
+    for k in ks_all:
+        st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), k * nominal,
+                        k * nominal * rel_search + 2 * df, known)
+        floors[k] = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else np.inf
+    for _ in range(max_combs):
+        score = np.zeros_like(grid)
+        for k in ks_all:
+            val = np.interp(k * grid, spec.freqs, pooled) / floors[k]
+            for f, bw in known:
+                val[np.abs(k * grid - f) <= bw + 2 * df] = 0.0
+            score += np.log1p(val)
+        i = int(np.argmax(score))
+        fc = float(grid[i])
+        if 0 < i < len(grid) - 1:
+            a, b, c = score[i - 1: i + 2]
+            den = a - 2 * b + c
+            if den < 0:
+                fc += 0.5 * (a - c) / den * step
+        n_tests = len(ks_all) * n_grid_eff
+        sig, cands = [], []
+        bw = 1.5 * df
+        for k in ks_all:
+            fk = k * fc
+            if min((abs(fk - f) - b for f, b in known), default=np.inf) < max(min_sep_hz, 2 * df):
+                continue
+            st = line_level(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
+            if not np.isfinite(st["floor"]).all():
+                continue
+            p = max(st["p_value"], persistence_p_value(spec, fk, bw, st["floor"]))
+            p_adj = min(1.0, p * n_tests)
+            cands.append({"family_hz": fc, "harmonic": k, "freq_hz": fk, "level_db": [float(v) for v in
+                                                                                     st["level_db"]],
+                          "p_value_bonferroni": p_adj, "significant": bool(p_adj < alpha)})
+            if p_adj < alpha:
+                sig.append(k)
+        if len(sig) < 2:
+            break
+        combs.append(Comb(fundamental_hz=fc, harmonics=sig, candidates=cands))
+        known += [(k * fc, bw) for k in sig]
+        log.info("further hum comb at %.4f Hz, harmonics %s", fc, sig)
+    return combs

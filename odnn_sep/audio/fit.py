@@ -22,9 +22,12 @@ COND_LIMIT = 1e8
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
                 ks, tones) -> np.ndarray:
-    """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per tone; Fortran order."""
+    """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
+
+    ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
+    """
     ks = list(ks)
-    p = 2 * (len(ks) + len(tones))
+    p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
     F = np.empty((n, p), order="F")
     if ks:
         tau = (np.arange(idx0, idx0 + n) - centre) / sr
@@ -40,13 +43,29 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
             F[:, col + 1] = zk.imag
             col += 2
     col = 2 * len(ks)
-    for ft in tones:
-        # absolute time, reduced modulo one cycle so long files keep full phase precision
-        cyc = np.mod(np.arange(idx0, idx0 + n, dtype=float) * (ft / sr), 1.0)
-        F[:, col] = np.cos(2 * np.pi * cyc)
-        F[:, col + 1] = np.sin(2 * np.pi * cyc)
-        col += 2
+    for fc, kk in _as_combs(tones):
+        # absolute time; the start phase is reduced modulo one cycle so long files keep full
+        # precision, and harmonics of one fixed comb come from powers of its fundamental
+        ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(n) * (fc / sr))
+        z = np.cos(ph) + 1j * np.sin(ph)
+        zk, kprev = z.copy(), 1
+        for k in kk:
+            for _ in range(k - kprev):
+                zk *= z
+            kprev = k
+            F[:, col] = zk.real
+            F[:, col + 1] = zk.imag
+            col += 2
     return F
+
+
+def _as_combs(tones):
+    """``tones``: frequencies (Hz) or (fundamental, [harmonic numbers]) pairs, in column order."""
+    for t in tones:
+        if isinstance(t, tuple):
+            yield t[0], list(t[1])
+        else:
+            yield float(t), [1]
 
 
 def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray):

@@ -4,8 +4,9 @@ All spectra: Welch, Hann, 4 s segments, 50 % overlap (0.25 Hz bins).
 
 - line level: mean PSD within +-0.5 Hz of the line over the local floor (median PSD 2-10 Hz away,
   other lines excluded), in dB. 0 dB = the line is gone and the floor left intact.
-- hole: the lowest bin within +-1 Hz of the line over the same floor, in dB (a notch that digs
-  into the music/noise shows up as a large negative number).
+- hole: the deepest cut within +-1 Hz of the line, in dB: each bin of the output over the lower
+  of the floor and the input's own bin (a notch that digs into the music/noise shows up as a
+  large negative number; a natural dip of the input's spectrum does not).
 - off-line removal: energy of (input - output) farther than 2 Hz from every harmonic of the
   fundamental, relative to the input's energy there, in dB (distortion of the content).
 """
@@ -58,7 +59,8 @@ def line_metrics(x_in, x_out, sr, lines, *, f0=None, seg_s: float = 4.0) -> dict
         band = d <= 0.5
         levels.append(float(10 * np.log10(Po[band].mean() / floor_o)))
         levels_in.append(float(10 * np.log10(Pi[band].mean() / floor_i)))
-        holes.append(float(10 * np.log10(Po[d <= 1.0].min() / floor_o)))
+        w = d <= 1.0
+        holes.append(float(10 * np.log10((Po[w] / np.minimum(Pi[w], floor_i)).min())))
     off = np.ones_like(f, bool)
     for g in all_lines + lines:
         off &= np.abs(f - g) > 2.0

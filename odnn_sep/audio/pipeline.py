@@ -72,6 +72,8 @@ class DenoiseResult:
     levels_before: list
     levels_after: list
     candidates: list = field(default_factory=list)
+    extra_combs: list = field(default_factory=list)
+    line_freqs: list = field(default_factory=list)
     block_valid: np.ndarray | None = None
     clip_message: str | None = None
     info: dict = field(default_factory=dict)
@@ -93,7 +95,7 @@ class DenoiseResult:
             lines.append({
                 "name": name,
                 "harmonic": self.harmonics[i] if is_h else None,
-                "freq_hz": (self.harmonics[i] * self.mains_hz) if is_h else self.tones[i - len(self.harmonics)],
+                "freq_hz": self.line_freqs[i] if i < len(self.line_freqs) else None,
                 "amplitude_peak": {"median": np.median(self.amplitudes[sel, :, i], axis=0).tolist()
                                    if self.amplitudes.size else [],
                                    "per_block": self.amplitudes[:, :, i].tolist()},
@@ -109,6 +111,7 @@ class DenoiseResult:
                       "candidates_tested": self.candidates},
             "harmonics": list(self.harmonics),
             "tones_hz": list(self.tones),
+            "extra_combs": self.extra_combs,
             "track": {"time_s": self.track_t.tolist(), "freq_hz": self.track_hz.tolist()},
             "lines": lines,
             "units": {"amplitude_peak": "same units as the samples (full scale = 1.0 for files)",
@@ -179,24 +182,58 @@ def _run(source, sink, **kw):
         return _run_inner(source, sink, **kw)
 
 
+AUTO_BLOCKS_S = (8.0, 16.0)
+
+
+def _choose_block(source, **kw) -> float:
+    """Block length for ``block_s='auto'``: the one whose processed lines sit closest to their
+    local floor on a central excerpt (<= 64 s).
+
+    Short blocks follow fast drift and amplitude changes but cut a wider notch into the content
+    under each line; long blocks cut a narrow notch but leave hum that changes within a block.
+    Neither residual hum (line above the floor) nor a hole (below it) is rewarded.
+    """
+    sr, N = source.sr, source.frames
+    if N < 3 * AUTO_BLOCKS_S[-1] * sr:
+        return AUTO_BLOCKS_S[0]
+    n = int(min(N, 64 * sr))
+    x = source.read((N - n) // 2, n)
+    scores = []
+    for T in AUTO_BLOCKS_S:
+        r = _denoise_array(x, sr, block_s=T, solver="exact", progress=False, random_state=0, **kw)
+        lv = [np.abs(r.levels_after[i]["level_db"]).mean() for i in range(len(r.harmonics))]
+        if not lv:
+            return AUTO_BLOCKS_S[0]
+        scores.append(float(np.mean(lv)))
+    best = AUTO_BLOCKS_S[int(np.argmin(scores))]
+    log.info("block length: %s s (mean |line level after| %s dB for %s s)", best, np.round(scores, 2),
+             AUTO_BLOCKS_S)
+    return best
+
+
 def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-               after_source_fn):
+               after_source_fn, max_combs=3):
     sr, N, C = source.sr, source.frames, source.channels
     mains = _parse_mains(mains, sr)
     harmonics = _parse_harmonics(harmonics)
     tones = _parse_tones(tones, sr)
     if solver not in ("exact", "network"):
         raise InputError(f"solver must be 'exact' or 'network'; got {solver!r}")
-    try:
-        block_s = float(block_s)
-    except (TypeError, ValueError):
-        raise InputError(f"block_s must be a duration in seconds; got {block_s!r}") from None
-    if not np.isfinite(block_s) or block_s * 10 < 1.0 or block_s > 60:
-        raise InputError(f"block_s must be between 0.1 and 60 s; got {block_s!r}")
+    auto_block = isinstance(block_s, str) and block_s.strip().lower() == "auto"
+    if not auto_block:
+        try:
+            block_s = float(block_s)
+        except (TypeError, ValueError):
+            raise InputError(f"block_s must be 'auto' or a duration in seconds; got {block_s!r}") from None
+        if not np.isfinite(block_s) or block_s * 10 < 1.0 or block_s > 60:
+            raise InputError(f"block_s must be between 0.1 and 60 s; got {block_s!r}")
     min_s = 0.2
     if N < min_s * sr:
         raise InputError(f"input is too short ({N} samples = {N / sr:.3f} s at {sr} Hz) to resolve mains hum; "
                          f"pass at least {min_s:g} s of audio")
+    if auto_block:
+        block_s = _choose_block(source, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
+                                max_hz=max_hz)
 
     nyq = sr / 2
     top = min(0.95 * nyq, max_hz if max_hz is not None else np.inf,
@@ -225,6 +262,26 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         z = np.zeros(nb)
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
+    combs = []
+    if ks and harmonics == "auto" and max_combs > 1:
+        # further combs near the same nominal frequency, on a finer spectrum with the tracked
+        # comb's lines (widened by how far the track wandered) masked out
+        f_med = float(np.median(trk.f0[trk.confident])) if trk.confident.any() else det.mains_hz
+        spread = float(np.ptp(trk.f0[trk.confident])) if trk.confident.sum() > 1 else 0.0
+        seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
+        spec_hr = _detect.excerpt_spectrum(source, seg_s=seg_hr, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
+        df_hr = spec_hr.df
+        known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + \
+                [(t, 2 * df_hr) for t in tl]
+        combs = _detect.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
+                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
+                                           max_harmonic=max(ks), main_f0=f_med)
+    comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
+    names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
+    nl = len(names)
+    tl_fit = list(tl) + comb_tones
+    fixed_lines = list(tl) + [(c.fundamental_hz, c.harmonics) for c in combs]
+
     col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
     amps = np.zeros((nb, C, nl))
     phs = np.zeros((nb, C, nl))
@@ -241,7 +298,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         hum = np.zeros((n, C))
         if n and nl:
             w = np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
-            F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, tl)
+            F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines)
             if solver == "exact":
                 theta = _fit.solve_block(F, blk, w)
             else:
@@ -265,21 +322,24 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     out_src = after_source_fn()
     spec_after = _detect.excerpt_spectrum(out_src)
     out_src.close()
-    line_f = [k * det.mains_hz for k in ks] + list(tl)
+    f_med = float(np.median(trk.f0[trk.confident])) if ks and trk.confident.any() else det.mains_hz
+    line_f = [k * f_med for k in ks] + list(tl_fit)
     before = _detect.line_levels(spec_before, line_f)
     after = _detect.line_levels(spec_after, line_f)
-    f_med = float(np.median(trk.f0[trk.confident])) if ks and trk.confident.any() else det.mains_hz
     return DenoiseResult(
         y=None, hum=None, sr=sr, mains_hz=f_med, nominal_hz=det.nominal_hz, harmonics=ks, tones=tl,
+        extra_combs=[{"fundamental_hz": c.fundamental_hz, "harmonics": c.harmonics} for c in combs],
+        line_freqs=line_f,
         track_t=trk.t, track_hz=trk.f0 if ks else np.zeros(0), amplitudes=amps, phases=phs,
-        line_names=names, levels_before=before, levels_after=after, candidates=det.candidates,
+        line_names=names, levels_before=before, levels_after=after,
+        candidates=det.candidates + [c for comb in combs for c in comb.candidates],
         block_valid=valid,
         info={"solver": solver, "block_s": 2 * hop / sr, "channels": C, "frames": N, "duration_s": N / sr},
         spectra={"freqs": spec_before.freqs, "before": spec_before.psd, "after": spec_after.psd},
     )
 
 
-def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float = 8.0, solver: str = "exact",
+def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", solver: str = "exact",
             alpha: float = 1e-3, max_hz: float | None = None, progress: bool = False,
             random_state=0) -> DenoiseResult:
     """Remove mains hum (drift-tracked fundamental and harmonics) and named tones from audio.
@@ -297,8 +357,10 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float =
         ``'auto'`` removes only harmonics that pass the line test; an integer N removes 1..N.
     tones : sequence of float
         Extra fixed tones (Hz) to remove (refined within +-0.5 Hz).
-    block_s : float
-        Fit block length (s); blocks overlap by half.
+    block_s : 'auto' or float
+        Fit block length (s); blocks overlap by half. ``'auto'`` picks 8 or 16 s: the one whose
+        processed lines sit closest to their local floor on a central excerpt (16 s suits
+        steady hum, 8 s follows faster drift); inputs shorter than 48 s use 8 s.
     solver : {'exact', 'network'}
         ``'network'`` fits every block with the torch ODNN solver (slow; same answer within noise).
     alpha : float
@@ -322,6 +384,11 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float =
     >>> r.nominal_hz, r.harmonics[:2]
     (50.0, [1, 2])
     """
+    return _denoise_array(y, sr, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
+                          alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
+
+
+def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state):
     src = ArraySource(y, sr)
     out = np.empty_like(src.data)
     hum = np.empty_like(src.data)
@@ -342,7 +409,7 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s: float =
 
 
 def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto", harmonics="auto", tones=(),
-                 block_s: float = 8.0, solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
+                 block_s="auto", solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
                  progress: bool = False, random_state=0) -> DenoiseResult:
     """Stream ``path_in`` through :func:`denoise` into ``path_out`` (atomic; same rate, channels and
     subtype unless ``subtype`` is given). Options as in :func:`denoise`.

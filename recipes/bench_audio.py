@@ -1,0 +1,333 @@
+"""Benchmark of the audio front-end (odnn-sep denoise) against MNE, pactools and an iirnotch cascade.
+
+    python recipes/bench_audio.py            # full run, writes the "audio" section of BENCHMARKS.md
+    python recipes/bench_audio.py --quick    # small run (seconds), no file written
+
+1. Synthetic (known truth): music-like host with partials 2-4 Hz from hum harmonics 2, 3, 5,
+   formant noise, white noise, input SNR 0 dB, 50 Hz hum with 8 harmonics drifting +-0.05 Hz.
+   SNR improvement (dB) and amplitude MAPE.
+2. Real files from ../shared/data (no truth): level of each hum line above its local floor after
+   processing, deepest hole within +-1 Hz, energy removed away from the lines (odnn_sep.audio.metrics).
+3. Speed: the room recording against MNE spectrum_fit; one hour of 44.1 kHz mono through the CLI
+   in a subprocess (wall time, peak RSS).
+
+The anchors get the same line frequencies: the fundamental found by odnn-sep (so they are not
+penalised by a 0.2 % clock offset) times the harmonic numbers listed.
+pactools is run in a subprocess that never imports torch (it fails when torch is loaded).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT.parent / "shared" / "data"
+
+
+# ---------------------------------------------------------------------------------------------
+# anchors
+def run_mne(x, sr, lines):
+    import mne
+
+    mne.set_log_level("ERROR")
+    x2 = np.atleast_2d(np.asarray(x, float).T) if np.ndim(x) == 2 else np.asarray(x, float)[None, :]
+    nyq_ok = [f for f in lines if f < sr / 2 - 1]
+    y = mne.filter.notch_filter(x2, Fs=sr, freqs=nyq_ok, method="spectrum_fit", verbose=False)
+    return y.T if np.ndim(x) == 2 else y[0]
+
+
+def run_iirnotch(x, sr, lines, Q=30.0):
+    from scipy import signal
+
+    y = np.asarray(x, float)
+    for f in lines:
+        if f < sr / 2 - 1:
+            b, a = signal.iirnotch(f, Q, fs=sr)
+            y = signal.filtfilt(b, a, y, axis=0)
+    return y
+
+
+def run_pactools(x, sr, f0, hmax):
+    """dehummer in a torch-free subprocess, one channel at a time."""
+    x = np.asarray(x, float)
+    cols = x[:, None] if x.ndim == 1 else x
+    out = np.empty_like(cols)
+    with tempfile.TemporaryDirectory() as d:
+        for c in range(cols.shape[1]):
+            np.save(f"{d}/in.npy", cols[:, c])
+            code = ("import numpy as np, sys; from pactools.utils.dehummer import dehummer; "
+                    f"x = np.load('{d}/in.npy'); "
+                    f"y = dehummer(x, {sr}, enf={f0!r}, hmax={int(hmax)}, progress_bar=False); "
+                    f"np.save('{d}/out.npy', y)")
+            subprocess.run([sys.executable, "-c", code], check=True, capture_output=True)
+            out[:, c] = np.load(f"{d}/out.npy")[: cols.shape[0]]
+    return out[:, 0] if x.ndim == 1 else out
+
+
+def run_ours(x, sr, **kw):
+    from odnn_sep.audio import denoise
+
+    return denoise(x, sr, **kw)
+
+
+def timed(fn, *a, **kw):
+    t0 = time.perf_counter()
+    out = fn(*a, **kw)
+    return out, time.perf_counter() - t0
+
+
+# ---------------------------------------------------------------------------------------------
+# data
+def read_wfdb(record: Path):
+    """Minimal WFDB reader (formats 16 and 212) from the .hea header; returns (x (n, ch) in mV, fs)."""
+    lines = [ln for ln in record.with_suffix(".hea").read_text().splitlines() if ln and not ln.startswith("#")]
+    head = lines[0].split()
+    nsig, fs, n = int(head[1]), float(head[2]), int(head[3])
+    sigs = [ln.split() for ln in lines[1: 1 + nsig]]
+    fmt = sigs[0][1]
+    raw = np.fromfile(record.with_suffix(".dat"), dtype=np.uint8)
+    if fmt == "16":
+        d = raw.view("<i2").reshape(-1, nsig)[:n].astype(float)
+    elif fmt == "212":
+        b = raw[: (len(raw) // 3) * 3].reshape(-1, 3).astype(np.int32)
+        s0 = b[:, 0] | ((b[:, 1] & 0x0F) << 8)
+        s1 = b[:, 2] | ((b[:, 1] & 0xF0) << 4)
+        v = np.empty(2 * len(b), np.int32)
+        v[0::2], v[1::2] = s0, s1
+        v[v >= 2048] -= 4096
+        d = v[: n * nsig].reshape(-1, nsig).astype(float)
+    else:
+        raise ValueError(f"unsupported WFDB format {fmt}")
+    gains = [float(s[2].split("/")[0].split("(")[0]) for s in sigs]
+    zeros = [float(s[4]) if len(s) > 4 else 0.0 for s in sigs]
+    return (d - np.array(zeros)) / np.array(gains), fs
+
+
+def real_files(quick: bool):
+    """(name, x (n, ch), sr, harmonics to report) for each available real file."""
+    import soundfile as sf
+
+    out = []
+    room = DATA / "pyenf_hum_recordings" / "room_audio_60hz_hum_8k.wav"
+    if room.exists():
+        x, sr = sf.read(room, always_2d=True)
+        if quick:
+            x = x[: 20 * sr]
+        out.append(("room_audio_60hz_hum_8k.wav", x, sr, list(range(1, 9))))
+    if quick:
+        return out
+    mains = DATA / "pyenf_hum_recordings" / "mains_direct_44k.wav"
+    if mains.exists():
+        x, sr = sf.read(mains, always_2d=True)
+        out.append(("mains_direct_44k.wav", x[:, :1], sr, [1, 3, 5, 7]))
+    enf = DATA / "enf_whu_mains_reference" / "001_ref.wav"
+    if enf.exists():
+        x, sr = sf.read(enf, always_2d=True)
+        out.append(("enf_whu 001_ref.wav", x, sr, [1, 2, 3]))
+    ecg = DATA / "physionet_ecg_wfdb" / "100"
+    if ecg.with_suffix(".hea").exists():
+        x, sr = read_wfdb(ecg)
+        out.append(("ecg mitdb 100 (30 min)", x, int(sr), [1, 2]))
+    ecg2 = DATA / "physionet_ecg_wfdb" / "test01_00s"
+    if ecg2.with_suffix(".hea").exists():
+        x, sr = read_wfdb(ecg2)
+        out.append(("ecg macecgdb test01_00s", x, int(sr), [1, 2, 3]))
+    eeg = DATA / "meegkit_eeg_line_noise" / "eeg_raw.npy"
+    if eeg.exists():
+        x = np.load(eeg).T
+        out.append(("eeg meegkit eeg_raw (8 ch)", x, 250, [1]))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+def bench_synthetic(quick: bool, seeds):
+    from odnn_sep.audio import make_hum_mix
+    from odnn_sep.audio.metrics import snr_improvement_db
+
+    rows, summary = [], {}
+    dur, sr = (8.0, 8000) if quick else (40.0, 16000)
+    for seed in seeds:
+        y, sr, truth = make_hum_mix(dur, sr, mains_hz=50.0, snr_db=0.0, drift_hz=0.05, random_state=seed)
+        ks = truth["harmonics"]
+        snr_in = 10 * np.log10(np.sum(truth["host"] ** 2) / np.sum(truth["hum"] ** 2))
+        r, t_ours = timed(run_ours, y, sr)
+        A = truth["amplitudes"][0]
+        est = np.array([r.line_amplitude(f"h{k}")[0] if f"h{k}" in r.line_names else 0.0 for k in ks])
+        mape = float(np.mean(np.abs(est - A) / A) * 100)
+        res = {"odnn-sep": (r.y, t_ours)}
+        lines = [k * 50.0 for k in ks]
+        if not quick:
+            res["MNE spectrum_fit"] = timed(run_mne, y, sr, lines)
+            res["pactools dehummer"] = timed(run_pactools, y, sr, 50.0, len(ks))
+        res["iirnotch cascade (Q=30)"] = timed(run_iirnotch, y, sr, lines)
+        for name, (out, t) in res.items():
+            impr = snr_improvement_db(truth["host"], truth["hum"], out)
+            rows.append([seed, name, f"{snr_in:.1f}", f"{impr:.1f}",
+                         f"{mape:.2f}" if name == "odnn-sep" else "n/a", f"{t:.2f}"])
+            summary.setdefault(name, []).append(impr)
+        summary.setdefault("mape", []).append(mape)
+        summary.setdefault("harmonics_found", []).append(r.harmonics)
+    return rows, summary
+
+
+def bench_real(quick: bool):
+    from odnn_sep.audio.metrics import line_metrics
+
+    rows, speed = [], {}
+    for name, x, sr, ks in real_files(quick):
+        r, t_ours = timed(run_ours, x, sr)
+        if r.mains_hz is None:
+            rows.append([name, "odnn-sep", "no hum detected", "", "", "", f"{t_ours:.2f}"])
+            continue
+        f0 = r.mains_hz
+        lines = [k * f0 for k in ks if k * f0 < sr / 2 - 2]
+        all_lines = [k * f0 for k in range(1, max(ks) + 1) if k * f0 < sr / 2 - 2]
+        outs = {"odnn-sep": (r.y, t_ours)}
+        if not quick:
+            outs["MNE spectrum_fit"] = timed(run_mne, x, sr, all_lines)
+            outs["pactools dehummer"] = timed(run_pactools, x, sr, f0, len(all_lines))
+        outs["iirnotch cascade (Q=30)"] = timed(run_iirnotch, x, sr, all_lines)
+        if name.startswith("room"):
+            speed["room"] = {k: v[1] for k, v in outs.items()}
+        for meth, (out, t) in outs.items():
+            # per channel; the table shows the worst channel
+            lv, hl, off, lin = [], [], [], []
+            for c in range(x.shape[1]):
+                m = line_metrics(x[:, c], out[:, c], sr, lines, f0=f0)
+                lv.append(m["level_db"])
+                hl.append(m["hole_db"])
+                off.append(m["offline_removed_db"])
+                lin.append(m["level_in_db"])
+            lv, hl, lin = np.array(lv), np.array(hl), np.array(lin)
+            worst = np.argmax(np.abs(lv), axis=0)
+            lv_w = lv[worst, np.arange(lv.shape[1])]
+            rows.append([name if meth == "odnn-sep" else "", meth,
+                         " ".join(f"{v:+.1f}" for v in lin.max(axis=0)) if meth == "odnn-sep" else "",
+                         " ".join(f"{v:+.1f}" for v in lv_w), f"{hl.min():+.1f}", f"{max(off):.1f}", f"{t:.2f}"])
+        rows.append(["", f"(f0 = {f0:.4f} Hz; lines {', '.join(f'{v:.1f}' for v in lines)} Hz; "
+                     f"harmonics removed by odnn-sep: {r.harmonics})", "", "", "", "", ""])
+    return rows, speed
+
+
+def make_long_wav(path: Path, hours: float = 1.0, sr: int = 44100, seed: int = 0):
+    """One hour of 44.1 kHz mono PCM_16: noise + slow tones + drifting 60 Hz hum, written in chunks."""
+    import soundfile as sf
+
+    rng = np.random.default_rng(seed)
+    n = int(hours * 3600 * sr)
+    chunk = 60 * sr
+    with sf.SoundFile(str(path), "w", samplerate=sr, channels=1, subtype="PCM_16") as f:
+        for s in range(0, n, chunk):
+            m = min(chunk, n - s)
+            t = (s + np.arange(m)) / sr
+            drift_int = 0.05 * 300 / (2 * np.pi) * (1 - np.cos(2 * np.pi * t / 300))
+            ph = 2 * np.pi * (60.0 * t + drift_int)
+            hum = sum(a * np.cos(k * ph + k) for k, a in ((1, 0.05), (2, 0.08), (3, 0.03), (4, 0.02), (5, 0.01)))
+            host = 0.05 * rng.standard_normal(m) + 0.1 * np.sin(2 * np.pi * 440.0 * t) * (np.sin(0.3 * t) ** 2)
+            f.write(host + hum)
+    return n / sr
+
+
+def bench_long(tmpdir: Path):
+    wav = tmpdir / "long_1h.wav"
+    t0 = time.perf_counter()
+    dur = make_long_wav(wav)
+    gen = time.perf_counter() - t0
+    out = tmpdir / "long_1h_clean.wav"
+    cmd = [sys.executable, "-m", "odnn_sep.cli", "denoise", str(wav), "-o", str(out), "--quiet"]
+    t0 = time.perf_counter()
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    if p.returncode:
+        raise RuntimeError(p.stderr)
+    wav.unlink()
+    out.unlink()
+    return {"duration_s": dur, "wall_s": wall, "peak_rss_mb": max(rss, before) / 1024, "generate_s": gen}
+
+
+# ---------------------------------------------------------------------------------------------
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="small run, no BENCHMARKS.md update")
+    ap.add_argument("--no-write", action="store_true", help="do not update BENCHMARKS.md")
+    ap.add_argument("--skip-long", action="store_true", help="skip the one-hour speed test")
+    ap.add_argument("--json", help="also dump the raw numbers here")
+    args = ap.parse_args(argv)
+    from _bench_md import md_table, write_section
+
+    seeds = [0] if args.quick else [0, 1, 2]
+    syn_rows, syn = bench_synthetic(args.quick, seeds)
+    syn_hdr = ["seed", "method", "input SNR (dB)", "SNR improvement (dB)", "amplitude MAPE (%)", "time (s)"]
+    print(md_table(syn_hdr, syn_rows))
+    real_rows, speed = bench_real(args.quick)
+    real_hdr = ["file", "method", "line level before (dB)", "line level after (dB, worst channel)",
+                "deepest hole (dB)", "removed off-line (dB)", "time (s)"]
+    print(md_table(real_hdr, real_rows))
+    long = None
+    if not args.quick and not args.skip_long:
+        with tempfile.TemporaryDirectory(dir=os.environ.get("BENCH_TMP")) as d:
+            long = bench_long(Path(d))
+        print(json.dumps(long))
+    if args.json:
+        Path(args.json).write_text(json.dumps({"synthetic": syn, "real": real_rows, "speed": speed,
+                                               "long": long}, default=str, indent=1))
+    if args.quick or args.no_write:
+        return 0
+
+    def mean(k):
+        return float(np.mean(syn[k]))
+
+    room = speed.get("room", {})
+    ratio = room["MNE spectrum_fit"] / room["odnn-sep"] if room else float("nan")
+    body = [
+        "Targets (issue 3): SNR improvement >= 30 dB and amplitude MAPE <= 0.6 % on the synthetic mix; "
+        "room recording lines 60-480 Hz within 1 dB of the local floor, no hole deeper than -3 dB, "
+        "energy removed off the lines <= -50 dB; >= 20x faster than MNE spectrum_fit; one hour of 44.1 kHz "
+        "mono in <= 30 s with <= 1 GB peak memory.\n",
+        "### 1. Synthetic mix (known truth)\n",
+        "40 s at 16 kHz: plucked harmonic notes with vibrato, formant noise bursts, sustained partials 3, 2.5 and "
+        "4 Hz from hum harmonics 2, 3 and 5, white noise at -30 dB; 50 Hz hum with 8 harmonics (amplitudes "
+        "1 : 0.6 : ... : 0.05), fundamental drifting +-0.05 Hz (periods 15-90 s); input SNR 0 dB (host over hum). "
+        "`make_hum_mix(40, 16000, snr_db=0, drift_hz=0.05, random_state=seed)`. "
+        "SNR improvement = 10 log10(sum hum^2 / sum (output - host)^2). Anchors get the 8 nominal lines.\n",
+        md_table(syn_hdr, syn_rows),
+        f"Mean SNR improvement: odnn-sep {mean('odnn-sep'):.1f} dB, MNE {mean('MNE spectrum_fit'):.1f} dB, "
+        f"pactools {mean('pactools dehummer'):.1f} dB, iirnotch {mean('iirnotch cascade (Q=30)'):.1f} dB; "
+        f"odnn-sep amplitude MAPE {mean('mape'):.2f} % (harmonics found: {syn['harmonics_found']}).\n",
+        "### 2. Real recordings (no truth)\n",
+        "Welch PSD, 4 s Hann segments. Line level = mean PSD within +-0.5 Hz of the line over the median local "
+        "floor 2-10 Hz away (0 dB = line gone, floor intact); deepest hole = lowest 0.25 Hz bin within +-1 Hz of "
+        "any reported line; removed off-line = energy of (input - output) farther than 2 Hz from every harmonic, "
+        "relative to the input there. Worst channel shown.\n",
+        md_table(real_hdr, real_rows),
+        "### 3. Speed and memory\n",
+        md_table(["case", "odnn-sep", "MNE spectrum_fit", "pactools", "iirnotch", "speed-up vs MNE"],
+                 [["room recording, 127 s stereo 8 kHz", f"{room.get('odnn-sep', float('nan')):.2f} s",
+                   f"{room.get('MNE spectrum_fit', float('nan')):.2f} s",
+                   f"{room.get('pactools dehummer', float('nan')):.2f} s",
+                   f"{room.get('iirnotch cascade (Q=30)', float('nan')):.2f} s", f"{ratio:.0f}x"]]),
+    ]
+    if long:
+        body.append(f"One hour of 44.1 kHz mono PCM_16 (generated, 60 Hz + 4 harmonics drifting +-0.05 Hz, noise "
+                    f"and a tone), `odnn-sep denoise` in a subprocess: **{long['wall_s']:.1f} s wall**, "
+                    f"**peak RSS {long['peak_rss_mb']:.0f} MB** (includes the interpreter and the write of the "
+                    f"output file).\n")
+    write_section("audio", "Audio hum removal (odnn-sep denoise)", "python recipes/bench_audio.py",
+                  "\n".join(body))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
