@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from odnn_sep.errors import InputError
+from odnn_sep.errors import InputError, NotIdentifiableError
 from odnn_sep.mismatch.fitting import Fit, fit
 from odnn_sep.mismatch.presets import _dominant_omega
 
@@ -64,10 +64,47 @@ def disturbance_columns(disturbance, model, t, y):
     raise InputError(f"disturbance must be 'auto', 'slow', 'none' or an (n, q) array; got {disturbance!r}")
 
 
+def tangent_separation(model, t, y, params, G):
+    """The separation step on the model's tangent space, done by the core engine.
+
+    At the calibrated parameters the model is linear in small parameter changes: its columns are
+    the sensitivities d prediction / d parameter. Separating ``y - prediction`` into those columns
+    plus a disturbance confined to ``Subspace(G)`` (or ``Orthogonal()`` without a class) with
+    ``odnn_sep.core.Separator`` checks that the class cannot imitate the physics (the fraction of
+    each sensitivity outside the class, the conditioning after projecting the class out) and that
+    no further parameter change is asked for (the Gauss-Newton correction, ~0 at convergence).
+    """
+    from odnn_sep.core import Basis, Orthogonal, Separator, Subspace
+
+    free = list(model.free)
+    if not free:
+        return {}
+    pred = model.predict(t, params)
+    cols = []
+    for k in free:
+        x = abs(float(params[k]))
+        h = 1e-5 * x if x > 1e-6 else 1e-5
+        q = dict(params)
+        q[k] = float(params[k]) + h
+        cols.append((model.predict(t, q) - pred) / h)
+    F = np.column_stack(cols)
+    dist = Subspace(G) if G is not None else Orthogonal()
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")   # conditioning is reported below, not warned about per fit
+        r = Separator(Basis.from_matrix(F, names=free), disturbance=dist).fit(
+            np.arange(len(y), dtype=float), y - pred).result_
+    d = r.diagnostics
+    return {"outside_fraction": d.get("outside_fraction"), "projected_condition": d.get("projected_condition"),
+            "disturbance_in_basis_span": d.get("disturbance_in_basis_span"),
+            "gauss_newton_step": dict(zip(free, (float(v) for v in r.theta)))}
+
+
 @dataclass
 class Calibration:
     fit: Fit
     G: np.ndarray | None
+    identifiability: dict | None = None
 
     def as_dict(self) -> dict:
         f = self.fit
@@ -82,6 +119,7 @@ class Calibration:
                             "rms": float(np.sqrt(np.mean(f.disturbance ** 2)))},
             "residual_rms": f.rms,
             "converged": f.converged,
+            "identifiability": self.identifiability,
         }
 
 
@@ -124,4 +162,10 @@ def calibrate(model, t, y, *, user_params=None, G=None, max_nfev=400) -> Calibra
         f = fit(model, t, y, start=s, G=G, max_nfev=max_nfev)
         if best is None or f.rss < best.rss:
             best = f
-    return Calibration(best, G)
+    try:
+        ident = tangent_separation(model, t, y, best.params, G)
+    except NotIdentifiableError:
+        raise
+    except (InputError, np.linalg.LinAlgError) as exc:
+        ident = {"error": str(exc)}
+    return Calibration(best, G, ident)

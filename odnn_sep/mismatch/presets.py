@@ -84,7 +84,7 @@ def _sinusoid_start(t, y, omega):
     return float(coef[0]), float(coef[1] * omega)
 
 
-def _linear_oscillator(tau, k, c, m, x0, v0):
+def _linear_oscillator(tau, k, c, m, x0, v0, *, with_velocity=False):
     """Closed-form solution of m x'' + c x' + k x = 0 (complex roots cover every damping regime)."""
     disc = complex(c * c - 4 * m * k)
     r = np.sqrt(disc)
@@ -94,7 +94,11 @@ def _linear_oscillator(tau, k, c, m, x0, v0):
     a = (v0 - l2 * x0) / (l1 - l2)
     b = x0 - a
     with np.errstate(all="ignore"):
-        return np.real(a * np.exp(l1 * tau) + b * np.exp(l2 * tau))
+        e1, e2 = np.exp(l1 * tau), np.exp(l2 * tau)
+        x = np.real(a * e1 + b * e2)
+        if with_velocity:
+            return x, np.real(a * l1 * e1 + b * l2 * e2)
+        return x
 
 
 class Oscillator(Preset):
@@ -116,7 +120,11 @@ class Oscillator(Preset):
         return [p["x0"], p["v0"]]
 
     def _closed_form(self, tau, p):
-        return _linear_oscillator(tau, p["k"], p["c"], p["m"], p["x0"], p["v0"])
+        r = _linear_oscillator(tau, p["k"], p["c"], p["m"], p["x0"], p["v0"], with_velocity=True)
+        return r
+
+    def _observe(self, t, x, v, p, effects, eps):
+        return x
 
     def build(self, effects):
         effects = frozenset(effects) & self.native
@@ -126,14 +134,15 @@ class Oscillator(Preset):
             t0 = t[0]
             if not effects:
                 out = self._closed_form(t - t0, p)
-                if out is not None and np.all(np.isfinite(out)):
-                    return out
+                if out is not None and all(np.all(np.isfinite(o)) for o in out):
+                    return self._observe(t, out[0], out[1], p, effects, 0.0)
             m = p.get("m", 1.0)
             eps = _friction_scale(max(abs(p.get("v0", p.get("omega0", 0.0))),
                                       np.sqrt(abs(self._stiffness(p))) * abs(self._amplitude(p))))
 
             rhs = self._make_rhs(p, effects, m, eps)
-            return _integrate(name, rhs, self._initial_state(p), t, p)[:, 0]
+            sol = _integrate(name, rhs, self._initial_state(p), t, p)
+            return self._observe(t, sol[:, 0], sol[:, 1], p, effects, eps)
 
         return predict
 
@@ -182,10 +191,11 @@ class Oscillator(Preset):
 class Pendulum(Oscillator):
     name = "pendulum"
     family = "pendulum"
-    description = "pendulum, linear small-angle model theta'' + c theta' + w2 theta = 0 (w2 = g/L)"
-    params = {"w2": 1.0, "c": 0.0, "theta0": 0.1, "omega0": 0.0}
+    description = ("pendulum, linear small-angle model theta'' + c theta' + w2 theta = 0 (w2 = g/L); "
+                   "observed as the angle (rad), or as the tangential acceleration L theta'' when L > 0")
+    params = {"w2": 1.0, "c": 0.0, "theta0": 0.1, "omega0": 0.0, "L": 0.0}
     bounds = {"w2": (0.0, INF), "c": (-INF, INF)}
-    fixed = frozenset()
+    fixed = frozenset({"L"})
     native = frozenset({"quadratic_drag", "coulomb_friction", "large_angle", "periodic_forcing"})
 
     def _restoring(self, x, p, effects):
@@ -198,7 +208,23 @@ class Pendulum(Oscillator):
         return [p["theta0"], p["omega0"]]
 
     def _closed_form(self, tau, p):
-        return _linear_oscillator(tau, p["w2"], p["c"], 1.0, p["theta0"], p["omega0"])
+        return _linear_oscillator(tau, p["w2"], p["c"], 1.0, p["theta0"], p["omega0"], with_velocity=True)
+
+    def _observe(self, t, x, v, p, effects, eps):
+        L = float(p.get("L", 0.0))
+        if L <= 0:
+            return x
+        # a phone or accelerometer on the bob measures the tangential acceleration L theta''
+        k = p["w2"]
+        s_ang = p.get("s_angle", 0.0) if "large_angle" in effects else 0.0
+        a = -k * ((1.0 - s_ang) * x + s_ang * np.sin(x)) - p["c"] * v
+        if "quadratic_drag" in effects:
+            a = a - p["q_drag"] * v * np.abs(v)
+        if "coulomb_friction" in effects:
+            a = a - p["mu"] * np.tanh(v / eps)
+        if "periodic_forcing" in effects:
+            a = a + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
+        return L * a
 
     def _stiffness(self, p):
         return p["w2"]
@@ -209,6 +235,9 @@ class Pendulum(Oscillator):
     def initial_guess(self, t, y, p):
         omega = _dominant_omega(t, y)
         x0, v0 = _sinusoid_start(t, y, omega)
+        L = float(p.get("L", 0.0))
+        if L > 0:   # data are accelerations: -L w2 theta
+            x0, v0 = -x0 / (L * omega ** 2), -v0 / (L * omega ** 2)
         return {"w2": omega ** 2, "c": 0.0, "theta0": x0, "omega0": v0}
 
 
