@@ -155,7 +155,9 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
         st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds),
                         k * nominal, band_halfwidth(spec, k) + k * nominal * rel_search)
         fl = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else 1.0
-        score += np.interp(k * grid, spec.freqs, pooled) / max(fl, 1e-300)
+        # log scale: every harmonic votes, not just the strongest one (whose broad peak alone
+        # cannot pin the fundamental to better than its bin width)
+        score += np.log1p(np.interp(k * grid, spec.freqs, pooled) / max(fl, 1e-300))
     i = int(np.argmax(score))
     if 0 < i < len(grid) - 1:
         a, b, c = score[i - 1: i + 2]

@@ -21,14 +21,20 @@ COND_LIMIT = 1e8
 
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
-                ks, tones) -> np.ndarray:
+                ks, tones, nuisance: bool = True) -> np.ndarray:
     """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
 
     ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
+    ``nuisance``: append a constant and a linear-trend column. They are fitted but never
+    subtracted: a baseline offset or slow wander (ECG, EEG, DC-coupled audio) then cannot leak
+    onto the hum lines in a block cut short by the start or end of the signal.
     """
     ks = list(ks)
     p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
-    F = np.empty((n, p), order="F")
+    F = np.empty((n, p + (2 if nuisance else 0)), order="F")
+    if nuisance:
+        F[:, p] = 1.0
+        F[:, p + 1] = np.linspace(-1.0, 1.0, n) if n > 1 else 0.0
     if ks:
         tau = (np.arange(idx0, idx0 + n) - centre) / sr
         phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))

@@ -298,12 +298,18 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         hum = np.zeros((n, C))
         if n and nl:
             w = np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
+            # fit weights: the block's window, or a Hann over the visible part of a block cut by
+            # the signal's start/end (a one-sided window would leak the content onto the lines)
+            w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
             F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines)
             if solver == "exact":
-                theta = _fit.solve_block(F, blk, w)
+                theta = _fit.solve_block(F, blk, w_fit)
             else:
-                theta = _fit.solve_block_network(F, blk, w, col_names, random_state=random_state)
-            hum = (F @ theta) * w[:, None]
+                theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
+                                                 random_state=random_state)
+            p_lines = 2 * nl
+            theta = theta[:p_lines]
+            hum = (F[:, :p_lines] @ theta) * w[:, None]
             a, bb = theta[0::2].T, theta[1::2].T           # (C, nl)
             amps[b] = np.hypot(a, bb)
             phs[b] = np.arctan2(-bb, a)

@@ -78,7 +78,7 @@ def _parabolic(grid, E, i):
 
 
 def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, hop: int,
-                      max_offset_hz: float | None = None, min_strength: float = 4.0,
+                      max_offset_hz: float | None = None, min_strength: float = 10.0,
                       progress=None) -> Track:
     """Per-block fundamental estimates from the chunk sums (see module docstring).
 
@@ -132,7 +132,10 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         i2 = int(np.argmax(Ef))
         est = _parabolic(fine, Ef, i2)
         # E for pure noise is about sum_j win_j^2 |D|^2 ; for a pure line it is (sum win)^2 |d|^2
-        noise = float(((np.abs(D[j0:j1]) ** 2) * (win ** 2)[:, None, None] * sqw ** 2).sum())
+        # noise reference: the same harmonic energy a little way off the peak (0.25-0.45 Hz per
+        # unit of harmonic number), i.e. the local floor around every line
+        off = est + np.array([-0.45, -0.35, -0.25, 0.25, 0.35, 0.45])
+        noise = float(np.median(_energy(A, tau, ks, off)))
         strength[b] = float(Ef[i2]) / max(noise, 1e-300)
         if abs(est) > max_offset_hz:
             est = float(np.clip(est, -max_offset_hz, max_offset_hz))
