@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 import numpy as np  # noqa: E402
 
 from odnn_sep.mismatch import explain, make_model  # noqa: E402
-from odnn_sep.mismatch.calibrate import calibrate, disturbance_columns  # noqa: E402
+from odnn_sep.mismatch.calibrate import calibrate  # noqa: E402
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 TARGET_RATIOS = (1.15, 1.4, 1.8)
@@ -179,7 +179,7 @@ def summarize(rows):
     for s in systems:
         eff = [r for r in rows if r["system"] == s and r["effect"]]
         nul = [r for r in rows if r["system"] == s and not r["effect"]]
-        for lvl, strength in enumerate(sorted({r["strength"] for r in eff})):
+        for strength in (sorted({r["strength"] for r in eff})):
             rr = [r for r in eff if r["strength"] == strength]
             nn = [r for r in nul if r["strength"] == strength]
             named = [r for r in rr if r["verdict"] == r["effect"]]
@@ -220,6 +220,17 @@ def summarize(rows):
     return overall, confusions, "\n".join(lines)
 
 
+def read_format212(path, n_signals):
+    """WFDB format 212 (two 12-bit two's-complement samples in three bytes), interleaved signals."""
+    raw = np.fromfile(path, dtype=np.uint8)
+    raw = raw[: len(raw) // 3 * 3].reshape(-1, 3).astype(np.int32)
+    s1 = raw[:, 0] | ((raw[:, 1] & 0x0F) << 8)
+    s2 = raw[:, 2] | ((raw[:, 1] >> 4) << 8)
+    flat = np.column_stack([s1, s2]).ravel()
+    flat = np.where(flat >= 2048, flat - 4096, flat)
+    return flat[: len(flat) // n_signals * n_signals].reshape(-1, n_signals).astype(float)
+
+
 def real_runs():
     """Run the tool on the real recordings and record its verdict, as it is."""
     from odnn_sep.mismatch.io import load_data
@@ -228,9 +239,11 @@ def real_runs():
         ("cooling_water_wagon/CoolingWater2_fastR2.csv", "cooling", {}, {}, "oil film (evaporation suppressed)"),
         ("cooling_water_wagon/CoolingWater_mosaicData.csv", "cooling", {}, {}, "mosaicData, 222 min"),
         ("phone_pendulum_phyphox/l2LongTheta5.csv", "pendulum", {"column": "1", "start": 5, "duration": 20},
-         {}, "phone pendulum 5 deg, a_x"),
+         {"L": 0.258}, "phone pendulum 5 deg, tangential a_x, L = 0.258 m"),
+        ("phone_pendulum_phyphox/l2LongTheta25.csv", "pendulum", {"column": "1", "start": 5, "duration": 20},
+         {"L": 0.258}, "phone pendulum 25 deg, tangential a_x"),
         ("phone_pendulum_phyphox/l2LongTheta60.csv", "pendulum", {"column": "1", "start": 5, "duration": 20},
-         {}, "phone pendulum 60 deg, a_x"),
+         {"L": 0.258}, "phone pendulum 60 deg, tangential a_x"),
         ("enf_whu_mains_reference/001_ref.wav", "hum", {"duration": 4.0}, {"f0": 50.0, "harmonics": 1},
          "ENF-WHU mains reference 001, first 4 s"),
         ("pyenf_hum_recordings/room_audio_60hz_hum_8k.wav", "hum", {"start": 20.0, "duration": 1.0},
@@ -238,13 +251,27 @@ def real_runs():
         ("pyenf_hum_recordings/mains_direct_44k.wav", "hum", {"duration": 0.5}, {"f0": 60.0, "harmonics": 1},
          "mains through a sound card, 0.5 s"),
     ]
+    cases += [
+        ("meegkit_eeg_line_noise/eeg_raw.npy", "hum", {"channel": 6, "sr": 250.0, "seconds": 4.0},
+         {"f0": 50.0, "harmonics": 1}, "EEG channel 6 (strong 50 Hz), first 4 s"),
+        ("physionet_ecg_wfdb/100.dat", "hum", {"channel": 0, "sr": 360.0, "seconds": 10.0},
+         {"f0": 60.0, "harmonics": 1}, "ECG MIT-BIH 100 lead MLII, first 10 s"),
+    ]
     out = []
     for rel, preset, load_kw, params, what in cases:
         path = DATA / rel
         if not path.exists():
             out.append([rel, preset, what, "data absent", "-", "-"])
             continue
-        t, y, _ = load_data(path, **load_kw)
+        if path.suffix == ".npy":
+            arr = np.load(path)[load_kw["channel"]]
+            y = arr[: int(load_kw["seconds"] * load_kw["sr"])]
+            t = np.arange(len(y)) / load_kw["sr"]
+        elif path.suffix == ".dat":
+            y = read_format212(path, n_signals=2)[: int(load_kw["seconds"] * load_kw["sr"]), load_kw["channel"]]
+            t = np.arange(len(y)) / load_kw["sr"]
+        else:
+            t, y, _ = load_data(path, **load_kw)
         t0 = time.time()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

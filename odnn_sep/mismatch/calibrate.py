@@ -97,7 +97,7 @@ def tangent_separation(model, t, y, params, G):
     d = r.diagnostics
     return {"outside_fraction": d.get("outside_fraction"), "projected_condition": d.get("projected_condition"),
             "disturbance_in_basis_span": d.get("disturbance_in_basis_span"),
-            "gauss_newton_step": dict(zip(free, (float(v) for v in r.theta)))}
+            "gauss_newton_step": dict(zip(free, (float(v) for v in r.theta), strict=True))}
 
 
 @dataclass

@@ -4,8 +4,6 @@ Imports only argparse at top level so `odnn-sep --help` stays fast.
 """
 from __future__ import annotations
 
-import argparse
-
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(

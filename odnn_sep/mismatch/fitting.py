@@ -77,11 +77,10 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     lo = np.array([model.bounds.get(k, (-np.inf, np.inf))[0] for k in free], float)
     hi = np.array([model.bounds.get(k, (-np.inf, np.inf))[1] for k in free], float)
     x0 = np.clip(np.array([float(p0[k]) for k in free]), lo, hi)
-    scale = np.maximum(np.abs(x0), 1e-3 * (np.std(yy) + 1e-12))
 
     def unpack(x):
         p = dict(p0)
-        p.update(zip(free, (float(v) for v in x)))
+        p.update(zip(free, (float(v) for v in x), strict=True))
         return p
 
     pred0 = model.predict(t, unpack(x0))  # raises a clear error if the start itself fails

@@ -55,7 +55,7 @@ def locate_time(t, residual, *, sigma=None, n_windows=None, alpha=0.05, dof_frac
     nw = n_windows or int(np.clip(n // 50, 4, 20))
     edges = np.linspace(0, n, nw + 1).astype(int)
     pv, chi, ratio = [], [], []
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
         m = b - a
         c = float(np.sum(r[a:b] ** 2) / sigma ** 2)
         dof = max(m * dof_fraction, 1.0)
@@ -132,7 +132,7 @@ def locate_regions(xy, residual, *, sigma=None, tiles=4, alpha=0.05):
             pv.append(float(stats.chi2.sf(c, m)))
     keep = _bh(pv, alpha)
     out = []
-    for (a, b, m, c), p, k in zip(cells, pv, keep):
+    for (a, b, m, c), p, k in zip(cells, pv, keep, strict=True):
         if k:
             out.append({"kind": "region", "x": [float(xe[a]), float(xe[a + 1])],
                         "y": [float(ye[b]), float(ye[b + 1])], "rms_over_noise": float(np.sqrt(c / m)),

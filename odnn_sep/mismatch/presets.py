@@ -387,7 +387,7 @@ class Hum(Preset):
                 best = (rss, f, coef)
         _, f, coef = best
         out = {"f0": float(f)}
-        out.update({n: float(c) for n, c in zip(self.amplitude_names(H), coef)})
+        out.update({n: float(c) for n, c in zip(self.amplitude_names(H), coef, strict=True)})
         return out
 
 

@@ -1,8 +1,6 @@
 """Report of a mismatch analysis: the JSON the issue names, a text summary, and the figure."""
 from __future__ import annotations
 
-import numpy as np
-
 from odnn_sep.mismatch.effects import EFFECTS
 
 
@@ -125,7 +123,7 @@ def plot(res, out) -> None:
     if t.ndim == 2:
         fig, ax = plt.subplots(1, 3, figsize=(13, 4))
         for a, (vals, title) in zip(ax, [(y, "data"), (base.residual, "residual before"),
-                                         (after.residual, "residual after")]):
+                                         (after.residual, "residual after")], strict=True):
             sc = a.scatter(t[:, 0], t[:, 1], c=vals, s=8, cmap="RdBu_r" if "res" in title else "viridis")
             fig.colorbar(sc, ax=a)
             a.set_title(title)

@@ -63,7 +63,7 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
         r = r - Q @ (Q.T @ r)
     delta = np.linalg.lstsq(J, r, rcond=None)[0]
     out = dict(start)
-    for k, d in zip(free, delta):
+    for k, d in zip(free, delta, strict=True):
         lo, hi = model.bounds.get(k, (-np.inf, np.inf))
         v = float(start[k]) + float(d)
         if v <= lo:

@@ -17,7 +17,7 @@ def cooling_csv(tmp_path):
     rng = np.random.default_rng(0)
     y = 22 + 73 * np.exp(-0.02 * t) + 0.1 * rng.normal(size=t.size)
     p = tmp_path / "cool.csv"
-    p.write_text("time,junk,temp\n" + "\n".join(f"{a},x,{b}" for a, b in zip(t, y)) + "\n")
+    p.write_text("time,junk,temp\n" + "\n".join(f"{a},x,{b}" for a, b in zip(t, y, strict=True)) + "\n")
     return p
 
 

@@ -2,7 +2,6 @@
 import json
 
 import numpy as np
-import pytest
 
 from odnn_sep.mismatch import custom_model, explain, make_model
 

@@ -1,5 +1,6 @@
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from odnn_sep.mismatch.locate import locate, locate_frequency, locate_time, noise_sigma
 

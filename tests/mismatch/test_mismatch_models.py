@@ -1,5 +1,4 @@
 import numpy as np
-import pytest
 from scipy.integrate import odeint
 
 from odnn_sep.mismatch import EFFECTS, PRESETS, VOCABULARY, make_model
@@ -33,7 +32,7 @@ def test_freefall_drag_closed_forms_match_ode():
     for eff, key, force in [("quadratic_drag", "q_drag", lambda v, q: -q * v * abs(v)),
                             ("linear_damping", "b_lin", lambda v, q: -q * v)]:
         m = make_model("freefall", {"g": 9.81, "h0": 3.0}).with_effect(eff, {key: 0.3})
-        ref = odeint(lambda s, tt: [s[1], -9.81 + force(s[1], 0.3)], [3.0, 0.0], t, rtol=1e-10)[:, 0]
+        ref = odeint(lambda s, tt, f=force: [s[1], -9.81 + f(s[1], 0.3)], [3.0, 0.0], t, rtol=1e-10)[:, 0]
         assert np.max(np.abs(m.predict(t) - ref)) < 1e-6
 
 
