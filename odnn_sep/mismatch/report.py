@@ -116,6 +116,8 @@ def plot(res, out) -> None:
     """Figure: data with both fits, residual before/after, and the flagged locations."""
     from odnn_sep.report.figures import pyplot, save_figure
 
+    import numpy as np
+
     plt = pyplot()
     base = res.calibration.fit
     after = base if res.verdict is None else res.verdict.fit
@@ -145,8 +147,20 @@ def plot(res, out) -> None:
             if w["kind"] == "time":
                 for a in ax[:2]:
                     a.axvspan(w["start"], w["end"], color="red", alpha=0.1)
-        ax[2].plot(t, base.disturbance, lw=0.8, color="C2")
-        ax[2].set_ylabel("disturbance")
+        # where: residual RMS over the noise level per window, before and after
+        sigma = res.noise_sigma or 1.0
+        nw = int(np.clip(len(t) // 50, 4, 20))
+        edges = np.linspace(0, len(t), nw + 1).astype(int)
+        for fit_, lab in ((base, "before"), (after, "after")):
+            vals = [np.sqrt(np.mean(fit_.residual[a:b] ** 2)) / sigma for a, b in zip(edges[:-1], edges[1:],
+                                                                                     strict=True)]
+            ax[2].step(np.r_[t[edges[:-1]], t[-1]], vals + vals[-1:], where="post", label=lab)
+        ax[2].axhline(1.0, color="k", lw=0.7, ls="--")
+        ax[2].set_ylabel("residual RMS / noise")
+        ax[2].legend(loc="best", fontsize=8)
+        if np.any(base.disturbance):
+            ax[0].plot(t, base.disturbance + np.mean(y), lw=0.8, color="C2", label="disturbance (shifted)")
+            ax[0].legend(loc="best", fontsize=8)
         ax[2].set_xlabel("t")
         title = "verdict: " + (res.verdict.effect if res.verdict else "nothing missing")
         ax[0].set_title(title)
