@@ -119,22 +119,28 @@ def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
 
     ``exclude``: (frequency, half-width) of other lines kept out of the floor estimate.
     """
-    fr = spec.freqs
+    # work on the few bins around the line only (long spectra have ~10^5 bins)
+    reach = bw + FLOOR_GAP_HZ + FLOOR_WIDTH_HZ + spec.df
+    i0, i1 = np.searchsorted(spec.freqs, [f - reach, f + reach])
+    i1 = max(i1, i0 + 1)
+    fr = spec.freqs[i0:i1]
+    psd = spec.psd[i0:i1]
     d = np.abs(fr - f)
     band = d <= bw
     if not band.any():
         band = d == d.min()
     near = (d >= bw + FLOOR_GAP_HZ) & (d <= bw + FLOOR_GAP_HZ + FLOOR_WIDTH_HZ) & (fr > 0.5)
     for fo, bo in exclude:
-        near &= np.abs(fr - fo) > bo + 0.5 * FLOOR_GAP_HZ
+        if abs(fo - f) <= reach + bo:
+            near &= np.abs(fr - fo) > bo + 0.5 * FLOOR_GAP_HZ
     if near.sum() < 4:
         return {"level_db": np.full(spec.psd.shape[1], np.nan), "pooled_db": np.nan, "p_value": 1.0,
                 "floor": np.full(spec.psd.shape[1], np.nan)}
     nu = spec.dof_per_bin
     # the median of a chi2(nu)/nu variable sits below its mean; correct so the floor is a mean
     med_corr = stats.chi2.median(nu) / nu
-    floor = np.median(spec.psd[near], axis=0) / med_corr
-    level = spec.psd[band].mean(axis=0)
+    floor = np.median(psd[near], axis=0) / med_corr
+    level = psd[band].mean(axis=0)
     ratio = level / np.maximum(floor, 1e-300)
     pooled = level.sum() / max(floor.sum(), 1e-300)
     m = int(band.sum())

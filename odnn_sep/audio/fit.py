@@ -21,24 +21,33 @@ COND_LIMIT = 1e8
 
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
-                ks, tones, nuisance: bool = True) -> np.ndarray:
+                ks, tones, nuisance: bool = True, cache: dict | None = None) -> np.ndarray:
     """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
 
     ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
     ``nuisance``: append a constant and a linear-trend column. They are fitted but never
     subtracted: a baseline offset or slow wander (ECG, EEG, DC-coupled audio) then cannot leak
     onto the hum lines in a block cut short by the start or end of the signal.
+    ``cache``: a dict kept by the caller across blocks; full-length blocks then reuse the time
+    axis, the nuisance columns and the output buffer (the result is overwritten by the next call).
     """
     ks = list(ks)
     p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
-    F = np.empty((n, p + (2 if nuisance else 0)), order="F")
-    if nuisance:
-        F[:, p] = 1.0
-        F[:, p + 1] = np.linspace(-1.0, 1.0, n) if n > 1 else 0.0
-    if ks:
+    width = p + (2 if nuisance else 0)
+    key = (n, idx0 - centre, width)
+    if cache is not None and cache.get("key") == key:
+        F, tau = cache["F"], cache["tau"]
+    else:
+        F = np.empty((n, width), order="F")
         tau = (np.arange(idx0, idx0 + n) - centre) / sr
+        if nuisance:
+            F[:, p] = 1.0
+            F[:, p + 1] = np.linspace(-1.0, 1.0, n) if n > 1 else 0.0
+        if cache is not None and n >= cache.get("min_n", 0):
+            cache.update(key=key, F=F, tau=tau)
+    if ks:
         phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
-        z = np.cos(phi) + 1j * np.sin(phi)
+        z = _unit(phi)
         zk = z.copy()
         col, kprev = 0, 1
         for k in ks:
@@ -53,7 +62,7 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
         # absolute time; the start phase is reduced modulo one cycle so long files keep full
         # precision, and harmonics of one fixed comb come from powers of its fundamental
         ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(n) * (fc / sr))
-        z = np.cos(ph) + 1j * np.sin(ph)
+        z = _unit(ph)
         zk, kprev = z.copy(), 1
         for k in kk:
             for _ in range(k - kprev):
@@ -65,6 +74,18 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     return F
 
 
+def _unit(phi: np.ndarray) -> np.ndarray:
+    """exp(i phi) as complex64: the phase is reduced to [-pi, pi] in float64 first, so the fast
+    (vectorised) float32 sine and cosine are accurate to about 1e-7 (hum residual near -140 dB,
+    -110 dB after 40 harmonic powers) at a twentieth of the float64 cost."""
+    r = phi - (2 * np.pi) * np.rint(phi * (1 / (2 * np.pi)))
+    r32 = r.astype(np.float32)
+    z = np.empty(phi.shape, np.complex64)
+    z.real = np.cos(r32)
+    z.imag = np.sin(r32)
+    return z
+
+
 def _as_combs(tones):
     """``tones``: frequencies (Hz) or (fundamental, [harmonic numbers]) pairs, in column order."""
     for t in tones:
@@ -74,17 +95,26 @@ def _as_combs(tones):
             yield float(t), [1]
 
 
-def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray):
+def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1):
     """Weighted least squares for every channel at once: theta (p, C).
 
     Normal equations with Cholesky: a hum basis over a many-cycle block is nearly orthogonal
     (condition number close to 1), where this is as accurate as QR and about 30x faster on
     100k-row blocks. Ill-conditioned blocks (very short edge blocks, a tone close to a
     harmonic) fall back to the core engine's pivoted-QR solver.
+
+    ``gram_step`` q: F^T W F is summed over every q-th row only (times q). Its entries are
+    window-weighted sums of sinusoids at (k +- j) f, all below sr / (2 q) when q <= sr / (4 f_max),
+    so the sub-sampled sum equals the full one up to the window's spectrum far from zero
+    (negligible); the data term F^T W Y always uses every sample.
     """
-    Fw = F * w[:, None]
-    G = F.T @ Fw
-    rhs = Fw.T @ Y
+    n, p = F.shape
+    if gram_step > 1 and n // gram_step >= 8 * p:
+        Fs = F[::gram_step]
+        G = gram_step * (Fs.T @ (Fs * w[::gram_step, None]))
+    else:
+        G = F.T @ (F * w[:, None])
+    rhs = F.T @ (Y * w[:, None])
     d = np.sqrt(np.maximum(np.diag(G), 1e-300))
     Gs = G / np.outer(d, d)
     try:

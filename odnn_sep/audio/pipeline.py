@@ -283,12 +283,15 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     fixed_lines = list(tl) + [(c.fundamental_hz, c.harmonics) for c in combs]
 
     col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
+    f_top = max([k * (det.mains_hz or 0.0) * 1.01 for k in ks] + [float(t) for t in tl_fit] + [1.0])
+    gram_step = max(1, int(sr // (4 * f_top + 1)))
     amps = np.zeros((nb, C, nl))
     phs = np.zeros((nb, C, nl))
     valid = np.zeros(nb, bool)
     L = 2 * hop
     prev_piece = np.zeros((0, C))
     prev_tail = np.zeros((0, C))
+    w_full, basis_cache = None, {"min_n": L}
     for b in range(nb):
         piece = source.read(b * hop, hop)
         s0 = (b - 1) * hop
@@ -297,13 +300,19 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         n = blk.shape[0]
         hum = np.zeros((n, C))
         if n and nl:
-            w = np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
+            if n == L:
+                if w_full is None:
+                    w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
+                w = w_full
+            else:
+                w = np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
             # fit weights: the block's window, or a Hann over the visible part of a block cut by
             # the signal's start/end (a one-sided window would leak the content onto the lines)
             w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
-            F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines)
+            F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
+                                 cache=basis_cache)
             if solver == "exact":
-                theta = _fit.solve_block(F, blk, w_fit)
+                theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step)
             else:
                 theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
                                                  random_state=random_state)
