@@ -285,7 +285,7 @@ def detect_extra_combs(spec: Spectrum, sr: int, nominal: float, main: list, *, m
     ``main``: (frequency, half-width) of every line already removed. Further combs are searched
     within ``near_rel`` (0.3 %) of ``main_f0``: a clock offset or a second device, not a musical
     note series that happens to lie within 1 % of 50/60 Hz. A comb is kept when at least
-    two of its harmonics pass the line test at ``alpha`` after a Bonferroni correction over all
+    three of its harmonics pass the line test at ``alpha`` after a Bonferroni correction over all
     harmonics and all resolvable fundamentals in the search range (the look-elsewhere effect);
     harmonics closer than ``min_sep_hz`` to a line already removed are left to that line's fit
     (the two would be collinear over one block).
@@ -317,7 +317,7 @@ def detect_extra_combs(spec: Spectrum, sr: int, nominal: float, main: list, *, m
         for k in ks_all:
             val = np.interp(k * grid, spec.freqs, pooled) / floors[k]
             for f, bw in known:
-                val[np.abs(k * grid - f) <= bw + 2 * df] = 0.0
+                val[np.abs(k * grid - f) - max(bw - 2 * df, 0.0) < max(min_sep_hz, 2 * df)] = 0.0
             score += np.log1p(val)
         i = int(np.argmax(score))
         fc = float(grid[i])
@@ -331,7 +331,8 @@ def detect_extra_combs(spec: Spectrum, sr: int, nominal: float, main: list, *, m
         bw = 1.5 * df
         for k in ks_all:
             fk = k * fc
-            if min((abs(fk - f) - b for f, b in known), default=np.inf) < max(min_sep_hz, 2 * df):
+            # centre-to-centre distance, less only the drift part of a known line's width
+            if min((abs(fk - f) - max(b - 2 * df, 0.0) for f, b in known), default=np.inf) < max(min_sep_hz, 2 * df):
                 continue
             st = line_level(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
             if not np.isfinite(st["floor"]).all():
@@ -343,9 +344,24 @@ def detect_extra_combs(spec: Spectrum, sr: int, nominal: float, main: list, *, m
                           "p_value_bonferroni": p_adj, "significant": bool(p_adj < alpha)})
             if p_adj < alpha:
                 sig.append(k)
-        if len(sig) < 2:
+        if len(sig) < 3:   # a note and its octave (k, 2k) must not pass for a comb
             break
         combs.append(Comb(fundamental_hz=fc, harmonics=sig, candidates=cands))
         known += [(k * fc, bw) for k in sig]
         log.info("further hum comb at %.4f Hz, harmonics %s", fc, sig)
     return combs
+
+
+def cut_db(freqs, before, after, f: float, *, half_width_hz: float = 1.0) -> float:
+    """Deepest cut within +-half_width of ``f``: min over bins of after / min(before, floor), in dB,
+    averaged over channels (the floor is the median 2-10 Hz away). 0 when nothing is dug out."""
+    d = np.abs(freqs - f)
+    w = d <= half_width_hz
+    near = (d >= 2.0) & (d <= 10.0)
+    if not w.any() or near.sum() < 4:
+        return 0.0
+    floor = np.median(before[near], axis=0)
+    ref = np.minimum(before[w], floor)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cut = 10 * np.log10(np.maximum(after[w], 1e-300) / np.maximum(ref, 1e-300)).min(axis=0)
+    return float(np.mean(cut))

@@ -191,7 +191,8 @@ def _choose_block(source, **kw) -> float:
 
     Short blocks follow fast drift and amplitude changes but cut a wider notch into the content
     under each line; long blocks cut a narrow notch but leave hum that changes within a block.
-    Neither residual hum (line above the floor) nor a hole (below it) is rewarded.
+    Score: mean |line level after| (residual hum or a lowered band) plus the mean depth of the
+    deepest cut within +-1 Hz of each line below both the input and the local floor (a hole).
     """
     sr, N = source.sr, source.frames
     if N < 3 * AUTO_BLOCKS_S[-1] * sr:
@@ -204,7 +205,9 @@ def _choose_block(source, **kw) -> float:
         lv = [np.abs(r.levels_after[i]["level_db"]).mean() for i in range(len(r.harmonics))]
         if not lv:
             return AUTO_BLOCKS_S[0]
-        scores.append(float(np.mean(lv)))
+        cuts = [_detect.cut_db(r.spectra["freqs"], r.spectra["before"], r.spectra["after"], fl)
+                for fl in r.line_freqs[: len(r.harmonics)]]
+        scores.append(float(np.mean(lv) + np.mean(np.maximum(0.0, -np.asarray(cuts)))))
     best = AUTO_BLOCKS_S[int(np.argmin(scores))]
     log.info("block length: %s s (mean |line level after| %s dB for %s s)", best, np.round(scores, 2),
              AUTO_BLOCKS_S)
@@ -262,7 +265,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         z = np.zeros(nb)
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
-    combs = []
+    combs, df_hr, f_med = [], 1.0, det.mains_hz
     if ks and harmonics == "auto" and max_combs > 1:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
@@ -276,6 +279,17 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         combs = _detect.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                            alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
                                            max_harmonic=max(ks), main_f0=f_med)
+    for ci, c in enumerate(combs):
+        others = [f_med] + [o.fundamental_hz for j, o in enumerate(combs) if j != ci]
+        half = min(2 * df_hr / min(c.harmonics), 0.45 * min(abs(o - c.fundamental_hz) for o in others))
+        # the spectrum locates a further comb only to a fraction of a bin; refine it on the
+        # demodulated signal (one long window) so a 16 s fixed-frequency fit stays in phase
+        w2 = np.stack([1.0 / np.maximum(spec_hr.psd[np.argmin(np.abs(spec_hr.freqs - k * c.fundamental_hz))], 1e-300)
+                       for k in c.harmonics], axis=1)
+        D2 = _track.demodulate(source, c.fundamental_hz, c.harmonics)
+        c.fundamental_hz = _track.refine_fixed_comb(D2, sr, c.fundamental_hz, c.harmonics, w2,
+                                                    half_hz=half)
+        del D2
     comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
     names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
     nl = len(names)

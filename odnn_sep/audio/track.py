@@ -167,3 +167,39 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
     rate = np.gradient(f0, hop_s) if nb > 1 else np.zeros(nb)
     curv = np.gradient(rate, hop_s) if nb > 2 else np.zeros(nb)
     return Track(t=t, f0=f0, rate=rate, curv=curv, confident=ok, strength=strength)
+
+
+def refine_fixed_comb(D, sr: int, f_ref: float, ks, weights, *, half_hz: float, max_seconds: float = 300.0) -> float:
+    """Fundamental of a steady (untracked) comb: maximise the harmonic energy E(delta) over one long
+    Hann window (a central stretch of at most ``max_seconds``), searching +-``half_hz`` around
+    ``f_ref``. Far finer than a Welch peak: a fixed-frequency line fitted over 16 s blocks needs
+    its frequency to about 1e-3 Hz at the tenth harmonic."""
+    m = chunk_length(sr)
+    J = D.shape[0]
+    jmax = int(max_seconds * sr / m)
+    j0 = max(0, (J - jmax) // 2)
+    Dc = D[j0: j0 + min(J, jmax)].astype(np.complex128)
+    g = 5   # 20 Hz baseband rate: enough for k * half_hz offsets, 5x fewer terms
+    Jd = Dc.shape[0] // g
+    if Jd < 4:
+        return f_ref
+    Dd = Dc[: Jd * g].reshape(Jd, g, *Dc.shape[1:]).sum(axis=1)
+    t = ((j0 + np.arange(Jd) * g + (g - 1) / 2) * m + (m - 1) / 2) / sr
+    tau = t - t.mean()
+    win = np.sin(np.pi * (np.arange(Jd) + 0.5) / Jd) ** 2
+    ks = np.asarray(ks, dtype=float)
+    A = Dd * win[:, None, None] * np.sqrt(np.asarray(weights, float))[None, :, :]
+    span = tau[-1] - tau[0]
+    centre, step = 0.0, 0.25 / (span * ks.max())
+    width = half_hz
+    for _ in range(8):
+        grid = centre + np.arange(-width, width + step / 2, max(step, 2 * width / 60))
+        E = _energy(A, tau, ks, grid)
+        i = int(np.argmax(E))
+        centre = _parabolic(grid, E, i)
+        if i in (0, len(grid) - 1) and width == half_hz:
+            return f_ref    # the peak is not inside the search range: keep the spectral estimate
+        if grid[1] - grid[0] <= step:
+            break
+        width = 3 * (grid[1] - grid[0])
+    return float(f_ref + centre)

@@ -140,3 +140,37 @@ def test_input_errors():
         denoise(np.zeros(8000), -5)
     with pytest.raises(InputError, match=r"y has shape \(2, 8000\): more channels than samples"):
         denoise(np.zeros((2, 8000)), 8000)
+
+
+def test_network_solver_agrees_with_exact():
+    y, sr, _ = make_hum_mix(2.0, 2000, amplitudes=(1.0, 0.5), snr_db=0.0, drift_hz=0.0, random_state=7)
+    kw = dict(block_s=2.0, mains=50, harmonics=2)
+    exact = denoise(y, sr, **kw)
+    net = denoise(y, sr, solver="network", **kw)
+    assert net.info["solver"] == "network"
+    np.testing.assert_allclose(net.amplitudes, exact.amplitudes, rtol=1e-4, atol=1e-6)
+    assert np.abs(net.y - exact.y).max() < 1e-4 * np.abs(exact.hum).max()
+
+
+def test_second_comb_near_the_main_one_is_removed():
+    # two hum sources 0.15 % apart (e.g. the grid seen through two clocks), both steady
+    sr, dur = 8000, 40.0
+    y, _, truth = make_hum_mix(dur, sr, mains_hz=60.0, drift_hz=0.0, amplitudes=(1, 0.6, 0.5, 0.4), snr_db=6.0,
+                               near_partials=False, random_state=8)
+    t = np.arange(len(y)) / sr
+    f2 = 60.09
+    second = sum(a * np.cos(2 * np.pi * k * f2 * t + k) for k, a in ((3, 0.02), (4, 0.02), (5, 0.015)))
+    r = denoise(y + second, sr, block_s=16)
+    assert len(r.extra_combs) == 1
+    assert abs(r.extra_combs[0]["fundamental_hz"] - f2) < 0.005
+    assert {3, 4, 5} <= set(r.extra_combs[0]["harmonics"])
+    m = line_metrics(y + second, r.y, sr, [k * f2 for k in (3, 4, 5)])
+    assert max(m["level_db"]) < 2.0
+    # no spurious comb on the plain mix
+    assert denoise(y, sr, block_s=16).extra_combs == []
+
+
+def test_auto_block_length_is_reported():
+    y, sr, _ = make_hum_mix(10.0, 4000, random_state=9)
+    r = denoise(y, sr)
+    assert r.info["block_s"] == 8.0   # inputs shorter than 48 s always use 8 s blocks
