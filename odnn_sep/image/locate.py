@@ -1,0 +1,232 @@
+"""Find a rendered text in an image: position, size (px), rotation and repeats.
+
+Matching is done on edges, not intensities: a blended mark changes the image's gradient
+magnitude along the glyph outlines whatever its colour and opacity, so the normalised
+cross-correlation (OpenCV ``TM_CCOEFF_NORMED``) of the template's gradient magnitude with the
+image's is a contrast-invariant detector. The search is coarse-to-fine: every (size, angle) on a
+log/linear grid at a pyramid level where the template is about 64 px wide, then a finer grid at a
+level where it is about 256 px wide around the best candidates, for every candidate font. The
+final sub-pixel fit minimises the blend model's residual (see ``estimate``).
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from odnn_sep.image.render import render_text, rotated
+
+log = logging.getLogger(__name__)
+
+REF_SIZE = 100.0
+
+
+@dataclasses.dataclass
+class Match:
+    font: Path
+    size: float          # em size in px at full resolution
+    angle: float         # degrees, counter-clockwise as displayed
+    center: tuple[float, float]  # (x, y) of the ink-box centre, full-resolution px
+    score: float         # NCC of gradient magnitudes at the refinement level
+
+
+def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
+    """Gradient magnitude (summed over channels) of a float image, optionally Gaussian-smoothed."""
+    import cv2
+
+    img = np.asarray(img, dtype=np.float32)
+    if img.ndim == 2:
+        img = img[:, :, None]
+    g2 = np.zeros(img.shape[:2], np.float32)
+    for c in range(img.shape[2]):
+        gx = cv2.Sobel(img[:, :, c], cv2.CV_32F, 1, 0, ksize=3)
+        gy = cv2.Sobel(img[:, :, c], cv2.CV_32F, 0, 1, ksize=3)
+        g2 += gx * gx + gy * gy
+    g = np.sqrt(g2)
+    if blur > 0:
+        g = cv2.GaussianBlur(g, (0, 0), blur)
+    return g
+
+
+class _Pyramid:
+    """The image's edge maps at arbitrary downscale factors (computed once per factor)."""
+
+    def __init__(self, img: np.ndarray, base_max: int = 1024):
+        import cv2
+
+        self.H, self.W = img.shape[:2]
+        self.base = min(1.0, base_max / max(self.H, self.W))
+        if self.base < 1.0:
+            img = cv2.resize(img.astype(np.float32), (max(1, round(self.W * self.base)),
+                                                      max(1, round(self.H * self.base))),
+                             interpolation=cv2.INTER_AREA)
+        self.img = np.asarray(img, dtype=np.float32)
+        self.cache: dict[float, np.ndarray] = {}
+
+    def level(self, d: float, blur: float) -> tuple[np.ndarray, float]:
+        """Edge map at full-resolution scale factor ~d (snapped to a half-octave grid); returns the
+        map and the exact factor used."""
+        import cv2
+
+        k = int(np.clip(np.round(-2 * np.log2(max(d, 1e-6) / self.base)), 0, 40))
+        f = self.base * 2 ** (-k / 2)
+        key = (k, blur)
+        if key not in self.cache:
+            if k == 0:
+                im = self.img
+            else:
+                h, w = self.img.shape[:2]
+                im = cv2.resize(self.img, (max(1, round(w * 2 ** (-k / 2))), max(1, round(h * 2 ** (-k / 2)))),
+                                interpolation=cv2.INTER_AREA)
+            self.cache[key] = edge_map(im, blur)
+        e = self.cache[key]
+        return e, e.shape[1] / self.W if e.shape[1] > 1 else f
+
+
+@functools.lru_cache(maxsize=4096)
+def _template(text: str, font: str, size_lvl: float, angle: float, blur: float) -> np.ndarray:
+    m = rotated(render_text(text, font, max(size_lvl, 1.0)), angle)
+    return edge_map(m, blur)
+
+
+def _ink_width(text: str, font) -> float:
+    return render_text(text, font, REF_SIZE).shape[1] - 4
+
+
+def _match(edges: np.ndarray, tmpl: np.ndarray) -> np.ndarray | None:
+    import cv2
+
+    if tmpl.shape[0] >= edges.shape[0] or tmpl.shape[1] >= edges.shape[1] or tmpl.std() < 1e-9:
+        return None
+    r = cv2.matchTemplate(edges, tmpl, cv2.TM_CCOEFF_NORMED)
+    return np.nan_to_num(r, nan=-1.0, posinf=-1.0, neginf=-1.0)
+
+
+def _peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float, int, int]]:
+    """Up to ``n`` local maxima of ``r`` above ``floor``, at least ``radius`` apart (greedy NMS)."""
+    out = []
+    r = r.copy()
+    for _ in range(n):
+        i = int(np.argmax(r))
+        yy, xx = divmod(i, r.shape[1])
+        v = float(r[yy, xx])
+        if v < floor:
+            break
+        out.append((v, yy, xx))
+        r[max(0, yy - radius):yy + radius + 1, max(0, xx - radius):xx + radius + 1] = -1.0
+    return out
+
+
+def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
+           min_height_px: float = 8.0, max_marks: int = 64, repeat_ratio: float = 0.6,
+           min_score: float = 0.0) -> list[Match]:
+    """Coarse-to-fine search for ``text`` (any of ``fonts``); returns the matches, best first.
+
+    Repeats (tiled marks) are further peaks of the best template's correlation map that score at
+    least ``repeat_ratio`` times the best and ``min_score``.
+    """
+    H, W = img.shape[:2]
+    pyr = _Pyramid(img)
+    f0 = str(fonts[0])
+    w100 = _ink_width(text, f0)
+    h100 = render_text(text, f0, REF_SIZE).shape[0] - 4
+    # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal
+    s_min = max(4.0, min_height_px / max(h100, 1) * REF_SIZE * 1.4)
+    s_max = 1.05 * np.hypot(H, W) / max(w100, 1) * REF_SIZE
+    if s_max <= s_min:
+        s_max = s_min * 1.01
+    sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(1.1)))
+    angles = np.arange(-angle_range, angle_range + 1e-9, 5.0)
+    # coarse: template ~64 px wide
+    cands: list[tuple[float, float, float, float, float]] = []  # (score, size, angle, cx, cy)
+    for s in sizes:
+        wfull = w100 * s / REF_SIZE
+        e, f = pyr.level(64.0 / wfull, 1.0)
+        for a in angles:
+            t = _template(text, f0, round(s * f, 2), float(a), 1.0)
+            r = _match(e, t)
+            if r is None:
+                continue
+            for v, yy, xx in _peaks(r, 2, max(2, min(t.shape) // 2), -1.0):
+                cx = (xx + (t.shape[1] - 1) / 2) / f
+                cy = (yy + (t.shape[0] - 1) / 2) / f
+                cands.append((v, s, float(a), cx, cy))
+    if not cands:
+        return []
+    cands.sort(key=lambda c: -c[0])
+    # keep the best few distinct hypotheses
+    top: list[tuple] = []
+    for c in cands:
+        if all(abs(np.log(c[1] / t[1])) > 0.15 or abs(c[2] - t[2]) > 7 or np.hypot(c[3] - t[3], c[4] - t[4]) > 0.3
+               * w100 * c[1] / REF_SIZE for t in top):
+            top.append(c)
+        if len(top) >= 6:
+            break
+    best = None
+    for _, s0, a0, cx0, cy0 in top:
+        for font in fonts:
+            # match the coarse text width with this font
+            s1 = s0 * w100 / _ink_width(text, font)
+            m = _refine(pyr, text, str(font), s1, a0, cx0, cy0, H, W)
+            if m is not None and (best is None or m.score > best.score):
+                best = m
+    if best is None:
+        return []
+    return _repeats(pyr, text, best, H, W, max_marks, repeat_ratio, min_score)
+
+
+def _refine(pyr, text, font, s0, a0, cx0, cy0, H, W) -> Match | None:
+    """Finer (size, angle, position) grid at a level where the template is ~256 px wide."""
+    wfull = _ink_width(text, font) * s0 / REF_SIZE
+    e, f = pyr.level(256.0 / wfull, 0.7)
+    best = None
+    for stage, (ds, da) in enumerate(((0.04, 1.5), (0.015, 0.5))):
+        ss = s0 * np.exp(np.arange(-3, 4) * ds * (1.0 if stage else 1.25))
+        aa = a0 + np.arange(-3, 4) * da * (1.0 if stage else 1.25)
+        for s in ss:
+            for a in aa:
+                t = _template(text, font, round(s * f, 2), round(float(a), 3), 0.7)
+                # search a window around the current centre
+                rad = max(6, int(0.06 * t.shape[1])) if stage == 0 else 4
+                x0 = int(round(cx0 * f - (t.shape[1] - 1) / 2)) - rad
+                y0 = int(round(cy0 * f - (t.shape[0] - 1) / 2)) - rad
+                xa, ya = max(0, x0), max(0, y0)
+                xb = min(e.shape[1], x0 + t.shape[1] + 2 * rad + 1)
+                yb = min(e.shape[0], y0 + t.shape[0] + 2 * rad + 1)
+                win = e[ya:yb, xa:xb]
+                r = _match(win, t)
+                if r is None:
+                    continue
+                i = int(np.argmax(r))
+                yy, xx = divmod(i, r.shape[1])
+                v = float(r[yy, xx])
+                if best is None or v > best[0]:
+                    best = (v, float(s), float(a), (xa + xx + (t.shape[1] - 1) / 2) / f,
+                            (ya + yy + (t.shape[0] - 1) / 2) / f)
+        if best is None:
+            return None
+        _, s0, a0, cx0, cy0 = best
+    return Match(Path(font), best[1], best[2], (best[3], best[4]), best[0])
+
+
+def _repeats(pyr, text, best: Match, H, W, max_marks, repeat_ratio, min_score) -> list[Match]:
+    wfull = _ink_width(text, best.font) * best.size / REF_SIZE
+    e, f = pyr.level(256.0 / wfull, 0.7)
+    t = _template(text, str(best.font), round(best.size * f, 2), round(best.angle, 3), 0.7)
+    r = _match(e, t)
+    out = [best]
+    if r is None:
+        return out
+    floor = max(min_score, repeat_ratio * best.score)
+    radius = max(3, int(0.35 * min(t.shape)))
+    for v, yy, xx in _peaks(r, max_marks + 1, radius, floor):
+        cx, cy = (xx + (t.shape[1] - 1) / 2) / f, (yy + (t.shape[0] - 1) / 2) / f
+        if np.hypot(cx - best.center[0], cy - best.center[1]) < 0.35 * min(t.shape) / f:
+            continue
+        out.append(Match(best.font, best.size, best.angle, (cx, cy), v))
+        if len(out) >= max_marks:
+            break
+    return out
