@@ -176,8 +176,11 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
 def _candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> list[int]:
     nyq = sr / 2
     top = 0.95 * nyq if max_hz is None else min(0.95 * nyq, max_hz)
-    kmax = MAX_HARMONICS if harmonics == "auto" else int(harmonics)
-    return [k for k in range(1, kmax + 1) if k * f0 * (1 + 0.002) + 2.0 < top]
+    if isinstance(harmonics, list):
+        cand = harmonics
+    else:
+        cand = range(1, (MAX_HARMONICS if harmonics == "auto" else int(harmonics)) + 1)
+    return [k for k in cand if k * f0 * (1 + 0.002) + 2.0 < top]
 
 
 def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones=(),

@@ -21,7 +21,7 @@ COND_LIMIT = 1e8
 
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
-                ks, tones, nuisance: bool = True, cache: dict | None = None) -> np.ndarray:
+                ks, tones, nuisance: bool = True, cache: dict | None = None, step: int = 1) -> np.ndarray:
     """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
 
     ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
@@ -30,19 +30,22 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     onto the hum lines in a block cut short by the start or end of the signal.
     ``cache``: a dict kept by the caller across blocks; full-length blocks then reuse the time
     axis, the nuisance columns and the output buffer (the result is overwritten by the next call).
+    ``step``: evaluate only at samples idx0, idx0 + step, ... (rows of the full basis, taken
+    every ``step``-th; used for the sub-sampled Gram matrix).
     """
     ks = list(ks)
     p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
     width = p + (2 if nuisance else 0)
-    key = (n, idx0 - centre, width)
+    key = (n, idx0 - centre, width, step)
     if cache is not None and cache.get("key") == key:
         F, tau = cache["F"], cache["tau"]
     else:
-        F = np.empty((n, width), order="F")
-        tau = (np.arange(idx0, idx0 + n) - centre) / sr
+        j = np.arange(0, n, step)
+        F = np.empty((len(j), width), order="F")
+        tau = (idx0 + j - centre) / sr
         if nuisance:
             F[:, p] = 1.0
-            F[:, p + 1] = np.linspace(-1.0, 1.0, n) if n > 1 else 0.0
+            F[:, p + 1] = (-1.0 + 2.0 * j / (n - 1)) if n > 1 else 0.0
         if cache is not None and n >= cache.get("min_n", 0):
             cache.update(key=key, F=F, tau=tau)
     if ks:
@@ -61,7 +64,7 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     for fc, kk in _as_combs(tones):
         # absolute time; the start phase is reduced modulo one cycle so long files keep full
         # precision, and harmonics of one fixed comb come from powers of its fundamental
-        ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(n) * (fc / sr))
+        ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(0, n, step) * (fc / sr))
         z = _unit(ph)
         zk, kprev = z.copy(), 1
         for k in kk:
@@ -95,7 +98,7 @@ def _as_combs(tones):
             yield float(t), [1]
 
 
-def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1):
+def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1, F_sub: np.ndarray | None = None):
     """Weighted least squares for every channel at once: theta (p, C).
 
     Normal equations with Cholesky: a hum basis over a many-cycle block is nearly orthogonal
@@ -110,11 +113,14 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1)
     """
     n, p = F.shape
     if gram_step > 1 and n // gram_step >= 8 * p:
-        Fs = F[::gram_step]
-        G = gram_step * (Fs.T @ (Fs * w[::gram_step, None]))
+        # F_sub: the same basis evaluated every gram_step-th sample (built directly; gathering
+        # rows of a large F costs more than the product)
+        Fs = np.asfortranarray(F[::gram_step]) if F_sub is None else F_sub
+        G = gram_step * np.dot(Fs.T, Fs * w[::gram_step, None])
     else:
-        G = F.T @ (F * w[:, None])
-    rhs = F.T @ (Y * w[:, None])
+        G = np.dot(F.T, F * w[:, None])
+    # np.dot, not "@": with a Fortran-ordered F, matmul here can take a non-BLAS loop (50x slower)
+    rhs = np.dot(F.T, Y * w[:, None])
     d = np.sqrt(np.maximum(np.diag(G), 1e-300))
     Gs = G / np.outer(d, d)
     try:

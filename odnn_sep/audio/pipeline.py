@@ -139,6 +139,9 @@ def _parse_mains(mains, sr):
 def _parse_harmonics(harmonics):
     if isinstance(harmonics, str) and harmonics.strip().lower() == "auto":
         return "auto"
+    if isinstance(harmonics, (list, tuple)):
+        # an explicit set of harmonic numbers (internal use: re-running on an excerpt)
+        return sorted({_parse_harmonics(h) for h in harmonics})
     try:
         v = int(harmonics)
         if v != float(harmonics):
@@ -234,9 +237,6 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     if N < min_s * sr:
         raise InputError(f"input is too short ({N} samples = {N / sr:.3f} s at {sr} Hz) to resolve mains hum; "
                          f"pass at least {min_s:g} s of audio")
-    if auto_block:
-        block_s = _choose_block(source, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
-                                max_hz=max_hz)
 
     nyq = sr / 2
     top = min(0.95 * nyq, max_hz if max_hz is not None else np.inf,
@@ -245,6 +245,12 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
                              max_hz=max_hz)
     ks, tl = det.harmonics, det.tones
+    if auto_block:
+        # compare block lengths on an excerpt with the lines found here (no re-detection, no
+        # further combs: that keeps the comparison cheap and about the same lines)
+        block_s = AUTO_BLOCKS_S[0] if not ks else _choose_block(
+            source, mains=det.nominal_hz, harmonics=list(ks), tones=tones, alpha=alpha, max_hz=max_hz,
+            max_combs=1)
     hop = max(1, int(round(block_s * sr / 2)))
     nb = (N - 1) // hop + 2
     nl = len(ks) + len(tl)
@@ -266,7 +272,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
     combs, df_hr, f_med = [], 1.0, det.mains_hz
-    if ks and harmonics == "auto" and max_combs > 1:
+    if ks and not isinstance(harmonics, int) and max_combs > 1:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
         f_med = float(np.median(trk.f0[trk.confident])) if trk.confident.any() else det.mains_hz
@@ -305,7 +311,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     L = 2 * hop
     prev_piece = np.zeros((0, C))
     prev_tail = np.zeros((0, C))
-    w_full, basis_cache = None, {"min_n": L}
+    w_full, basis_cache, sub_cache = None, {"min_n": L}, {"min_n": L}
     for b in range(nb):
         piece = source.read(b * hop, hop)
         s0 = (b - 1) * hop
@@ -326,13 +332,17 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
             F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
                                  cache=basis_cache)
             if solver == "exact":
-                theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step)
+                F_sub = None
+                if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
+                    F_sub = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
+                                             fixed_lines, cache=sub_cache, step=gram_step)
+                theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
             else:
                 theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
                                                  random_state=random_state)
             p_lines = 2 * nl
             theta = theta[:p_lines]
-            hum = (F[:, :p_lines] @ theta) * w[:, None]
+            hum = np.dot(F[:, :p_lines], theta) * w[:, None]
             a, bb = theta[0::2].T, theta[1::2].T           # (C, nl)
             amps[b] = np.hypot(a, bb)
             phs[b] = np.arctan2(-bb, a)
@@ -417,7 +427,8 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
                           alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
 
 
-def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state):
+def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
+                   max_combs=3):
     src = ArraySource(y, sr)
     out = np.empty_like(src.data)
     hum = np.empty_like(src.data)
@@ -431,7 +442,7 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
 
     res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource(out, sr))
+               after_source_fn=lambda: ArraySource(out, sr), max_combs=max_combs)
     res.y = out[:, 0].copy() if src.mono else out
     res.hum = hum[:, 0].copy() if src.mono else hum
     return res

@@ -51,7 +51,7 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
         if x.shape[0] < nj * m:
             x = np.vstack([x, np.zeros((nj * m - x.shape[0], C))])
         X = x.reshape(nj, m, C).transpose(0, 2, 1).reshape(nj * C, m)
-        S = (X @ Er + 1j * (X @ Ei)).reshape(nj, C, len(kf))
+        S = (np.dot(X, Er) + 1j * np.dot(X, Ei)).reshape(nj, C, len(kf))
         j = np.arange(start // m, start // m + nj, dtype=float)
         # reference phase at each chunk start, reduced modulo one cycle before scaling (precision)
         cyc = np.mod(np.outer(j * (m / sr), kf), 1.0)
@@ -63,7 +63,18 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
 
 def _energy(A, tau, ks, grid):
     """E(delta) for each delta in grid; A = win_j * D_jck * w_ck^(1/2) (J, C, K)."""
-    ph = np.exp(-2j * np.pi * grid[:, None, None] * tau[None, :, None] * ks[None, None, :])  # (G, J, K)
+    grid = np.asarray(grid, float)
+    kt = tau[:, None] * ks[None, :]                                   # (J, K)
+    if len(grid) > 6 and np.allclose(np.diff(grid), grid[1] - grid[0]):
+        # uniform grid: rotate by one grid step per iteration instead of G*J*K complex exps
+        B = A * np.exp(-2j * np.pi * grid[0] * kt)[:, None, :]
+        r = np.exp(-2j * np.pi * (grid[1] - grid[0]) * kt)[:, None, :]
+        E = np.empty(len(grid))
+        for g in range(len(grid)):
+            E[g] = float((np.abs(B.sum(axis=0)) ** 2).sum())
+            B *= r
+        return E
+    ph = np.exp(-2j * np.pi * grid[:, None, None] * kt[None, :, :])   # (G, J, K)
     X = np.einsum("jck,gjk->gck", A, ph)
     return (np.abs(X) ** 2).sum(axis=(1, 2))
 
