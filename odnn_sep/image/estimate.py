@@ -35,6 +35,7 @@ class BlendFit:
     rss: float
     n_patches: int
     patch: int
+    explained: float = float("nan")   # 1 - RSS(mark) / RSS(photo only) over the edge patches
 
     @property
     def color(self) -> np.ndarray:
@@ -53,29 +54,37 @@ def stroke_width(M: np.ndarray) -> float:
     return float(max(1.0, 2.0 * np.median(ridge))) if ridge.size else 2.0
 
 
-def _patches(y: np.ndarray, M: np.ndarray, size: int, max_patches: int, rng) -> tuple[np.ndarray, np.ndarray]:
-    """Overlapping square patches (stride size/2) that straddle a glyph edge."""
+def patch_grid(M: np.ndarray, size: int, max_patches: int, rng) -> tuple[np.ndarray, np.ndarray, int]:
+    """Top-left corners of overlapping square patches (stride size/2) that straddle a glyph edge."""
+    from numpy.lib.stride_tricks import sliding_window_view
+
     h, w = M.shape
-    if h < size or w < size:
-        size = max(3, min(h, w))
+    size = int(max(3, min(size, h, w)))
     step = max(1, size // 2)
     ys = np.arange(0, h - size + 1, step)
     xs = np.arange(0, w - size + 1, step)
-    if ys.size == 0 or xs.size == 0:
-        return np.zeros((0, size * size, y.shape[2])), np.zeros((0, size * size))
-    from numpy.lib.stride_tricks import sliding_window_view
-
-    Mw = sliding_window_view(M, (size, size))[ys][:, xs]            # (ny, nx, s, s)
+    Mw = sliding_window_view(M, (size, size))[ys][:, xs]
     ptp = Mw.max(axis=(2, 3)) - Mw.min(axis=(2, 3))
     iy, ix = np.nonzero(ptp > 0.4)
     if iy.size > max_patches:
-        keep = rng.choice(iy.size, max_patches, replace=False)
+        keep = np.sort(rng.choice(iy.size, max_patches, replace=False))
         iy, ix = iy[keep], ix[keep]
-    Yw = sliding_window_view(y, (size, size), axis=(0, 1))           # (H', W', C, s, s)
-    Yp = Yw[ys[iy], xs[ix]]                                           # (n, C, s, s)
-    Yp = Yp.reshape(len(iy), y.shape[2], size * size).transpose(0, 2, 1)
-    Mp = Mw[iy, ix].reshape(len(iy), size * size)
-    return np.ascontiguousarray(Yp, dtype=np.float64), np.ascontiguousarray(Mp, dtype=np.float64)
+    return ys[iy], xs[ix], size
+
+
+def take_patches(a: np.ndarray, py: np.ndarray, px: np.ndarray, size: int) -> np.ndarray:
+    """(n, size*size, C) stack of patches of a (h, w[, C]) array at the given corners."""
+    if a.ndim == 2:
+        a = a[:, :, None]
+    oy, ox = np.mgrid[0:size, 0:size]
+    rows = py[:, None] + oy.ravel()[None]
+    cols = px[:, None] + ox.ravel()[None]
+    return np.ascontiguousarray(a[rows, cols], dtype=np.float64)
+
+
+def _patches(y, M, size, max_patches, rng):
+    py, px, size = patch_grid(M, size, max_patches, rng)
+    return take_patches(y, py, px, size), take_patches(M, py, px, size)[:, :, 0]
 
 
 def _design(size: int, degree: int) -> np.ndarray:
@@ -95,19 +104,29 @@ class _Profile:
     def __init__(self, Yp, Mp, Phi):
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
         self.w = np.ones(len(Mp))
+        self.mm = np.sum(Mp * Mp, axis=1)
+        self.yy = np.sum(Yp * Yp, axis=1)
 
     def parts(self, alpha: float):
-        A = (1.0 - alpha * self.Mp)[:, :, None] * self.Phi[None]
-        Q, _ = np.linalg.qr(A)
-        Yt = self.Yp - Q @ (Q.transpose(0, 2, 1) @ self.Yp)
-        Mt = self.Mp - (Q @ (Q.transpose(0, 2, 1) @ self.Mp[:, :, None]))[:, :, 0]
+        # Gram-matrix form of the per-patch projections (3-6 columns): much faster than a batched QR.
+        u = 1.0 - alpha * self.Mp                                   # (p, n)
+        Phi, Yp, Mp = self.Phi, self.Yp, self.Mp
+        A = u[:, :, None] * Phi[None]                               # (p, n, k)
+        At = A.transpose(0, 2, 1)
+        G = At @ A + 1e-12 * np.eye(Phi.shape[1])[None]
+        am = (At @ Mp[:, :, None])[:, :, 0]                         # A^T M
+        ay = At @ Yp                                                # A^T y  (p, k, C)
+        rhs = np.concatenate([am[:, :, None], ay], axis=2)
+        sol = np.linalg.solve(G, rhs)                               # G^-1 [A^T M, A^T y]
+        gm, gy = sol[:, :, :1], sol[:, :, 1:]
+        sxx_p = self.mm - np.sum(am * gm[:, :, 0], axis=1)
+        sxy_p = (Mp[:, None, :] @ Yp)[:, 0, :] - np.sum(am[:, :, None] * gy, axis=1)
+        syy_p = self.yy - np.sum(ay * gy, axis=1)
         w = self.w
-        Sxx = float(np.sum(w * np.sum(Mt * Mt, axis=1)))
-        Sxy = np.einsum("p,pn,pnc->c", w, Mt, Yt)
-        beta = Sxy / max(Sxx, 1e-300)
-        R = Yt - Mt[:, :, None] * beta[None, None, :]
-        rss_p = np.sum(R * R, axis=(1, 2))
-        return beta, rss_p
+        Sxx = float(np.sum(w * sxx_p))
+        beta = (w @ sxy_p) / max(Sxx, 1e-300)
+        rss_p = np.sum(syy_p - 2 * beta[None] * sxy_p + (beta[None] ** 2) * sxx_p[:, None], axis=1)
+        return beta, np.maximum(rss_p, 0.0)
 
     def __call__(self, alpha: float) -> float:
         _, rss_p = self.parts(alpha)
@@ -174,8 +193,15 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     dof = max(1, Yp.shape[0] * Yp.shape[1] * Yp.shape[2] - Yp.shape[0] * Yp.shape[2] * prof.Phi.shape[1])
     sigma2 = rss / dof
     se = float(np.sqrt(2 * sigma2 / curv)) if curv > 0 else float("inf")
+    # share of the patches' photo-only residual that the mark explains: ~0 for a wrong template
+    prof.w[:] = 1.0
+    Q, _ = np.linalg.qr(prof.Phi)
+    Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
+    rss0 = float(np.sum(Yt * Yt))
+    rss1 = float(np.sum(prof.parts(alpha)[1]))
+    explained = max(0.0, 1.0 - rss1 / max(rss0, 1e-300))
     return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(Mp),
-                    patch=patch)
+                    patch=patch, explained=explained)
 
 
 def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, levels: int = 255,

@@ -33,22 +33,37 @@ class Match:
     score: float         # NCC of gradient magnitudes at the refinement level
 
 
-def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
-    """Gradient magnitude (summed over channels) of a float image, optionally Gaussian-smoothed."""
+def edge_map(img: np.ndarray, blur: float = 0.0, normalize: bool = False) -> np.ndarray:
+    """Edge features of a float image: (|g|, |g| cos 2t, |g| sin 2t) from the colour structure tensor.
+
+    The doubled angle makes the orientation features sign-free: a mark lighter or darker than the
+    photo under it (which varies along the mark) gives the same feature, while photo edges that
+    cross the glyph outlines at other angles do not correlate.
+    """
     import cv2
 
     img = np.asarray(img, dtype=np.float32)
     if img.ndim == 2:
         img = img[:, :, None]
-    g2 = np.zeros(img.shape[:2], np.float32)
+    jxx = np.zeros(img.shape[:2], np.float32)
+    jyy = np.zeros_like(jxx)
+    jxy = np.zeros_like(jxx)
     for c in range(img.shape[2]):
         gx = cv2.Sobel(img[:, :, c], cv2.CV_32F, 1, 0, ksize=3)
         gy = cv2.Sobel(img[:, :, c], cv2.CV_32F, 0, 1, ksize=3)
-        g2 += gx * gx + gy * gy
-    g = np.sqrt(g2)
+        jxx += gx * gx
+        jyy += gy * gy
+        jxy += gx * gy
+    mag = np.sqrt(jxx + jyy)
+    inv = 1.0 / np.maximum(mag, 1e-12)
+    f = np.stack([mag, (jxx - jyy) * inv, 2.0 * jxy * inv], axis=2)
     if blur > 0:
-        g = cv2.GaussianBlur(g, (0, 0), blur)
-    return g
+        f = cv2.GaussianBlur(f, (0, 0), blur)
+    if normalize:
+        # local contrast normalisation: a faint mark over strong photo texture still counts
+        loc = cv2.GaussianBlur(mag, (0, 0), 4.0) + 0.02 * float(mag.max() + 1e-12)
+        f = f / loc[:, :, None]
+    return np.ascontiguousarray(f)
 
 
 class _Pyramid:
@@ -99,7 +114,7 @@ def _ink_width(text: str, font) -> float:
 def _match(edges: np.ndarray, tmpl: np.ndarray) -> np.ndarray | None:
     import cv2
 
-    if tmpl.shape[0] >= edges.shape[0] or tmpl.shape[1] >= edges.shape[1] or tmpl.std() < 1e-9:
+    if tmpl.shape[0] >= edges.shape[0] or tmpl.shape[1] >= edges.shape[1] or tmpl[:, :, 0].std() < 1e-9:
         return None
     r = cv2.matchTemplate(edges, tmpl, cv2.TM_CCOEFF_NORMED)
     return np.nan_to_num(r, nan=-1.0, posinf=-1.0, neginf=-1.0)
@@ -121,13 +136,8 @@ def _peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float
 
 
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
-           min_height_px: float = 8.0, max_marks: int = 64, repeat_ratio: float = 0.6,
-           min_score: float = 0.0) -> list[Match]:
-    """Coarse-to-fine search for ``text`` (any of ``fonts``); returns the matches, best first.
-
-    Repeats (tiled marks) are further peaks of the best template's correlation map that score at
-    least ``repeat_ratio`` times the best and ``min_score``.
-    """
+           min_height_px: float = 8.0, max_hypotheses: int = 10) -> list[Match]:
+    """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first."""
     H, W = img.shape[:2]
     pyr = _Pyramid(img)
     f0 = str(fonts[0])
@@ -138,19 +148,23 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     s_max = 1.05 * np.hypot(H, W) / max(w100, 1) * REF_SIZE
     if s_max <= s_min:
         s_max = s_min * 1.01
-    sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(1.1)))
-    angles = np.arange(-angle_range, angle_range + 1e-9, 5.0)
-    # coarse: template ~64 px wide
+    # coarse level: glyph height ~8 px; the grid steps then keep the template's ends within ~1.5 px
+    w_lvl = 8.0 * w100 / max(h100, 1)
+    da = float(np.clip(np.rad2deg(2 * 1.5 / (w_lvl / 2)), 1.5, 5.0))
+    ratio = float(np.clip(1 + 2 * 1.5 / (w_lvl / 2), 1.04, 1.1))
+    sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(ratio)))
+    n_a = int(np.ceil(angle_range / da))
+    angles = np.linspace(-angle_range, angle_range, 2 * n_a + 1) if n_a else np.zeros(1)
     cands: list[tuple[float, float, float, float, float]] = []  # (score, size, angle, cx, cy)
     for s in sizes:
-        wfull = w100 * s / REF_SIZE
-        e, f = pyr.level(64.0 / wfull, 1.0)
+        hfull = h100 * s / REF_SIZE
+        e, f = pyr.level(8.0 / hfull, 1.0)
         for a in angles:
             t = _template(text, f0, round(s * f, 2), float(a), 1.0)
             r = _match(e, t)
             if r is None:
                 continue
-            for v, yy, xx in _peaks(r, 2, max(2, min(t.shape) // 2), -1.0):
+            for v, yy, xx in _peaks(r, 2, max(2, min(t.shape[:2]) // 2), -1.0):
                 cx = (xx + (t.shape[1] - 1) / 2) / f
                 cy = (yy + (t.shape[0] - 1) / 2) / f
                 cands.append((v, s, float(a), cx, cy))
@@ -163,19 +177,28 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
         if all(abs(np.log(c[1] / t[1])) > 0.15 or abs(c[2] - t[2]) > 7 or np.hypot(c[3] - t[3], c[4] - t[4]) > 0.3
                * w100 * c[1] / REF_SIZE for t in top):
             top.append(c)
-        if len(top) >= 6:
+        if len(top) >= max_hypotheses:
             break
-    best = None
+    out: list[Match] = []
     for _, s0, a0, cx0, cy0 in top:
+        best = None
         for font in fonts:
             # match the coarse text width with this font
             s1 = s0 * w100 / _ink_width(text, font)
             m = _refine(pyr, text, str(font), s1, a0, cx0, cy0, H, W)
             if m is not None and (best is None or m.score > best.score):
                 best = m
-    if best is None:
-        return []
-    return _repeats(pyr, text, best, H, W, max_marks, repeat_ratio, min_score)
+        if best is not None:
+            out.append(best)
+    out.sort(key=lambda m: -m.score)
+    return out
+
+
+def repeats(img: np.ndarray, text: str, best: Match, *, max_marks: int = 64, repeat_ratio: float = 0.6,
+            min_score: float = 0.0) -> list[Match]:
+    """Further copies of the mark ``best`` (same font, size, angle): tiled or repeated watermarks."""
+    H, W = img.shape[:2]
+    return _repeats(_Pyramid(img), text, best, H, W, max_marks, repeat_ratio, min_score)
 
 
 def _refine(pyr, text, font, s0, a0, cx0, cy0, H, W) -> Match | None:

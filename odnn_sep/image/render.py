@@ -161,7 +161,7 @@ def place(coverage: np.ndarray, shape: tuple[int, int], center: tuple[float, flo
     t = np.array([center[0] - x0, center[1] - y0]) - A @ np.array([cx, cy])
     Mx = np.hstack([A, t[:, None]]).astype(np.float64)
     out = cv2.warpAffine(np.ascontiguousarray(coverage, dtype=np.float32), Mx, (x1 - x0, y1 - y0),
-                         flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+                         flags=cv2.INTER_CUBIC, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
     return np.clip(out, 0.0, 1.0), (x0, y0, x1, y1)
 
 

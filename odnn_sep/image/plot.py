@@ -1,0 +1,42 @@
+"""``--plot`` figure for unwatermark: input, found mark, output, difference."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def _show(img):
+    a = np.asarray(img)
+    if a.dtype.kind == "u":
+        a = a.astype(float) / np.iinfo(a.dtype).max
+    if a.ndim == 3 and a.shape[2] == 4:
+        a = a[:, :, :3]
+    return a
+
+
+def plot_unwatermark(image, res, out) -> None:
+    """Write a 2x2 figure: input, found mark coverage (with opacity), restored output, |difference|."""
+    from odnn_sep.report.figures import pyplot, save_figure
+
+    plt = pyplot()
+    a, b = _show(image), _show(res.image)
+    diff = np.abs(b - a)
+    if diff.ndim == 3:
+        diff = diff.max(axis=2)
+    fig, ax = plt.subplots(2, 2, figsize=(10, 10 * a.shape[0] / max(a.shape[1], 1) + 0.8))
+    cm = "gray" if a.ndim == 2 else None
+    ax[0, 0].imshow(a, cmap=cm, vmin=0, vmax=1)
+    ax[0, 0].set_title("input")
+    ax[0, 1].imshow(res.alpha * res.mask, cmap="magma", vmin=0, vmax=1)
+    r = res.report
+    title = f"found mark: alpha {res.alpha:.3f}"
+    if "match_score" in r:
+        title += f", score {r['match_score']:.2f}, {r['font_size_px']:.1f} px, {r['angle_deg']:.1f} deg"
+    ax[0, 1].set_title(title, fontsize=9)
+    ax[1, 0].imshow(b, cmap=cm, vmin=0, vmax=1)
+    ax[1, 0].set_title(f"output ({r.get('lost_pixels', 0)} lost pixels inpainted)")
+    ax[1, 1].imshow(diff, cmap="viridis")
+    ax[1, 1].set_title("|output - input|")
+    for x in ax.ravel():
+        x.set_axis_off()
+    fig.tight_layout()
+    save_figure(fig, out)
