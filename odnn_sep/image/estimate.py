@@ -233,5 +233,7 @@ def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, lev
     if inpaint and lost.any():
         m8 = lost.astype(np.uint8) * 255
         for c in range(out.shape[2]):
-            out[:, :, c] = cv2.inpaint(out[:, :, c].astype(np.float32), m8, 3, cv2.INPAINT_TELEA)
+            # 16-bit, not float: OpenCV's float inpainting assumes a 0-255 range
+            filled = cv2.inpaint(np.round(out[:, :, c] * 65535).astype(np.uint16), m8, 3, cv2.INPAINT_TELEA)
+            out[:, :, c][lost] = filled[lost] / 65535.0
     return (out[:, :, 0] if squeeze else out), lost

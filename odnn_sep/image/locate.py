@@ -136,7 +136,7 @@ def _peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float
 
 
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
-           min_height_px: float = 8.0, max_hypotheses: int = 10) -> list[Match]:
+           min_height_px: float = 8.0, max_hypotheses: int = 8, coarse_h: float = 10.0) -> list[Match]:
     """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first."""
     H, W = img.shape[:2]
     pyr = _Pyramid(img)
@@ -149,7 +149,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     if s_max <= s_min:
         s_max = s_min * 1.01
     # coarse level: glyph height ~8 px; the grid steps then keep the template's ends within ~1.5 px
-    w_lvl = 8.0 * w100 / max(h100, 1)
+    w_lvl = coarse_h * w100 / max(h100, 1)
     da = float(np.clip(np.rad2deg(2 * 1.5 / (w_lvl / 2)), 1.5, 5.0))
     ratio = float(np.clip(1 + 2 * 1.5 / (w_lvl / 2), 1.04, 1.1))
     sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(ratio)))
@@ -158,7 +158,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     cands: list[tuple[float, float, float, float, float]] = []  # (score, size, angle, cx, cy)
     for s in sizes:
         hfull = h100 * s / REF_SIZE
-        e, f = pyr.level(8.0 / hfull, 1.0)
+        e, f = pyr.level(coarse_h / hfull, 1.0)
         for a in angles:
             t = _template(text, f0, round(s * f, 2), float(a), 1.0)
             r = _match(e, t)
@@ -206,9 +206,9 @@ def _refine(pyr, text, font, s0, a0, cx0, cy0, H, W) -> Match | None:
     wfull = _ink_width(text, font) * s0 / REF_SIZE
     e, f = pyr.level(256.0 / wfull, 0.7)
     best = None
-    for stage, (ds, da) in enumerate(((0.04, 1.5), (0.015, 0.5))):
-        ss = s0 * np.exp(np.arange(-3, 4) * ds * (1.0 if stage else 1.25))
-        aa = a0 + np.arange(-3, 4) * da * (1.0 if stage else 1.25)
+    for stage, (ds, da, n) in enumerate(((0.05, 1.8, 2), (0.02, 0.7, 1))):
+        ss = s0 * np.exp(np.arange(-n, n + 1) * ds)
+        aa = a0 + np.arange(-n, n + 1) * da
         for s in ss:
             for a in aa:
                 t = _template(text, font, round(s * f, 2), round(float(a), 3), 0.7)

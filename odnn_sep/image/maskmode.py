@@ -20,8 +20,36 @@ def _inpaint(y: np.ndarray, hole: np.ndarray) -> np.ndarray:
     m8 = hole.astype(np.uint8) * 255
     out = np.empty_like(y)
     for c in range(y.shape[2]):
-        out[:, :, c] = cv2.inpaint(y[:, :, c].astype(np.float32), m8, 5, cv2.INPAINT_TELEA)
+        out[:, :, c] = cv2.inpaint(np.round(np.clip(y[:, :, c], 0, 1) * 65535).astype(np.uint16), m8, 5,
+                                       cv2.INPAINT_TELEA) / 65535.0
     return out
+
+
+def _colour(d: np.ndarray, B: np.ndarray, D: np.ndarray, prev) -> np.ndarray:
+    """The mark colour as the least-squares meeting point of the lines from photo B through y.
+
+    Every blended pixel lies on the segment from its photo colour to the mark colour, so with the
+    deviation ``d = y - B`` the colour is where those lines (weighted by |d|^2) meet. A grey image
+    has no direction to use: the colour is then white or black, from the sign of the deviation.
+    """
+    dd = d[D]
+    n2 = np.sum(dd * dd, axis=1)
+    sign = 1.0 if np.sum(dd) > 0 else 0.0
+    if d.shape[2] == 1 or n2.size < 3:
+        return np.full(d.shape[2], sign) if prev is None else prev
+    sel = n2 > np.quantile(n2, 0.5)
+    u = dd[sel] / np.sqrt(n2[sel])[:, None]
+    w = n2[sel]
+    Bs = B[D][sel]
+    eye = np.eye(d.shape[2])
+    P = eye[None] - u[:, :, None] * u[:, None, :]
+    A = np.einsum("i,ijk->jk", w, P)
+    b = np.einsum("i,ijk,ik->j", w, P, Bs)
+    try:
+        c = np.linalg.solve(A + 1e-9 * eye, b)
+    except np.linalg.LinAlgError:
+        c = np.full(d.shape[2], sign)
+    return np.clip(c, 0.0, 1.0)
 
 
 def estimate_shape(y: np.ndarray, region: np.ndarray, *, iterations: int = 3) -> tuple[np.ndarray, np.ndarray]:
@@ -37,17 +65,10 @@ def estimate_shape(y: np.ndarray, region: np.ndarray, *, iterations: int = 3) ->
     for _ in range(iterations):
         B = _inpaint(y, D)
         d = y - B
-        if c is None:
-            c = np.full(y.shape[2], 1.0 if d[D].mean() > 0 else 0.0)
-        for _ in range(8):
-            v = c[None, None, :] - B
-            m = np.clip(np.sum(d * v, axis=2) / np.maximum(np.sum(v * v, axis=2), 1e-6), 0.0, 1.0)
-            m[~D] = 0.0
-            sel = m > 0.05
-            if sel.sum() < 3:
-                break
-            mm = m[sel]
-            c = np.clip(np.sum(mm[:, None] * (d[sel] + mm[:, None] * B[sel]), axis=0) / np.sum(mm * mm), 0, 1)
+        c = _colour(d, B, D, c)
+        v = c[None, None, :] - B
+        m = np.clip(np.sum(d * v, axis=2) / np.maximum(np.sum(v * v, axis=2), 1e-6), 0.0, 1.0)
+        m[~D] = 0.0
         noise = 1.4826 * np.median(np.abs(m[D] - np.median(m[D]))) + 1e-3
         keep = (m > max(0.03, 3 * noise)).astype(np.uint8)
         keep = cv2.dilate(keep, np.ones((3, 3), np.uint8)).astype(bool) & R
