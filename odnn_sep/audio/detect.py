@@ -73,15 +73,47 @@ def excerpt_spectrum(source, *, seg_s: float = 4.0, max_total_s: float = 240.0,
         x = source.read(s, length)
         if x.shape[0] < nper:
             continue
-        f, _, P = signal.spectrogram(x, fs=sr, window="hann", nperseg=nper, noverlap=nper // 2, axis=0,
-                                     detrend="constant", mode="psd")
-        # P: (nf, channels, segments)
-        acc = P.sum(axis=-1) if acc is None else acc + P.sum(axis=-1)
-        nseg += P.shape[-1]
-        if keep_segments_hz is not None:
-            segs.append(P[f <= keep_segments_hz].astype(np.float32))
+        f, P_sum, k, P_keep = _periodograms(x, sr, nper, keep_segments_hz)
+        acc = P_sum if acc is None else acc + P_sum
+        nseg += k
+        if P_keep is not None:
+            segs.append(P_keep)
     return Spectrum(freqs=f, psd=acc / nseg, n_segments=nseg, seconds=sum(s[1] for s in spans) / sr,
                     segments=np.concatenate(segs, axis=-1) if segs else None)
+
+
+def _periodograms(x, sr, nper, keep_hz, batch: int = 16):
+    """Hann-windowed, mean-removed periodograms of 50 %-overlapping segments (one-sided PSD, the
+    scaling of ``scipy.signal.spectrogram(mode='psd')``), computed a few segments at a time so
+    memory stays bounded. Returns freqs, the sum over segments (nf, C), the segment count and,
+    when ``keep_hz`` is given, the per-segment PSD below it (nf_keep, C, segments) in float32."""
+    from numpy.lib.stride_tricks import sliding_window_view
+    from scipy import fft
+
+    step = nper - nper // 2
+    n, C = x.shape
+    nseg = 1 + (n - nper) // step
+    win = signal.get_window("hann", nper)
+    scale = 1.0 / (sr * float((win ** 2).sum()))
+    f = fft.rfftfreq(nper, 1.0 / sr)
+    onesided = np.full(len(f), 2.0)
+    onesided[0] = 1.0
+    if nper % 2 == 0:
+        onesided[-1] = 1.0
+    nkeep = int(np.searchsorted(f, keep_hz, side="right")) if keep_hz is not None else 0
+    P_sum = np.zeros((len(f), C))
+    keep = np.empty((nkeep, C, nseg), np.float32) if keep_hz is not None else None
+    for c in range(C):
+        view = sliding_window_view(x[:, c], nper)[::step][:nseg]
+        for b0 in range(0, nseg, batch):
+            seg = view[b0: b0 + batch]
+            seg = (seg - seg.mean(axis=1, keepdims=True)) * win
+            X = fft.rfft(seg, axis=1)
+            P = (X.real ** 2 + X.imag ** 2) * (scale * onesided)
+            P_sum[:, c] += P.sum(axis=0)
+            if keep is not None:
+                keep[:, c, b0: b0 + P.shape[0]] = P[:, :nkeep].T
+    return f, P_sum, nseg, keep
 
 
 def band_halfwidth(spec: Spectrum, k: float) -> float:

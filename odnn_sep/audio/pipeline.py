@@ -51,6 +51,12 @@ class DenoiseResult:
         Peak amplitude (sample units) and phase (rad) of each line per block; phases are at the
         block centre for harmonics and at t = 0 for tones (cosine convention).
     line_names : list of str
+        ``h<k>`` for the tracked comb, ``tone_<f>Hz`` for tones, ``c<i>_h<k>`` for further combs.
+    line_freqs : list of float
+        Frequency of each line (Hz; harmonics at the median tracked fundamental).
+    extra_combs : list of dict
+        Further steady combs within 0.3 % of the main one (``fundamental_hz``, ``harmonics``),
+        e.g. the same grid seen through a second sample clock or a second device.
     levels_before, levels_after : list of dict
         Each line's level above its local noise floor (dB, per channel).
     report : dict

@@ -200,3 +200,13 @@ def test_help_lists_options(capsys):
     out = capsys.readouterr().out
     for opt in ("--mains", "--harmonics", "--tone", "--report", "--plot", "--quiet", "--solver"):
         assert opt in out
+
+
+def test_ogg_vorbis_roundtrip(tmp_path):
+    y, sr, _ = make_hum_mix(6.0, 8000, snr_db=3.0, random_state=22)
+    src = tmp_path / "in.ogg"
+    sf.write(src, y, sr, format="OGG", subtype="VORBIS")
+    out = tmp_path / "out.ogg"
+    assert main(["denoise", str(src), "-o", str(out), "--quiet"]) == 0
+    info = sf.info(str(out))
+    assert (info.samplerate, info.channels, info.subtype) == (8000, 1, "VORBIS")
