@@ -25,19 +25,29 @@ SLOW_FAMILIES = {"oscillator", "pendulum", "hum"}
 MAX_SLOW_MODES = 10
 
 
-def slow_cutoff(t, y):
-    """Half the dominant frequency: the physical oscillation and its sidebands stay above it."""
+def slow_cutoff(t, y, model=None):
+    """Half the dominant frequency of the physics: the oscillation and its sidebands stay above it.
+
+    With a preset, the frequency is read off the preset's data-driven starting model (for hum,
+    the mains frequency, not whatever dominates the recording); otherwise off the data.
+    """
+    if model is not None and model.preset is not None:
+        try:
+            guess = {**model.start, **model.preset.initial_guess(t, y, dict(model.start))}
+            return _dominant_omega(t, model.predict(t, guess)) / (2 * np.pi) / 2.0
+        except (InputError, ValueError, np.linalg.LinAlgError):
+            pass
     return _dominant_omega(t, y) / (2 * np.pi) / 2.0
 
 
-def slow_disturbance(t, *, cutoff_hz=None, y=None):
+def slow_disturbance(t, *, cutoff_hz=None, y=None, model=None):
     """Orthonormal columns spanning a constant, a line and cosine modes below ``cutoff_hz``. Shape (n, q)."""
     t = np.asarray(t, float)
     T = float(t[-1] - t[0])
     if cutoff_hz is None:
         if y is None:
             raise InputError("slow_disturbance needs cutoff_hz or y to find the dominant frequency")
-        cutoff_hz = slow_cutoff(t, y)
+        cutoff_hz = slow_cutoff(t, y, model)
     # cosine mode k has frequency k / (2 T); keep modes strictly below the cut-off
     K = int(np.floor(2 * T * cutoff_hz))
     K = min(K, MAX_SLOW_MODES, len(t) // 10)
@@ -60,7 +70,7 @@ def disturbance_columns(disturbance, model, t, y):
     if disturbance == "none":
         return None
     if disturbance == "slow":
-        return slow_disturbance(t, y=y)
+        return slow_disturbance(t, y=y, model=model)
     raise InputError(f"disturbance must be 'auto', 'slow', 'none' or an (n, q) array; got {disturbance!r}")
 
 

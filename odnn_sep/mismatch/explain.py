@@ -109,7 +109,8 @@ def _with_data_bounds(m, t, slow_hz=0.0):
     """Frequencies an effect may take are limited by the record: at least 1.5 cycles, below Nyquist.
 
     A 'modulation' slower than the record is a trend, which the calibration already covers; letting
-    it through would make amplitude modulation imitate damping.
+    it through would make amplitude modulation imitate damping. For oscillatory models the
+    modulation must also be slower than half the oscillation frequency (``slow_hz``).
     """
     if np.ndim(t) != 1:
         return m
@@ -117,7 +118,8 @@ def _with_data_bounds(m, t, slow_hz=0.0):
     nyq = 0.5 / float(np.median(np.diff(t)))
     b = dict(m.bounds)
     if "f_am" in m.start:
-        b["f_am"] = (1.5 / T, nyq / 4)
+        # a modulation as fast as the carrier is not an envelope: it would stand in for harmonics
+        b["f_am"] = (1.5 / T, slow_hz if slow_hz > 1.5 / T else nyq / 4)
     if "omega_f" in m.start:
         # forcing slower than the disturbance class's cut-off is indistinguishable from the disturbance
         b["omega_f"] = (2 * np.pi * max(1.5 / T, slow_hz), 2 * np.pi * nyq)
@@ -168,7 +170,7 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", folds
     slow_hz = 0.0
     if G is not None and np.ndim(t) == 1:
         from odnn_sep.mismatch.calibrate import slow_cutoff
-        slow_hz = slow_cutoff(t, y)
+        slow_hz = slow_cutoff(t, y, m)
     base = cal.fit
     res = MismatchResult(t=t, y=y, model=m, calibration=cal)
     from odnn_sep.mismatch.locate import noise_sigma

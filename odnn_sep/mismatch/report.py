@@ -114,9 +114,9 @@ def summary_text(res) -> str:
 
 def plot(res, out) -> None:
     """Figure: data with both fits, residual before/after, and the flagged locations."""
-    from odnn_sep.report.figures import pyplot, save_figure
-
     import numpy as np
+
+    from odnn_sep.report.figures import pyplot, save_figure
 
     plt = pyplot()
     base = res.calibration.fit
