@@ -152,7 +152,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         pad = 16
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
-    cands = search(ys, text, fonts, angle_range=angle_range)
+    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=12)
     # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
     # then refine the two best: correlation alone ranks small spurious templates too high
     screened = []
@@ -168,7 +168,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         screened.append((f.explained, c))
     screened.sort(key=lambda t: -t[0])
     best, best_nc = None, None
-    for _, c in screened[:2]:
+    for _, c in screened[:3]:
         try:
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
                        random_state=random_state)

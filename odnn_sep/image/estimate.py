@@ -165,6 +165,10 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
         patch = int(np.clip(round(2.5 * stroke_width(M) + 4), 8, 32))
     rng = np.random.default_rng(random_state)
     Yp, Mp = _patches(y, M, patch, max_patches, rng)
+    # clipped pixels (0 or full scale) break the blend model: leave out patches holding them
+    ok = ~((Yp <= 0.5 / 65535) | (Yp >= 1 - 0.5 / 65535)).any(axis=(1, 2))
+    if ok.sum() >= max(8, 0.2 * len(ok)):
+        Yp, Mp = Yp[ok], Mp[ok]
     if len(Mp) == 0:
         from odnn_sep.errors import NotIdentifiableError
 

@@ -56,7 +56,11 @@ def edge_map(img: np.ndarray, blur: float = 0.0, normalize: bool = False) -> np.
         jxy += gx * gy
     mag = np.sqrt(jxx + jyy)
     inv = 1.0 / np.maximum(mag, 1e-12)
-    f = np.stack([mag, (jxx - jyy) * inv, 2.0 * jxy * inv], axis=2)
+    # Saturate the edge strength: a faint mark's outlines must weigh as much as the photo's
+    # high-contrast edges, or the correlation follows the photo.
+    k = float(np.median(mag)) * 3.0 + 1e-3 * float(mag.max()) + 1e-12
+    w = np.tanh(mag / k)
+    f = np.stack([w, (jxx - jyy) * inv * inv * w, 2.0 * jxy * inv * inv * w], axis=2)
     if blur > 0:
         f = cv2.GaussianBlur(f, (0, 0), blur)
     if normalize:
@@ -188,7 +192,9 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
             m = _refine(pyr, text, str(font), s1, a0, cx0, cy0, H, W)
             if m is not None and (best is None or m.score > best.score):
                 best = m
-        if best is not None:
+        if best is not None and not any(
+                abs(np.log(best.size / o.size)) < 0.04 and abs(best.angle - o.angle) < 2.0
+                and np.hypot(best.center[0] - o.center[0], best.center[1] - o.center[1]) < 3.0 for o in out):
             out.append(best)
     out.sort(key=lambda m: -m.score)
     return out
@@ -213,7 +219,7 @@ def _refine(pyr, text, font, s0, a0, cx0, cy0, H, W) -> Match | None:
             for a in aa:
                 t = _template(text, font, round(s * f, 2), round(float(a), 3), 0.7)
                 # search a window around the current centre
-                rad = max(6, int(0.06 * t.shape[1])) if stage == 0 else 4
+                rad = max(8, int(0.15 * t.shape[1])) if stage == 0 else 4
                 x0 = int(round(cx0 * f - (t.shape[1] - 1) / 2)) - rad
                 y0 = int(round(cy0 * f - (t.shape[0] - 1) / 2)) - rad
                 xa, ya = max(0, x0), max(0, y0)

@@ -65,6 +65,9 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
     if len(py) == 0:
         return Placed(Path(font), size, angle, center, bx, M, fit0)
     Yp = take_patches(crop, py, px, ps)
+    ok = ~((Yp <= 0.5 / 65535) | (Yp >= 1 - 0.5 / 65535)).any(axis=(1, 2))
+    if ok.sum() >= max(8, 0.2 * len(ok)):
+        Yp, py, px = Yp[ok], py[ok], px[ok]
     Phi = _design(ps, 1)
     a0 = float(np.clip(fit0.alpha, 0.05, 0.98))
 
