@@ -169,6 +169,8 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
     screened.sort(key=lambda t: -t[0])
     best, best_nc = None, None
     for _, c in screened[:3]:
+        if best is not None and best.fit.explained >= 0.5:
+            break  # a clear detection: no need to refine weaker hypotheses
         try:
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
                        random_state=random_state)
@@ -193,7 +195,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
                 if fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=200, irls=0).explained < min_score:
                     continue
                 p = refine(y, text, best.font, best.size, best.angle, (r.center[0] + off[0], r.center[1] + off[1]),
-                           iterations=40, random_state=random_state)
+                           iterations=30, random_state=random_state)
             except NotIdentifiableError:
                 continue
             if p.fit.explained >= min_score:

@@ -134,7 +134,7 @@ class _Profile:
 
 
 def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree: int = 1,
-              max_patches: int = 1500, alpha_max: float = 1.0, irls: int = 2, random_state=0) -> BlendFit:
+              max_patches: int = 800, alpha_max: float = 1.0, irls: int = 1, random_state=0) -> BlendFit:
     """Estimate opacity ``alpha`` and ``beta = alpha * colour`` of a mark of known coverage ``M``.
 
     Parameters
@@ -174,7 +174,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
 
         raise NotIdentifiableError("the mark has no sharp edges inside the image; opacity cannot be estimated")
     prof = _Profile(Yp, Mp, _design(int(np.sqrt(Mp.shape[1])), degree))
-    grid = np.linspace(0.0, alpha_max, 21)[1:]
+    grid = np.linspace(0.0, alpha_max, 13)[1:]
     alpha = 0.5
     for it in range(irls + 1):
         vals = np.array([prof(a) for a in grid]) if it == 0 else None
@@ -182,7 +182,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
             k = int(np.argmin(vals))
             lo, hi = grid[max(k - 1, 0)] - (0.05 if k == 0 else 0), grid[min(k + 1, len(grid) - 1)]
         else:
-            lo, hi = max(1e-3, alpha - 0.1), min(alpha_max, alpha + 0.1)
+            lo, hi = max(1e-3, alpha - 0.05), min(alpha_max, alpha + 0.05)
         res = minimize_scalar(prof, bounds=(max(lo, 1e-4), hi), method="bounded", options={"xatol": 1e-5})
         alpha = float(res.x)
         if it < irls:

@@ -34,7 +34,7 @@ def render_at(text, font, size, angle, center, shape, margin: int = 3):
     return m, (x0, y0, x1, y1)
 
 
-def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *, iterations: int = 80,
+def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *, iterations: int = 60,
            random_state=0) -> Placed:
     """Refine (centre, angle, size) of one mark by the blend model's residual, then fit opacity/colour.
 

@@ -127,3 +127,23 @@ def test_read_unreadable_raises_format_error(tmp_path):
     bad.write_bytes(b"\x00\x01garbage")
     with pytest.raises(FormatError, match="could not read input image"):
         read_image(bad)
+
+
+@pytest.mark.slow
+def test_tiled_marks_all_found():
+    clean = photo_like((300, 400), random_state=7)
+    y, M = add_text_watermark(clean, "PROOF", size=30, angle=20, center=(200, 150), alpha=0.4,
+                              color=(255, 255, 255), tile=(130, 90))
+    r = unwatermark(y, text="PROOF", font="DejaVuSans-Bold")
+    assert len(r.report["marks"]) >= 6
+    assert abs(r.alpha - 0.4) < 0.01
+    assert psnr(clean, r.image) > 45
+
+
+def test_rotated_45_degrees_found():
+    clean = photo_like((300, 300), random_state=11)
+    y, M = add_text_watermark(clean, "DRAFT", size=44, angle=-45, center=(150, 150), alpha=0.5,
+                              color=(0, 0, 0))
+    r = unwatermark(y, text="DRAFT", font="DejaVuSans-Bold", max_marks=1)
+    assert abs(r.report["angle_deg"] + 45) < 0.5
+    assert psnr(clean, r.image) > 45
