@@ -99,3 +99,21 @@ def test_cli_real_cooling_control_vs_oil(tmp_path):
     control, oil = d["CoolingWater1_fastR2.csv"], d["CoolingWater2_fastR2.csv"]
     assert control["verdict"]["effect"] == "evaporation"
     assert oil["fit"]["before"]["residual_rms"] < 0.2 * control["fit"]["before"]["residual_rms"]
+
+
+def test_cli_wav_hum_missing_harmonic(tmp_path):
+    import soundfile as sf
+    sr = 400
+    t = np.arange(2 * sr) / sr
+    rng = np.random.default_rng(3)
+    y = 0.3 * np.sin(2 * np.pi * 50.02 * t) + 0.02 * np.sin(2 * np.pi * 3 * 50.02 * t + 0.4) \
+        + 0.01 * rng.normal(size=t.size)
+    p = tmp_path / "hum.wav"
+    sf.write(p, y, sr, subtype="FLOAT")
+    rep = tmp_path / "r.json"
+    assert main(["mismatch", str(p), "--model", "hum", "--param", "f0=50", "--quiet", "--report", str(rep)]) == 0
+    d = json.loads(rep.read_text())
+    assert d["verdict"]["effect"] == "missing_harmonic"
+    assert d["verdict"]["parameters"]["k_h"] == 3.0
+    assert abs(d["calibration"]["parameters"]["f0"]["value"] - 50.02) < 0.002
+    assert d["input"]["sr"] == sr
