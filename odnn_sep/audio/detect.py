@@ -34,6 +34,10 @@ class Spectrum:
         return float(self.freqs[1] - self.freqs[0])
 
     @property
+    def numerical_floor(self) -> float:
+        return 1e-12 * float(np.mean(self.psd)) + 1e-300
+
+    @property
     def dof_per_bin(self) -> float:
         # Hann, 50 % overlap: each extra segment adds about 0.9 of an independent one
         return 2.0 * max(1.0, 0.9 * self.n_segments)
@@ -136,7 +140,7 @@ def persistence_p_value(spec: Spectrum, f: float, bw: float, floor: np.ndarray) 
     band = np.abs(fr - f) <= bw
     if not band.any():
         return 1.0
-    bm = S[band].mean(axis=0).sum(axis=0) / max(float(np.sum(floor)), 1e-300)   # (segments,)
+    bm = S[band].mean(axis=0).sum(axis=0).astype(np.float64) / max(float(np.sum(floor)), 1e-300)
     L = bm.shape[0]
     x = float(np.median(bm))
     m_eff = max(1.0, band.sum() / 1.5) * S.shape[1]
@@ -171,7 +175,9 @@ def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
     nu = spec.dof_per_bin
     # the median of a chi2(nu)/nu variable sits below its mean; correct so the floor is a mean
     med_corr = stats.chi2.median(nu) / nu
-    floor = np.median(psd[near], axis=0) / med_corr
+    # numerical floor 120 dB under the mean PSD: lines in float rounding noise of a synthetic
+    # or digitally silent signal are not hum
+    floor = np.maximum(np.median(psd[near], axis=0) / med_corr, spec.numerical_floor)
     level = psd[band].mean(axis=0)
     ratio = level / np.maximum(floor, 1e-300)
     pooled = level.sum() / max(floor.sum(), 1e-300)

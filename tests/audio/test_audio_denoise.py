@@ -174,3 +174,15 @@ def test_auto_block_length_is_reported():
     y, sr, _ = make_hum_mix(10.0, 4000, random_state=9)
     r = denoise(y, sr)
     assert r.info["block_s"] == 8.0   # inputs shorter than 48 s always use 8 s blocks
+
+
+def test_silence_and_perfect_sine(recwarn):
+    sr = 8000
+    r = denoise(np.zeros(3 * sr), sr)
+    assert r.harmonics == [] and np.all(r.y == 0)
+    # float rounding noise of a perfect sine is not a comb of harmonics
+    y = 0.5 * np.sin(2 * np.pi * 60.02 * np.arange(20 * sr) / sr)
+    r = denoise(y, sr)
+    assert r.harmonics == [1] and abs(r.mains_hz - 60.02) < 1e-3
+    assert np.abs(r.y).max() < 1e-4
+    assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
