@@ -73,7 +73,7 @@ def edge_map(img: np.ndarray, blur: float = 0.0, normalize: bool = False) -> np.
 class _Pyramid:
     """The image's edge maps at arbitrary downscale factors (computed once per factor)."""
 
-    def __init__(self, img: np.ndarray, base_max: int = 1024):
+    def __init__(self, img: np.ndarray, base_max: int = 768):
         import cv2
 
         self.H, self.W = img.shape[:2]
@@ -149,6 +149,9 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     h100 = render_text(text, f0, REF_SIZE).shape[0] - 4
     # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal
     s_min = max(4.0, min_height_px / max(h100, 1) * REF_SIZE * 1.4)
+    # the search pyramid starts at <= 768 px: text must be at least ~8 px tall there (on a 12-MP
+    # photo, ~40 px); smaller templates only match noise
+    s_min = max(s_min, 0.8 * coarse_h / max(h100, 1) * REF_SIZE / pyr.base)
     s_max = 1.05 * np.hypot(H, W) / max(w100, 1) * REF_SIZE
     if s_max <= s_min:
         s_max = s_min * 1.01
@@ -175,14 +178,27 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     if not cands:
         return []
     cands.sort(key=lambda c: -c[0])
-    # keep the best few distinct hypotheses
+    # Keep distinct hypotheses: the best of every half-octave of size first (correlation maxima of
+    # small templates on large levels are inflated by the many positions they are tried at, so a
+    # purely global ranking starves the large sizes), then the next best overall.
     top: list[tuple] = []
+
+    def distinct(c):
+        return all(abs(np.log(c[1] / t[1])) > 0.15 or abs(c[2] - t[2]) > 7
+                   or np.hypot(c[3] - t[3], c[4] - t[4]) > 0.3 * w100 * c[1] / REF_SIZE for t in top)
+
+    seen_bins = set()
     for c in cands:
-        if all(abs(np.log(c[1] / t[1])) > 0.15 or abs(c[2] - t[2]) > 7 or np.hypot(c[3] - t[3], c[4] - t[4]) > 0.3
-               * w100 * c[1] / REF_SIZE for t in top):
+        b = int(np.floor(2 * np.log2(c[1])))
+        if b not in seen_bins and distinct(c):
+            seen_bins.add(b)
             top.append(c)
+    top = sorted(top, key=lambda c: -c[0])[: max_hypotheses // 2]
+    for c in cands:
         if len(top) >= max_hypotheses:
             break
+        if distinct(c):
+            top.append(c)
     out: list[Match] = []
     for _, s0, a0, cx0, cy0 in top:
         best = None
