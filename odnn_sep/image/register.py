@@ -13,7 +13,15 @@ from pathlib import Path
 
 import numpy as np
 
-from odnn_sep.image.estimate import BlendFit, _design, _Profile, fit_blend, patch_grid, stroke_width, take_patches
+from odnn_sep.image.estimate import (
+    BlendFit,
+    _design,
+    _Profile,
+    fit_blend,
+    patch_grid,
+    stroke_width,
+    take_patches,
+)
 from odnn_sep.image.render import place, render_text
 
 

@@ -124,8 +124,9 @@ def make_watermark_demo(random_state=0, shape=(320, 480)):
     >>> y.shape == clean.shape and 0.2 <= truth["alpha"] <= 0.8
     True
     """
-    import matplotlib
     from pathlib import Path
+
+    import matplotlib
 
     rng = np.random.default_rng(random_state)
     clean = photo_like(shape, random_state=rng.integers(1 << 31))

@@ -21,7 +21,8 @@ def test_known_mask_recovers_alpha_color_and_photo(rs):
 
 def test_invert_marks_opaque_pixels_lost():
     y = np.full((20, 20, 3), 0.5)
-    M = np.zeros((20, 20)); M[5:15, 5:15] = 1.0
+    M = np.zeros((20, 20))
+    M[5:15, 5:15] = 1.0
     y = (1 - 0.95 * M[..., None]) * y + 0.95 * M[..., None] * 1.0
     out, lost = invert(y, M, 0.95, np.ones(3))
     assert lost.sum() == 100
