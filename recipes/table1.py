@@ -205,6 +205,12 @@ Adam epochs, θ started at 0. Wall time {elapsed:.0f} s.
   (physics off the DFT bins, so OLS is biased by leakage); in explicit 2-D the disturbance is exactly
   orthogonal on the grid, so OLS coincides with ODNN there, as the theory says it must. In figure2 and
   implicit_symmetric OLS is also unbiased (even disturbance, odd basis, symmetric grid).
+- OLS/SINDy use only the physics columns: in `population` the intercept log N0 lives in the periodic
+  class (not in the basis), so they put it into the growth term (errors of hundreds of %); ODNN absorbs it.
+- Cone rows: ODNN's 95 % set is a profile-likelihood set from the noisy data. For Monotone it can be
+  narrower than the noise-free identified set and miss θ (see "truth inside": isotonic fits absorb
+  noise unevenly across θ); treat the monotone set as optimistic. Convex covers θ in every trial.
+- "not conv." counts network-solver runs that ended with a θ-gradient above tolerance (ConvergenceWarning).
 - Differences from the paper's set-ups (see `odnn_sep/signals` docstrings): pendulum separated by
   periodicity (both terms are even in t), heat transfer with a symmetric disturbance and asymmetric
   physics sources (the paper's reverse is not identifiable), biology as N0·exp(μt) with an
