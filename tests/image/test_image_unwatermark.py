@@ -147,3 +147,27 @@ def test_rotated_45_degrees_found():
     r = unwatermark(y, text="DRAFT", font="DejaVuSans-Bold", max_marks=1)
     assert abs(r.report["angle_deg"] + 45) < 0.5
     assert psnr(clean, r.image) > 45
+
+
+def test_unknown_font_message():
+    from odnn_sep.image.render import resolve_font
+
+    with pytest.raises(InputError, match=r"font 'NoSuchFont' not found as a file nor by name in .*; pass a "
+                                         r"\.ttf/\.otf path or a name such as 'DejaVuSans-Bold'"):
+        resolve_font("NoSuchFont")
+
+
+@pytest.mark.parametrize("ext", [".png", ".tif"])
+def test_cli_16bit_rgba_file_keeps_format(tmp_path, ext):
+    clean = photo_like((90, 160), random_state=5).astype(np.uint16) * 257
+    rgba = np.dstack([clean, np.full((90, 160), 40000, np.uint16)])
+    y, M = add_text_watermark(rgba, "MARK", size=36, center=(80, 45), alpha=0.5, color=(255, 255, 255))
+    inp, mask, out = tmp_path / f"in{ext}", tmp_path / "m.png", tmp_path / f"out{ext}"
+    write_image(inp, y)
+    write_image(mask, ((M > 0.05) * 255).astype(np.uint8))
+    assert main(["unwatermark", str(inp), "--mask", str(mask), "-o", str(out), "--quiet"]) == 0
+    back = read_image(out)
+    assert back.dtype == np.uint16 and back.shape == rgba.shape
+    assert np.array_equal(back[..., 3], rgba[..., 3])
+    err_in = np.abs(y[..., :3].astype(float) - clean).mean()
+    assert np.abs(back[..., :3].astype(float) - clean).mean() < err_in / 3
