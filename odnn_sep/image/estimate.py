@@ -124,7 +124,9 @@ class _Profile:
         syy_p = self.yy - np.sum(ay * gy, axis=1)
         w = self.w
         Sxx = float(np.sum(w * sxx_p))
-        beta = (w @ sxy_p) / max(Sxx, 1e-300)
+        # the colour must be a colour: b = alpha * col with col in [0, 1]. Channels are independent
+        # given alpha, so clipping each 1-D quadratic's minimiser is the constrained optimum.
+        beta = np.clip((w @ sxy_p) / max(Sxx, 1e-300), 0.0, alpha)
         rss_p = np.sum(syy_p - 2 * beta[None] * sxy_p + (beta[None] ** 2) * sxx_p[:, None], axis=1)
         return beta, np.maximum(rss_p, 0.0)
 
