@@ -81,11 +81,13 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
 
     history = []
     opt = torch.optim.Adam([{"params": net.parameters(), "lr": lr * 0.3}, {"params": [theta], "lr": lr}])
+    sched = torch.optim.lr_scheduler.CosineAnnealingLR(opt, max(1, epochs), eta_min=lr * 1e-3)
     for it in range(epochs):
         opt.zero_grad()
         loss = loss_fn()
         loss.backward()
         opt.step()
+        sched.step()
         if it % 50 == 0:
             history.append(float(loss.detach()))
     params = list(net.parameters()) + [theta]
@@ -99,6 +101,23 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
         return loss
 
     lb.step(closure)
+    # Adam with a fixed step leaves theta jittering around its optimum, and the joint L-BFGS can stop
+    # early on the network's rough landscape; theta's own problem (network fixed) is a convex quadratic,
+    # so a last L-BFGS pass on theta alone converges it.
+    for q in net.parameters():
+        q.requires_grad_(False)
+    lb_theta = torch.optim.LBFGS([theta], lr=1.0, max_iter=200, tolerance_grad=1e-15, tolerance_change=1e-18,
+                                 history_size=20, line_search_fn="strong_wolfe")
+
+    def closure_theta():
+        lb_theta.zero_grad()
+        loss = loss_fn()
+        loss.backward()
+        return loss
+
+    lb_theta.step(closure_theta)
+    lb_theta.zero_grad()
+    loss_fn().backward()
     with torch.no_grad():
         final = float(loss_fn())
         g = layer(net(Xt))
@@ -108,7 +127,7 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
         th = (theta / fs).numpy() * ys
     history.append(final)
     grad_norm = float(torch.linalg.norm(theta.grad)) if theta.grad is not None else 0.0
-    converged = bool(np.isfinite(final) and grad_norm < 1e-4)
+    converged = bool(np.isfinite(final) and grad_norm < 1e-6)
     if not converged:
         warnings.warn(f"network solver stopped with theta-gradient norm {grad_norm:.2e} (loss {final:.3e}); "
                       "increase epochs", ConvergenceWarning, stacklevel=3)

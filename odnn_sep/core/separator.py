@@ -129,7 +129,7 @@ class Separator:
         names = self.basis.names
         n, p = F.shape
         if dist.kind == "cone":
-            c = cone.fit_cone(F, x, y, dist)
+            c = cone.fit_cone(F, x, y, dist, random_state=self.random_state)
             width = c["interval"][:, 1] - c["interval"][:, 0]
             rel = width / np.maximum(np.abs(c["theta_mid"]), 1e-300)
             if np.any(rel > 0.05):
