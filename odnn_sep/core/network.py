@@ -59,8 +59,11 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
     net = net.to(dt)
     theta = torch.zeros(F.shape[1], dtype=dt, requires_grad=True)
     if kind == "Orthogonal":
-        Q, _ = torch.linalg.qr(Fn)
-        layer = lambda h: h - Q @ (Q.T @ h)  # noqa: E731  (paper Eq. 3)
+        # paper Eq. 3 in the (weighted) empirical inner product <a, b> = sum w a b, so that the
+        # weighted loss splits into a theta part and a network part
+        sw = torch.ones_like(Yt) if W is None else torch.sqrt(W)
+        Q, _ = torch.linalg.qr(Fn * sw[:, None])
+        layer = lambda h: h - (Q @ (Q.T @ (sw * h))) / torch.where(sw > 0, sw, torch.ones_like(sw))
     elif dist.kind == "subspace":
         # Reparametrise g' = g + P F theta (same class): the loss then splits into a theta part on
         # (I - P) and a network part on P, exactly as Eq. 3 does for the orthogonal case.

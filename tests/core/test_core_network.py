@@ -38,3 +38,14 @@ def test_network_convex_lands_inside_identified_set():
     assert lo - 0.01 <= r.theta[0] <= hi + 0.01
     # the ICNN output is convex by construction
     assert np.diff(r.disturbance, 2).min() > -1e-6
+
+
+def test_network_weighted_orthogonal_matches_weighted_exact():
+    x = np.linspace(0, 1, 200)
+    rng = np.random.default_rng(0)
+    y = 2 * x + 1 + np.sin(40 * x) + 0.1 * rng.normal(size=x.size)
+    w = rng.uniform(0.2, 3, x.size)
+    b = Basis([np.ones_like, lambda x: x], names=["c", "m"])
+    ex = Separator(b).fit(x, y, weights=w).result_
+    nw = Separator(b, solver="network", epochs=300, random_state=0).fit(x, y, weights=w).result_
+    np.testing.assert_allclose(nw.theta, ex.theta, rtol=1e-6)
