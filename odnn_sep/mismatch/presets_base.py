@@ -1,0 +1,74 @@
+"""Preset plumbing: the Preset base class, ODE integration with one clear error, frequency guesses."""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+from scipy.integrate import odeint
+
+from odnn_sep.errors import InputError
+
+INF = np.inf
+
+
+class ModelIntegrationError(InputError):
+    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values)."""
+
+
+def _integrate(name, rhs, state0, t, p):
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        # a failure is reported below as one clear error, not as solver chatter
+        warnings.simplefilter("ignore")
+        sol, info = odeint(rhs, state0, t, full_output=True, mxstep=20000, rtol=1e-7, atol=1e-9,
+                           tfirst=True)
+    if info.get("message", "").lower().find("successful") < 0 or not np.all(np.isfinite(sol)):
+        shown = {k: round(float(v), 6) for k, v in p.items()}
+        raise ModelIntegrationError(
+            f"model {name!r} failed to integrate with parameters {shown} "
+            f"({info.get('message', 'non-finite values')}); check the starting values (--param)")
+    return sol
+
+
+def _friction_scale(v_scale):
+    # tanh(v/eps) replaces sign(v): LSODA cannot step through a discontinuous force.
+    return 3e-2 * max(float(v_scale), 1e-9)
+
+
+class Preset:
+    """Base class: ``params`` (name -> default), ``bounds``, ``fixed`` (structural, never refit)."""
+
+    name = ""
+    family = ""
+    description = ""
+    params: dict = {}
+    bounds: dict = {}
+    fixed: frozenset = frozenset()
+    native: frozenset = frozenset()   # effects implemented inside the preset's equations
+    autonomous = True
+    ndim = 1
+
+    def build(self, effects):
+        raise NotImplementedError
+
+    def initial_guess(self, t, y, p):
+        """Data-driven starting values for parameters the user did not give (dict, may be partial)."""
+        return {}
+
+
+def _dominant_omega(t, y):
+    """Angular frequency of the largest periodogram peak (zero-padded, mean removed)."""
+    n = len(t)
+    dt = float(np.median(np.diff(t)))
+    nfft = int(2 ** np.ceil(np.log2(8 * n)))
+    spec = np.abs(np.fft.rfft((y - y.mean()) * np.hanning(n), nfft))
+    freqs = np.fft.rfftfreq(nfft, dt)
+    spec[0] = 0
+    return 2 * np.pi * freqs[int(np.argmax(spec))]
+
+
+def _sinusoid_start(t, y, omega):
+    """Amplitudes (x0, v0) of a pure oscillation at omega matched to the data by least squares."""
+    tau = t - t[0]
+    F = np.column_stack([np.cos(omega * tau), np.sin(omega * tau), np.ones_like(tau)])
+    coef = np.linalg.lstsq(F, y, rcond=None)[0]
+    return float(coef[0]), float(coef[1] * omega)

@@ -1,0 +1,194 @@
+"""Thermal, mains-hum and 2D-field presets: Newton cooling, hum, heat2d."""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+from odnn_sep.mismatch.presets_base import INF, Preset, _integrate
+
+
+def _psat(T):
+    """Saturation vapour pressure (hPa, Magnus formula), T in deg C."""
+    return 6.1094 * np.exp(17.625 * T / (T + 243.04))
+
+
+def _newton_fit(t, y):
+    """Variable projection over h: for each decay rate, T_amb and amplitude are linear."""
+    tau = t - t[0]
+    span = max(tau[-1], 1e-12)
+    best = None
+    for h in np.geomspace(0.05 / span, 50.0 / span, 60):
+        F = np.column_stack([np.ones_like(tau), np.exp(-h * tau)])
+        coef, *_ = np.linalg.lstsq(F, y, rcond=None)
+        rss = float(np.sum((F @ coef - y) ** 2))
+        if best is None or rss < best[0]:
+            best = (rss, h, coef)
+    _, h, (ta, amp) = best
+    return {"h": float(h), "T_ambient": float(ta), "T0": float(ta + amp)}
+
+
+class Cooling(Preset):
+    name = "cooling"
+    family = "cooling"
+    description = "Newton cooling dT/dt = -h (T - T_ambient), T(t_start) = T0 (temperatures in deg C)"
+    params = {"h": 0.05, "T_ambient": 20.0, "T0": 90.0}
+    bounds = {"h": (0.0, INF)}
+    native = frozenset({"radiation", "evaporation", "two_body_heat"})
+
+    def build(self, effects):
+        effects = frozenset(effects) & self.native
+        ode = effects & {"radiation", "evaporation"}
+
+        def predict(t, p):
+            tau = t - t[0]
+            ta = p["T_ambient"]
+            if not ode:
+                out = ta + (p["T0"] - ta) * np.exp(-p["h"] * tau)
+            else:
+                tak = ta + 273.15
+                rad_norm = 4.0 * tak ** 3
+                # d psat/dT at T_ambient: makes e_evap a linearised rate comparable with h
+                evap_norm = _psat(ta) * 17.625 * 243.04 / (ta + 243.04) ** 2
+
+                def rhs(tt, s):
+                    T = s[0]
+                    d = -p["h"] * (T - ta)
+                    if "radiation" in ode:
+                        d -= p["r_rad"] * ((T + 273.15) ** 4 - tak ** 4) / rad_norm
+                    if "evaporation" in ode:
+                        d -= p["e_evap"] * (_psat(T) - _psat(ta)) / evap_norm
+                    return [d]
+
+                out = _integrate(self.name, rhs, [p["T0"]], t, p)[:, 0]
+            if "two_body_heat" in effects:
+                out = out + p["B_2"] * (np.exp(-p["lam_2"] * tau) - np.exp(-p["h"] * tau))
+            return out
+
+        return predict
+
+    def initial_guess(self, t, y, p):
+        return _newton_fit(t, y)
+
+
+class Hum(Preset):
+    name = "hum"
+    family = "hum"
+    description = "mains hum: sum over harmonics h=1..H of a_h cos(2 pi h f0 t) + b_h sin(2 pi h f0 t)"
+    params = {"f0": 50.0, "harmonics": 1}
+    bounds = {"f0": (0.0, INF)}
+    fixed = frozenset({"harmonics"})
+    native = frozenset({"missing_harmonic", "frequency_drift"})
+
+    def amplitude_names(self, harmonics):
+        return [f"{ab}{h}" for h in range(1, int(harmonics) + 1) for ab in ("a", "b")]
+
+    def build(self, effects):
+        effects = frozenset(effects) & self.native
+
+        def predict(t, p):
+            tm = 0.5 * (t[0] + t[-1])
+            phase = p["f0"] * t
+            if "frequency_drift" in effects:
+                phase = phase + 0.5 * p["f1"] * ((t - tm) ** 2 - (t[0] - tm) ** 2)
+            out = np.zeros_like(t)
+            for h in range(1, int(p["harmonics"]) + 1):
+                w = 2 * np.pi * h * phase
+                out += p[f"a{h}"] * np.cos(w) + p[f"b{h}"] * np.sin(w)
+            if "missing_harmonic" in effects:
+                w = 2 * np.pi * p["k_h"] * phase
+                out += p["a_h"] * np.cos(w) + p["b_h"] * np.sin(w)
+            return out
+
+        return predict
+
+    def initial_guess(self, t, y, p):
+        f0 = float(p.get("f0", 50.0))
+        H = int(p.get("harmonics", 1))
+        # refine f0 around the given value (the grid frequency is never exactly nominal)
+        span = t[-1] - t[0]
+        best = None
+        for f in f0 + np.linspace(-0.5, 0.5, 201) / max(span, 1e-9) * 4:
+            F = _hum_columns(t, f, H)
+            coef, *_ = np.linalg.lstsq(F, y, rcond=None)
+            rss = float(np.sum((F @ coef - y) ** 2))
+            if best is None or rss < best[0]:
+                best = (rss, f, coef)
+        _, f, coef = best
+        out = {"f0": float(f)}
+        out.update({n: float(c) for n, c in zip(self.amplitude_names(H), coef, strict=True)})
+        return out
+
+
+def _hum_columns(t, f0, H):
+    cols = []
+    for h in range(1, H + 1):
+        cols += [np.cos(2 * np.pi * h * f0 * t), np.sin(2 * np.pi * h * f0 * t)]
+    return np.column_stack(cols)
+
+
+class Heat2D(Preset):
+    name = "heat2d"
+    family = "heat2d"
+    description = ("2D heat field at time t from point sources: "
+                   "sum_i S_i exp(-r_i^2 / (4 alpha t)) / (4 pi alpha t)")
+    params = {"alpha": 0.01, "t": 1.0, "sources": "0.5:0.5"}
+    bounds = {"alpha": (1e-12, INF)}
+    fixed = frozenset({"t", "sources"})
+    native = frozenset({"extra_source", "offset"})
+    ndim = 2
+
+    def build(self, effects):
+        effects = frozenset(effects) & self.native
+
+        def predict(xy, p):
+            srcs = parse_sources(p["sources"])
+            s2 = 4.0 * p["alpha"] * p["t"]
+            out = np.zeros(len(xy))
+            terms = [(sx, sy, p[f"S{i + 1}"]) for i, (sx, sy) in enumerate(srcs)]
+            if "extra_source" in effects:
+                terms.append((p["xs"], p["ys"], p["S_extra"]))
+            for sx, sy, S in terms:
+                r2 = (xy[:, 0] - sx) ** 2 + (xy[:, 1] - sy) ** 2
+                out += S * np.exp(-r2 / s2) / (np.pi * s2)
+            if "offset" in effects:
+                out += p["offset"]
+            return out
+
+        return predict
+
+    def initial_guess(self, xy, z, p):
+        srcs = parse_sources(p.get("sources", self.params["sources"]))
+        tt = float(p.get("t", 1.0))
+        ext = max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1]))
+        best = None
+        for a in np.geomspace(1e-4, 1.0, 40) * ext ** 2 / tt:
+            s2 = 4 * a * tt
+            F = np.column_stack([np.exp(-((xy[:, 0] - sx) ** 2 + (xy[:, 1] - sy) ** 2) / s2) / (np.pi * s2)
+                                 for sx, sy in srcs])
+            coef, *_ = np.linalg.lstsq(F, z, rcond=None)
+            rss = float(np.sum((F @ coef - z) ** 2))
+            if best is None or rss < best[0]:
+                best = (rss, a, coef)
+        out = {"alpha": float(best[1])}
+        out.update({f"S{i + 1}": float(c) for i, c in enumerate(best[2])})
+        return out
+
+
+def parse_sources(spec):
+    """Parse ``"x:y;x:y"`` into a list of (x, y) floats."""
+    if isinstance(spec, (list, tuple)):
+        return [(float(a), float(b)) for a, b in spec]
+    out = []
+    for part in str(spec).split(";"):
+        part = part.strip()
+        if not part:
+            continue
+        try:
+            a, b = part.split(":")
+            out.append((float(a), float(b)))
+        except ValueError:
+            raise InputError(f"sources must be x:y pairs separated by ';' (e.g. 0.3:0.4;0.6:0.5); "
+                             f"got {spec!r}") from None
+    if not out:
+        raise InputError(f"sources must name at least one x:y pair; got {spec!r}")
+    return out
