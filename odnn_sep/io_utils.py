@@ -60,24 +60,13 @@ def atomic_output(out, suffix: str | None = None):
 
 
 def write_json(out, obj) -> None:
+    """Write ``obj`` as JSON atomically (numpy scalars/arrays and paths converted)."""
     import json
 
-    import numpy as np
-
-    def default(v):
-        if isinstance(v, np.generic):
-            return v.item()
-        if isinstance(v, np.ndarray):
-            return v.tolist()
-        if isinstance(v, Path):
-            return str(v)
-        raise TypeError(f"not JSON serialisable: {type(v).__name__}")
-
     check_output_path(out)
-    with atomic_output(out, suffix=".json") as tmp:
-        with open(tmp, "w") as fh:
-            json.dump(obj, fh, indent=2, default=default, allow_nan=True)
-            fh.write("\n")
+    with atomic_output(out, suffix=".json") as tmp, open(tmp, "w") as fh:
+        json.dump(to_jsonable(obj), fh, indent=2, allow_nan=True)
+        fh.write("\n")
 
 
 def ensure_readable(path, reader, *, what: str):
@@ -86,3 +75,20 @@ def ensure_readable(path, reader, *, what: str):
         return reader(path)
     except (OSError, RuntimeError, ValueError) as exc:
         raise FormatError(f"could not read {what} {str(path)!r}: {str(exc).splitlines()[0]}") from None
+
+
+def to_jsonable(v):
+    """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types."""
+    import numpy as np
+
+    if isinstance(v, Path):
+        return str(v)
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, dict):
+        return {k: to_jsonable(w) for k, w in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [to_jsonable(w) for w in v]
+    return v

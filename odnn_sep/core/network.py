@@ -29,6 +29,22 @@ def fit_network(F, x, y, dist, projector, **kw):
         torch.set_num_threads(saved)
 
 
+def _lbfgs(params, loss_fn, *, max_iter, history_size):
+    import torch
+
+    opt = torch.optim.LBFGS(params, lr=1.0, max_iter=max_iter, tolerance_grad=1e-15, tolerance_change=1e-18,
+                            history_size=history_size, line_search_fn="strong_wolfe")
+
+    def closure():
+        opt.zero_grad()
+        loss = loss_fn()
+        loss.backward()
+        return loss
+
+    opt.step(closure)
+    return opt
+
+
 def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, epochs=1500, lr=1e-2,
                  hidden=32, depth=3, lbfgs_iter=300):
     import torch
@@ -93,32 +109,13 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
         sched.step()
         if it % 50 == 0:
             history.append(float(loss.detach()))
-    params = list(net.parameters()) + [theta]
-    lb = torch.optim.LBFGS(params, lr=1.0, max_iter=lbfgs_iter, tolerance_grad=1e-14, tolerance_change=1e-16,
-                           history_size=50, line_search_fn="strong_wolfe")
-
-    def closure():
-        lb.zero_grad()
-        loss = loss_fn()
-        loss.backward()
-        return loss
-
-    lb.step(closure)
-    # Adam with a fixed step leaves theta jittering around its optimum, and the joint L-BFGS can stop
-    # early on the network's rough landscape; theta's own problem (network fixed) is a convex quadratic,
-    # so a last L-BFGS pass on theta alone converges it.
+    _lbfgs(list(net.parameters()) + [theta], loss_fn, max_iter=lbfgs_iter, history_size=50)
+    # Adam leaves theta jittering around its optimum, and the joint L-BFGS can stop early on the
+    # network's rough landscape; theta's own problem (network fixed) is a convex quadratic, so a
+    # last L-BFGS pass on theta alone converges it.
     for q in net.parameters():
         q.requires_grad_(False)
-    lb_theta = torch.optim.LBFGS([theta], lr=1.0, max_iter=200, tolerance_grad=1e-15, tolerance_change=1e-18,
-                                 history_size=20, line_search_fn="strong_wolfe")
-
-    def closure_theta():
-        lb_theta.zero_grad()
-        loss = loss_fn()
-        loss.backward()
-        return loss
-
-    lb_theta.step(closure_theta)
+    lb_theta = _lbfgs([theta], loss_fn, max_iter=200, history_size=20)
     lb_theta.zero_grad()
     loss_fn().backward()
     with torch.no_grad():

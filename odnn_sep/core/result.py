@@ -5,6 +5,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from odnn_sep.io_utils import to_jsonable as _jsonable
+
 
 @dataclass(frozen=True)
 class Result:
@@ -59,15 +61,3 @@ class Result:
         for k, v in self.phi.items():
             lines.append(f"  {k:>16s} = {v: .8g}  ± {self.phi_stderr.get(k, np.nan):.2g}  (nonlinear)")
         return "\n".join(lines)
-
-
-def _jsonable(v):
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    if isinstance(v, np.generic):
-        return v.item()
-    if isinstance(v, dict):
-        return {k: _jsonable(w) for k, w in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [_jsonable(w) for w in v]
-    return v
