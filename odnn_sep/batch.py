@@ -7,7 +7,6 @@ file with its exit status and message, and the exit code is 1 if any file failed
 """
 from __future__ import annotations
 
-
 # command -> (output option, output suffix or None to keep the input's, default glob)
 TARGETS = {
     "denoise": ("-o", None, "*.wav,*.flac,*.ogg"),
