@@ -138,7 +138,7 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
 
 
 def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state):
-    from odnn_sep.image.estimate import fit_blend
+    from odnn_sep.image.estimate import detection_score, fit_blend
     from odnn_sep.image.locate import Match, repeats, search
     from odnn_sep.image.register import refine, render_at
     from odnn_sep.image.render import default_fonts, place, render_text, resolve_font
@@ -178,7 +178,10 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
             continue
         if best is None or p.fit.explained > best.fit.explained:
             best, best_nc = p, c
-    score = best.fit.explained if best is not None else 0.0
+    score = 0.0
+    if best is not None:
+        x0, y0, x1, y1 = best.box
+        score = detection_score(y[y0:y1, x0:x1], best.coverage, random_state=random_state)
     if best is None or score < min_score:
         raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
                          f"{min_score:g}); check --text/--font or give --mask")
@@ -192,13 +195,14 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
             if m.size == 0:
                 continue
             try:
-                if fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=200, irls=0).explained < min_score:
+                if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
                     continue
                 p = refine(y, text, best.font, best.size, best.angle, (r.center[0] + off[0], r.center[1] + off[1]),
                            iterations=30, random_state=random_state)
             except NotIdentifiableError:
                 continue
-            if p.fit.explained >= min_score:
+            x0, y0, x1, y1 = p.box
+            if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
                 placed.append(p)
     M = np.zeros((H, W))
     for p in placed:

@@ -213,6 +213,17 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
                     patch=patch, explained=explained)
 
 
+def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
+    """Share of the photo-only residual that the mark explains, on stroke-scaled patches.
+
+    Larger patches than the opacity fit uses: with more pixels per plane, a wrong template placed
+    on texture explains little (calibrated on clean photos: < 0.15), so this is the statistic the
+    detection threshold applies to.
+    """
+    patch = int(np.clip(round(2.5 * stroke_width(M) + 4), 8, 32))
+    return fit_blend(y, M, patch=patch, irls=1, max_patches=600, random_state=random_state).explained
+
+
 def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, levels: int = 255,
            lost_threshold: float = 0.1, inpaint: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Undo the blend: ``I = (y - a M col) / (1 - a M)``; inpaint only pixels whose data are gone.
