@@ -21,7 +21,8 @@ COND_LIMIT = 1e8
 
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
-                ks, tones, nuisance: bool = True, cache: dict | None = None, step: int = 1) -> np.ndarray:
+                ks, tones, nuisance: bool = True, cache: dict | None = None, step: int = 1,
+                dtype=np.float64) -> np.ndarray:
     """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
 
     ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
@@ -31,17 +32,18 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     ``cache``: a dict kept by the caller across blocks; full-length blocks then reuse the time
     axis, the nuisance columns and the output buffer (the result is overwritten by the next call).
     ``step``: evaluate only at samples idx0, idx0 + step, ... (rows of the full basis, taken
-    every ``step``-th; used for the sub-sampled Gram matrix).
+    every ``step``-th; used for the sub-sampled Gram matrix). ``dtype``: float32 suffices for the
+    Gram matrix (see :func:`solve_block`).
     """
     ks = list(ks)
     p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
     width = p + (2 if nuisance else 0)
-    key = (n, idx0 - centre, width, step)
+    key = (n, idx0 - centre, width, step, np.dtype(dtype).char)
     if cache is not None and cache.get("key") == key:
         F, tau = cache["F"], cache["tau"]
     else:
         j = np.arange(0, n, step)
-        F = np.empty((len(j), width), order="F")
+        F = np.empty((len(j), width), dtype=dtype, order="F")
         tau = (idx0 + j - centre) / sr
         if nuisance:
             F[:, p] = 1.0
@@ -112,31 +114,39 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
     (negligible); the data term F^T W Y always uses every sample.
     """
     n, p = F.shape
-    if gram_step > 1 and n // gram_step >= 8 * p:
+    dt = F.dtype
+    sub = gram_step > 1 and n // gram_step >= 8 * p
+    if sub:
         # F_sub: the same basis evaluated every gram_step-th sample (built directly; gathering
         # rows of a large F costs more than the product)
         Fs = np.asfortranarray(F[::gram_step]) if F_sub is None else F_sub
-        G = gram_step * np.dot(Fs.T, Fs * w[::gram_step, None])
+        G = gram_step * np.dot(Fs.T, Fs * w[::gram_step, None].astype(Fs.dtype))
     else:
-        G = np.dot(F.T, F * w[:, None])
+        G = np.dot(F.T, F * w[:, None].astype(dt))
     # np.dot, not "@": with a Fortran-ordered F, matmul here can take a non-BLAS loop (50x slower)
-    rhs = np.dot(F.T, Y * w[:, None])
+    rhs = np.dot(F.T, (Y * w[:, None]).astype(dt, copy=False)).astype(np.float64)
+    G = G.astype(np.float64)
     d = np.sqrt(np.maximum(np.diag(G), 1e-300))
     Gs = G / np.outer(d, d)
     try:
         c, low = linalg.cho_factor(Gs, check_finite=False)
         rc = np.diag(c).min() / np.diag(c).max()
-        if rc ** 2 < 1.0 / COND_LIMIT:
-            raise linalg.LinAlgError("ill-conditioned")
-        theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
-        return theta
     except linalg.LinAlgError:
-        from odnn_sep.core.linear import lstsq
+        rc = 0.0
+    single = dt == np.float32 or (sub and Fs.dtype == np.float32)
+    if single and rc ** 2 < 1e-3:
+        # float32 sums (relative error ~1e-6: a hum residual ~120 dB under the hum; the basis
+        # values themselves come from float32 sines) are used only while the basis is well
+        # conditioned (cond < 1e3), which a many-cycle hum block is; otherwise redo in float64
+        return solve_block(np.asfortranarray(F, dtype=np.float64), Y, w, gram_step=gram_step)
+    if rc ** 2 >= 1.0 / COND_LIMIT:
+        return linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
+    from odnn_sep.core.linear import lstsq
 
-        theta, _, rank = lstsq(F, Y, w)
-        if rank < F.shape[1]:
-            log.debug("block basis rank %d < %d columns (short block); minimum-norm solution", rank, F.shape[1])
-        return theta.reshape(F.shape[1], -1)
+    theta, _, rank = lstsq(np.asarray(F, dtype=np.float64), Y, w)
+    if rank < F.shape[1]:
+        log.debug("block basis rank %d < %d columns (short block); minimum-norm solution", rank, F.shape[1])
+    return theta.reshape(F.shape[1], -1)
 
 
 def solve_block_network(F, Y, w, names, random_state=None, epochs: int = 300):

@@ -209,8 +209,11 @@ def _choose_block(source, **kw) -> float:
     n = int(min(N, 64 * sr))
     x = source.read((N - n) // 2, n)
     scores = []
+    # the excerpt's spectrum, detection and demodulation do not depend on the block length:
+    # computed by the first trial, reused by the second
+    shared = {}
     for T in AUTO_BLOCKS_S:
-        r = _denoise_array(x, sr, block_s=T, solver="exact", progress=False, random_state=0, **kw)
+        r = _denoise_array(x, sr, block_s=T, solver="exact", progress=False, random_state=0, _shared=shared, **kw)
         lv = [np.abs(r.levels_after[i]["level_db"]).mean() for i in range(len(r.harmonics))]
         if not lv:
             return AUTO_BLOCKS_S[0]
@@ -224,7 +227,7 @@ def _choose_block(source, **kw) -> float:
 
 
 def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-               after_source_fn, max_combs=3):
+               after_source_fn, max_combs=3, _shared=None):
     sr, N, C = source.sr, source.frames, source.channels
     mains = _parse_mains(mains, sr)
     harmonics = _parse_harmonics(harmonics)
@@ -247,9 +250,14 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     nyq = sr / 2
     top = min(0.95 * nyq, max_hz if max_hz is not None else np.inf,
               (_detect.MAX_HARMONICS + 1) * (65.0 if mains == "auto" else mains))
-    spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
-    det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
-                             max_hz=max_hz)
+    if _shared and "det" in _shared:
+        spec_before, det = _shared["spec_before"], _shared["det"]
+    else:
+        spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
+        det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
+                                 max_hz=max_hz)
+        if _shared is not None:
+            _shared.update(spec_before=spec_before, det=det)
     ks, tl = det.harmonics, det.tones
     if auto_block:
         # compare block lengths on an excerpt with the lines found here (no re-detection, no
@@ -269,7 +277,11 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
 
     if ks:
         weights = np.stack([1.0 / np.maximum(det.floors[("h", k)], 1e-300) for k in ks], axis=1)   # (C, K)
-        D = _track.demodulate(source, det.mains_hz, ks, progress=tick)
+        D = _shared.get("D") if _shared else None
+        if D is None:
+            D = _track.demodulate(source, det.mains_hz, ks, progress=tick)
+            if _shared is not None:
+                _shared["D"] = D
         trk = _track.track_fundamental(D, sr, N, det.mains_hz, ks, weights, hop=hop)
         del D
     else:
@@ -335,20 +347,22 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
             # fit weights: the block's window, or a Hann over the visible part of a block cut by
             # the signal's start/end (a one-sided window would leak the content onto the lines)
             w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
+            # float32 basis for the exact solver: its values come from float32 sines anyway
+            # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
             F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
-                                 cache=basis_cache)
+                                 cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
             if solver == "exact":
                 F_sub = None
                 if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
                     F_sub = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
-                                             fixed_lines, cache=sub_cache, step=gram_step)
+                                             fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
                 theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
             else:
                 theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
                                                  random_state=random_state)
             p_lines = 2 * nl
             theta = theta[:p_lines]
-            hum = np.dot(F[:, :p_lines], theta) * w[:, None]
+            hum = np.dot(F[:, :p_lines], theta.astype(F.dtype)) * w[:, None]
             a, bb = theta[0::2].T, theta[1::2].T           # (C, nl)
             amps[b] = np.hypot(a, bb)
             phs[b] = np.arctan2(-bb, a)
@@ -434,7 +448,7 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
 
 
 def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-                   max_combs=3):
+                   max_combs=3, _shared=None):
     src = ArraySource(y, sr)
     out = np.empty_like(src.data)
     hum = np.empty_like(src.data)
@@ -448,7 +462,7 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
 
     res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource(out, sr), max_combs=max_combs)
+               after_source_fn=lambda: ArraySource(out, sr), max_combs=max_combs, _shared=_shared)
     res.y = out[:, 0].copy() if src.mono else out
     res.hum = hum[:, 0].copy() if src.mono else hum
     return res
