@@ -117,9 +117,9 @@ def _periodograms(x, sr, nper, keep_hz, batch: int = 16):
             # by the line tests, at half the cost of a float64 transform
             seg = ((seg - seg.mean(axis=1, keepdims=True)).astype(np.float32)) * win
             X = fft.rfft(seg, axis=1)
-            P = X.real.astype(np.float64) ** 2 + X.imag.astype(np.float64) ** 2
-            P *= scale * onesided
-            P_sum[:, c] += P.sum(axis=0)
+            P = X.real ** 2 + X.imag ** 2                       # float32: no cancellation here
+            P *= (scale * onesided).astype(np.float32)
+            P_sum[:, c] += P.sum(axis=0, dtype=np.float64)
             if keep is not None:
                 keep[:, c, b0: b0 + P.shape[0]] = P[:, :nkeep].T
     return f, P_sum, nseg, keep
