@@ -79,23 +79,6 @@ def _energy(A, tau, ks, grid):
     return (np.abs(X) ** 2).sum(axis=(1, 2))
 
 
-DECIM = 4
-
-
-def _decimate(A, tau, g):
-    """Sums of ``g`` consecutive chunks (a trailing partial group too) and their mean times."""
-    J = A.shape[0]
-    if J < 4 * g:
-        return A, tau
-    n_full = J // g
-    Ad = A[: n_full * g].reshape(n_full, g, *A.shape[1:]).sum(axis=1)
-    td = tau[: n_full * g].reshape(n_full, g).mean(axis=1)
-    if J > n_full * g:
-        Ad = np.concatenate([Ad, A[n_full * g:].sum(axis=0, keepdims=True)])
-        td = np.append(td, tau[n_full * g:].mean())
-    return Ad, td
-
-
 def _parabolic(grid, E, i):
     if 0 < i < len(grid) - 1:
         a, b, c = np.log(E[i - 1: i + 2] + 1e-300)
@@ -146,22 +129,17 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         t_eff[b] = float((win * tc).sum() / max(win.sum(), 1e-300))
         A = D[j0:j1].astype(np.complex128) * win[:, None, None] * sqw
         tau = tc - b * hop / sr
-        # the peak search runs on sums of DECIM chunks (a 25 Hz baseband: a 40 ms boxcar, whose
-        # zeros again sit on every alias); the offsets searched (|k delta| < 1 Hz) lose < 0.2 %
-        # of their power to it, evenly across the grid, so the peak does not move. The noise
-        # reference (offsets up to 0.45 k Hz) keeps the full-rate sums.
-        Ad, taud = _decimate(A, tau, DECIM)
         half = 0.06 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
         centre = prev
         for _ in range(6):
             grid = centre + np.arange(-half, half + step / 2, step)
-            E = _energy(Ad[:, :, coarse_ks], taud, ks[coarse_ks], grid)
+            E = _energy(A[:, :, coarse_ks], tau, ks[coarse_ks], grid)
             i = int(np.argmax(E))
             if 0 < i < len(grid) - 1 or abs(grid[i]) >= max_offset_hz:
                 break
             centre = grid[i]
         fine = grid[i] + np.linspace(-step, step, 11)
-        Ef = _energy(Ad, taud, ks, fine)
+        Ef = _energy(A, tau, ks, fine)
         i2 = int(np.argmax(Ef))
         est = _parabolic(fine, Ef, i2)
         # E for pure noise is about sum_j win_j^2 |D|^2 ; for a pure line it is (sum win)^2 |d|^2
