@@ -17,7 +17,11 @@ def register(subparsers) -> None:
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="starting guess for a model parameter (repeatable), e.g. --param k=4")
     p.add_argument("--column", default=None, help="CSV value column (name or index; default: the second); "
-                                                  "WAV channel (default 0)")
+                                                  "WAV channel (default 0). With --model hum the file's "
+                                                  "other channels (WAV channels, other numeric CSV columns) "
+                                                  "are aux channels for the channel_coupling effect")
+    p.add_argument("--no-aux", action="store_true",
+                   help="analyse the channel alone: do not use the file's other channels (no channel_coupling)")
     p.add_argument("--start", type=float, default=None, help="use data from this time on (s)")
     p.add_argument("--duration", type=float, default=None, help="use this many seconds of data")
     p.add_argument("--effects", default=None,
@@ -55,10 +59,15 @@ def run(args) -> int:
     for out in (args.report, args.plot):
         if out is not None:
             check_output_path(out, args.data)
-    t, y, info = load_data(args.data, column=args.column, start=args.start, duration=args.duration)
+    t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
+                                with_aux=True)
+    if args.no_aux or model.family != "hum":
+        # other channels only enter through the hum preset's channel_coupling effect
+        aux = {}
+        info["aux_channels"] = []
     effects = None if args.effects is None else [e.strip() for e in args.effects.split(",") if e.strip()]
     numeric = {k: v for k, v in model.start.items() if k in params and not isinstance(v, str)}
-    res = explain(model, t, y, params=numeric, effects=effects, disturbance=args.disturbance,
+    res = explain(model, t, y, params=numeric, effects=effects, disturbance=args.disturbance, aux=aux or None,
                   progress=not args.quiet and sys.stderr.isatty())
     if args.report:
         d = result_dict(res)

@@ -5,7 +5,8 @@ description, its extra parameters with neutral values (the value at which the ef
 and bounds, and the model families it applies to. *How* an effect enters a model lives with the
 model: presets fold family-specific effects into their ODE right-hand side or closed form, and the
 generic effects (offset, drift, time_delay, periodic_forcing, amplitude_modulation) wrap any model's
-output, including user callables (see :func:`apply_generic`).
+output, including user callables (see :func:`apply_generic`). ``channel_coupling`` needs the other
+channels of the recording and lives in :mod:`odnn_sep.mismatch.coupling`.
 
 Effects that a family's own parameters already absorb exactly are not offered for that family
 (a time delay in an autonomous ODE whose initial state is refitted, a constant offset in Newton
@@ -76,14 +77,24 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
            frozenset({"hum"}), discrete={"k_h": 6}),
     Effect("frequency_drift", "mains frequency drifting linearly, f(t) = f0 + f1 (t - t_mid) (FM)",
            {"f1": 0.0}, {"f1": (-INF, INF)}, frozenset({"hum"})),
-    Effect("channel_coupling", "hum coupled with a different gain and phase into each channel",
-           {}, {}, frozenset({"hum_multichannel"})),
+    # parameters kappa_<channel>, kappaq_<channel> per aux channel (their names depend on the data:
+    # see odnn_sep.mismatch.coupling); offered only when explain() is given aux channels
+    Effect("channel_coupling", "crosstalk: a scaled (and phase-shifted: quadrature gain) copy of another "
+           "channel's non-hum content coupled into this channel",
+           {}, {}, frozenset({"hum"})),
     Effect("extra_source", "an extra point source (position xs, ys; strength S_extra) in the 2D field",
            {"xs": 0.0, "ys": 0.0, "S_extra": 0.0},
            {"xs": (-INF, INF), "ys": (-INF, INF), "S_extra": (-INF, INF)}, frozenset({"heat2d"})),
 ]}
 
 VOCABULARY = tuple(EFFECTS)
+
+
+def effect_param_names(effect: str, params: dict) -> list[str]:
+    """The parameters of ``effect`` present in ``params`` (coupling gains are named per channel)."""
+    if effect == "channel_coupling":
+        return [k for k in params if k.startswith(("kappa_", "kappaq_"))]
+    return [k for k in EFFECTS[effect].params if k in params]
 
 
 def applicable(family: str) -> list[str]:

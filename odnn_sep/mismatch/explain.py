@@ -26,7 +26,9 @@ from scipy import stats
 
 from odnn_sep.errors import ConvergenceWarning, InputError, as_float_array
 from odnn_sep.mismatch.calibrate import Calibration, calibrate, disturbance_columns
-from odnn_sep.mismatch.effects import EFFECTS
+from odnn_sep.mismatch.coupling import EFFECT as COUPLING
+from odnn_sep.mismatch.coupling import check_aux, coupling_regressors, coupling_start, with_coupling
+from odnn_sep.mismatch.effects import EFFECTS, effect_param_names
 from odnn_sep.mismatch.fitting import cross_validate, cv_folds, fit
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
@@ -52,7 +54,7 @@ class Candidate:
 
     @property
     def effect_params(self) -> dict:
-        return {k: self.fit.params[k] for k in EFFECTS[self.effect].params if k in self.fit.params}
+        return {k: self.fit.params[k] for k in effect_param_names(self.effect, self.fit.params)}
 
     def as_dict(self) -> dict:
         return {"effect": self.effect, "score": self.score, "parameters": self.effect_params,
@@ -75,6 +77,7 @@ class MismatchResult:
     verdict: Candidate | None = None
     heldout_rmse_before: float | None = None
     noise_sigma: float | None = None
+    aux_channels: list = field(default_factory=list)
 
     @property
     def effect(self):
@@ -127,7 +130,7 @@ def _with_data_bounds(m, t, slow_hz=0.0):
     return replace(m, bounds=b)
 
 
-def explain(model, t, y, *, params=None, effects=None, disturbance="auto", folds=4, blocks_per_fold=5,
+def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=None, folds=4, blocks_per_fold=5,
             bic_threshold=BIC_THRESHOLD, heldout_threshold=HELDOUT_THRESHOLD, n_cv=N_CV, alpha=0.05, progress=False):
     """Find where a model and data disagree, name the missing effect, and refit with it.
 
@@ -146,6 +149,11 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", folds
         Restrict the candidate effects (default: every effect that applies to the model).
     disturbance : {"auto", "slow", "none"} or array (n, q)
         Class the disturbance is confined to during every fit.
+    aux : dict name -> array (n,), or array (n, k), optional
+        The recording's other channels, sampled with ``y`` (``hum`` preset only). They make the
+        ``channel_coupling`` effect a candidate: ``y`` may contain ``kappa_<name>`` times the
+        channel's non-hum content plus ``kappaq_<name>`` times its Hilbert transform (crosstalk;
+        see :mod:`odnn_sep.mismatch.coupling`).
 
     Returns
     -------
@@ -164,6 +172,10 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", folds
     """
     m = make_model(model, params) if not isinstance(model, Model) else model.with_start(params or {})
     t, y = _validate(t, y, m)
+    aux = check_aux(aux, len(y))
+    if aux and m.family != "hum":
+        raise InputError(f"aux channels are used by the channel_coupling effect of the 'hum' preset only; "
+                         f"model {m.name!r} has family {m.family!r}: drop aux (CLI: --no-aux)")
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
     G = disturbance_columns(disturbance, m, t, y)
     cal = calibrate(m, t, y, user_params=params, G=G)
@@ -178,6 +190,12 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", folds
     res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)
 
     names = m.applicable_effects() if effects is None else list(effects)
+    if COUPLING in names and not aux:
+        if effects is not None:
+            raise InputError("effect 'channel_coupling' needs the recording's other channels: pass aux= "
+                             "(the CLI passes the other channels of a multichannel file unless --no-aux)")
+        names.remove(COUPLING)
+    res.aux_channels = list(aux)
     if G is not None:
         # the disturbance class contains a constant and a line: offset and drift are not identifiable
         names = [e for e in names if e not in ("offset", "drift")]
@@ -191,9 +209,15 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", folds
         it = tqdm(names, desc="effects", leave=False)
     cands = []
     for e in it:
-        me = _with_data_bounds(base.model.with_effect(e), t, slow_hz)
+        if e == COUPLING:
+            regs = coupling_regressors(t, aux, f0=base.params["f0"], harmonics=base.params["harmonics"])
+            me = with_coupling(base.model, regs)
+            starts = [coupling_start(me, base, t, y, G, regs)]
+        else:
+            me = _with_data_bounds(base.model.with_effect(e), t, slow_hz)
+            starts = effect_starts(e, base, t, y, model=me, G=G)
         best = None
-        for s in effect_starts(e, base, t, y, model=me, G=G):
+        for s in starts:
             start = dict(me.start)
             start.update(s)
             try:

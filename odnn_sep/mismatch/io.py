@@ -30,8 +30,25 @@ def _pick_column(header, column):
     return i
 
 
-def read_csv(path, column=None):
-    """Return (t, y, info) from a CSV with a header row; time is the first column."""
+def _numeric_columns(rows, skip):
+    """{header: values} for every all-numeric column of ``rows[1:]`` not in ``skip`` (aux channels)."""
+    header = [h.strip() for h in rows[0]]
+    out = {}
+    for j, name in enumerate(header):
+        if j in skip:
+            continue
+        try:
+            out[name or f"col{j}"] = np.array([float(r[j]) for r in rows[1:]])
+        except (ValueError, IndexError):
+            continue   # a label or unit column, not a channel
+    return out
+
+
+def read_csv(path, column=None, *, aux=False):
+    """Return (t, y, info) from a CSV with a header row; time is the first column.
+
+    With ``aux=True`` return (t, y, info, aux): ``aux`` holds every other all-numeric column.
+    """
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
     rows = [r for r in rows if r and any(c.strip() for c in r)]
@@ -47,10 +64,13 @@ def read_csv(path, column=None):
         except (ValueError, IndexError):
             raise FormatError(f"CSV {str(path)!r} line {k}: time and column {header[j]!r} must be numbers; "
                               f"got {r[:max(j + 1, 1)]}") from None
-    return np.array(t), np.array(y), {"format": "csv", "column": header[j].strip(), "time": header[0].strip()}
+    info = {"format": "csv", "column": header[j].strip(), "time": header[0].strip()}
+    if aux:
+        return np.array(t), np.array(y), info, _numeric_columns(rows, {0, j})
+    return np.array(t), np.array(y), info
 
 
-def read_wav(path, column=None):
+def read_wav(path, column=None, *, aux=False):
     import soundfile as sf
 
     from odnn_sep.io_utils import ensure_readable
@@ -59,7 +79,11 @@ def read_wav(path, column=None):
     if not 0 <= ch < data.shape[1]:
         raise InputError(f"--column {ch} is not a channel; the WAV has channels 0..{data.shape[1] - 1}")
     y = data[:, ch]
-    return np.arange(len(y)) / sr, y, {"format": "wav", "sr": sr, "channel": ch}
+    info = {"format": "wav", "sr": sr, "channel": ch}
+    if aux:
+        others = {f"ch{k}": data[:, k].copy() for k in range(data.shape[1]) if k != ch}
+        return np.arange(len(y)) / sr, y, info, others
+    return np.arange(len(y)) / sr, y, info
 
 
 def read_npz(path):
@@ -76,14 +100,20 @@ def read_npz(path):
     return np.column_stack([X.ravel(), Y.ravel()]), z.ravel(), {"format": "npz", "shape": list(z.shape)}
 
 
-def load_data(path, *, column=None, start=None, duration=None):
-    """Load (t, y, info) from CSV, WAV or NPZ; ``start``/``duration`` (seconds) select a time range."""
+def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
+    """Load (t, y, info) from CSV, WAV or NPZ; ``start``/``duration`` (seconds) select a time range.
+
+    With ``with_aux=True`` return (t, y, info, aux): ``aux`` maps the file's other channels (WAV
+    channels ``ch<k>``, other numeric CSV columns by header) to arrays aligned with ``y``, for the
+    ``channel_coupling`` effect; ``info["aux_channels"]`` lists their names.
+    """
     p = check_input_path(path, what="data file")
     ext = Path(p).suffix.lower()
+    aux = {}
     if ext == ".csv":
-        t, y, info = read_csv(p, column)
+        t, y, info, aux = read_csv(p, column, aux=True)
     elif ext in (".wav", ".flac"):
-        t, y, info = read_wav(p, column)
+        t, y, info, aux = read_wav(p, column, aux=True)
     elif ext == ".npz":
         t, y, info = read_npz(p)
     else:
@@ -97,4 +127,8 @@ def load_data(path, *, column=None, start=None, duration=None):
             raise InputError(f"--start {start} / --duration {duration} select no samples; "
                              f"the data spans {t[0]:g} to {t[-1]:g}")
         t, y = t[sel], y[sel]
+        aux = {k: v[sel] for k, v in aux.items()}
+    if with_aux:
+        info["aux_channels"] = list(aux)
+        return t, y, info, aux
     return t, y, info

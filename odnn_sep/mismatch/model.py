@@ -65,6 +65,9 @@ class Model:
         if name not in EFFECTS:
             raise InputError(f"unknown effect {name!r}; {_suggest(name, EFFECTS)}"
                              f"known effects: {', '.join(EFFECTS)}")
+        if name == "channel_coupling":
+            raise InputError("channel_coupling needs the recording's other channels: pass aux={name: array} "
+                             "to explain() (the CLI does this for multichannel files)")
         eff = EFFECTS[name]
         new_start = dict(self.start)
         new_start.update(eff.params)
