@@ -16,6 +16,10 @@ log = logging.getLogger(__name__)
 # font, sizes 10-60 px, angles +-45 deg) explain < 0.02; the marks of the benchmark explain 0.3-0.97.
 MIN_SCORE = 0.2
 
+# Images larger than this (longest side, px) are searched on a reduced copy; only the found marks
+# are refined at full resolution.
+WORK_MAX_PX = 1024
+
 
 @dataclasses.dataclass
 class UnwatermarkResult:
@@ -141,9 +145,11 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
     from odnn_sep.image.estimate import detection_score, fit_blend
     from odnn_sep.image.locate import Match, repeats, search
     from odnn_sep.image.register import refine, render_at
-    from odnn_sep.image.render import default_fonts, place, render_text, resolve_font
+    from odnn_sep.image.render import default_fonts, resolve_font
 
     H, W = y.shape[:2]
+    if max(H, W) > WORK_MAX_PX:
+        return _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state)
     fonts = [resolve_font(font)] if font is not None else default_fonts()
     off = (0, 0)
     ys = y
@@ -152,7 +158,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         pad = 16
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
-    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=12)
+    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2)
     # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
     # then refine the two best: correlation alone ranks small spurious templates too high
     screened = []
@@ -204,6 +210,15 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
             x0, y0, x1, y1 = p.box
             if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
                 placed.append(p)
+    return _assemble(y, text, placed, score, min_score, random_state)
+
+
+def _assemble(y, text, placed, score, min_score, random_state):
+    """Coverage of all placed copies, one opacity and colour for them, and the report fields."""
+    from odnn_sep.image.estimate import fit_blend
+
+    H, W = y.shape[:2]
+    best = placed[0]
     M = np.zeros((H, W))
     for p in placed:
         x0, y0, x1, y1 = p.box
@@ -214,7 +229,6 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         fit = fit_blend(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], random_state=random_state)
     else:
         fit = best.fit
-    del place, render_text
     nz = np.nonzero(M > 0.05)
     info = {
         "text": text, "font": str(best.font), "font_size_px": round(best.size, 3), "angle_deg": round(best.angle, 3),
@@ -226,3 +240,53 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
                    "font_size_px": round(p.size, 3), "score": round(float(p.fit.explained), 4)} for p in placed],
     }
     return M, fit.alpha, fit.color, info
+
+
+def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state):
+    """Large images: find the mark(s) on a copy reduced to ``WORK_MAX_PX``, then refine each placement
+    on the full-resolution crop around it only.
+
+    The correlation search works on a pyramid capped at 768 px anyway, so the reduced copy loses no
+    detections; what it saves is the full-resolution patch fits and registrations of every
+    hypothesis (a 12-megapixel photo spent most of its time there).
+    """
+    import cv2
+
+    from odnn_sep.image.estimate import detection_score
+    from odnn_sep.image.register import refine
+
+    H, W = y.shape[:2]
+    f = WORK_MAX_PX / max(H, W)
+    w, h = max(1, round(W * f)), max(1, round(H * f))
+    small = cv2.resize(np.asarray(y, dtype=np.float32), (w, h), interpolation=cv2.INTER_AREA)
+    if small.ndim == 2:
+        small = small[:, :, None]
+    small = small.astype(np.float64)
+    reg = None
+    if region is not None:
+        reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+        if not reg.any():
+            reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_AREA) > 0
+    _, _, _, info = _text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state)
+    fx, fy = W / w, H / h
+    placed, scores = [], []
+    for k, mk in enumerate(info["marks"]):
+        # pixel centres: x_full = (x_small + 0.5) * W / w - 0.5
+        c = ((mk["center"][0] + 0.5) * fx - 0.5, (mk["center"][1] + 0.5) * fy - 0.5)
+        try:
+            p = refine(y, text, info["font"], mk["font_size_px"] / f, mk["angle_deg"], c,
+                       iterations=40 if k == 0 else 20, random_state=random_state)
+        except NotIdentifiableError:
+            continue
+        x0, y0, x1, y1 = p.box
+        sc = detection_score(y[y0:y1, x0:x1], p.coverage, random_state=random_state)
+        if sc >= min_score:
+            placed.append(p)
+            scores.append(sc)
+    if not placed:
+        raise InputError(f"text {text!r} not found in the image (best match score {info['match_score']:.3f} on a "
+                         f"reduced copy, not confirmed at full resolution, needs >= {min_score:g}); check "
+                         f"--text/--font or give --mask")
+    order = np.argsort(-np.asarray(scores), kind="stable")
+    placed = [placed[i] for i in order]
+    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state)

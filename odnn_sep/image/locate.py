@@ -140,7 +140,8 @@ def _peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float
 
 
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
-           min_height_px: float = 8.0, max_hypotheses: int = 8, coarse_h: float = 10.0) -> list[Match]:
+           min_height_px: float = 8.0, max_hypotheses: int = 8, coarse_h: float = 10.0,
+           per_size_bin: int = 1) -> list[Match]:
     """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first."""
     H, W = img.shape[:2]
     pyr = _Pyramid(img)
@@ -178,22 +179,27 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     if not cands:
         return []
     cands.sort(key=lambda c: -c[0])
-    # Keep distinct hypotheses: the best of every half-octave of size first (correlation maxima of
-    # small templates on large levels are inflated by the many positions they are tried at, so a
-    # purely global ranking starves the large sizes), then the next best overall.
+    # Keep distinct hypotheses: the best ``per_size_bin`` of every half-octave of size first
+    # (correlation maxima of small templates on large levels are inflated by the many positions they
+    # are tried at, so a purely global ranking starves the large sizes; and a faint or partly hidden
+    # mark's correct placement is often only the second or third peak of its size), then the next
+    # best overall.
     top: list[tuple] = []
 
     def distinct(c):
         return all(abs(np.log(c[1] / t[1])) > 0.15 or abs(c[2] - t[2]) > 7
                    or np.hypot(c[3] - t[3], c[4] - t[4]) > 0.3 * w100 * c[1] / REF_SIZE for t in top)
 
-    seen_bins = set()
+    per_bin: dict[int, int] = {}
     for c in cands:
         b = int(np.floor(2 * np.log2(c[1])))
-        if b not in seen_bins and distinct(c):
-            seen_bins.add(b)
+        # within a size bin, slots go to different places: a textured spot matches many angles
+        if per_bin.get(b, 0) < per_size_bin and distinct(c) and all(
+                int(np.floor(2 * np.log2(t[1]))) != b
+                or np.hypot(c[3] - t[3], c[4] - t[4]) > 0.5 * w100 * c[1] / REF_SIZE for t in top):
+            per_bin[b] = per_bin.get(b, 0) + 1
             top.append(c)
-    top = sorted(top, key=lambda c: -c[0])[: max_hypotheses // 2]
+    top = sorted(top, key=lambda c: -c[0])[: max(max_hypotheses // 2, max_hypotheses - 2)]
     for c in cands:
         if len(top) >= max_hypotheses:
             break

@@ -171,3 +171,18 @@ def test_cli_16bit_rgba_file_keeps_format(tmp_path, ext):
     assert np.array_equal(back[..., 3], rgba[..., 3])
     err_in = np.abs(y[..., :3].astype(float) - clean).mean()
     assert np.abs(back[..., :3].astype(float) - clean).mean() < err_in / 3
+
+
+def test_large_image_found_on_reduced_copy_and_refined_at_full_resolution():
+    # longer side above WORK_MAX_PX: searched on a reduced copy, the mark refined on its full-res crop
+    from odnn_sep.image.api import WORK_MAX_PX
+
+    clean = photo_like((900, 1300), random_state=5)
+    assert max(clean.shape[:2]) > WORK_MAX_PX
+    y, M = add_text_watermark(clean, "PROOF copy", size=70, angle=-15.0, center=(700.0, 420.0), alpha=0.45,
+                              color=(250, 250, 250))
+    r = unwatermark(y, text="PROOF copy", font="DejaVuSans-Bold", max_marks=1)
+    assert abs(r.alpha - 0.45) / 0.45 < 0.02
+    assert abs(r.report["font_size_px"] - 70) < 0.5 and abs(r.report["angle_deg"] + 15.0) < 0.5
+    assert np.hypot(r.report["center"][0] - 700.0, r.report["center"][1] - 420.0) < 1.5
+    assert psnr(clean, r.image) > 45
