@@ -1,128 +1,175 @@
-"""Text rendering: the watermark's glyph coverage M for a pose (font, size, angle, centre).
+"""Text rendering: the watermark's physics basis is the glyph coverage of the user's text.
 
-Pose convention used everywhere in this package: ``size`` is the font size in output pixels
-(the em height), ``angle`` is in degrees counter-clockwise as seen on screen, and ``(cx, cy)`` is
-the centre of the text's ink box in image pixel coordinates (x right, y down).
+A TrueType font is rasterised upright (anti-aliased coverage in [0, 1]) with Pillow's FreeType
+binding, then placed on the image grid by one affine warp (rotation about the text centre plus a
+sub-pixel translation), so position and angle are continuous parameters.
 """
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+import logging
+import os
 from pathlib import Path
 
 import numpy as np
 
 from odnn_sep.errors import InputError
 
+log = logging.getLogger(__name__)
 
-@dataclass(frozen=True)
-class Pose:
-    """Where one copy of the mark sits in the image."""
-
-    font: str
-    size: float
-    angle: float
-    cx: float
-    cy: float
-
-    def replace(self, **kw) -> "Pose":
-        d = dict(self.__dict__)
-        d.update(kw)
-        return Pose(**d)
+# Tried in this order when --font is not given; the DejaVu family is guaranteed (matplotlib ships it).
+DEFAULT_FONT_NAMES = (
+    "DejaVuSans-Bold", "DejaVuSans", "DejaVuSerif-Bold", "DejaVuSerif", "DejaVuSansMono-Bold",
+    "Arial Bold", "Arial", "LiberationSans-Bold", "LiberationSans-Regular", "Helvetica",
+)
 
 
-@functools.lru_cache(maxsize=512)
-def reference(text: str, font: str, size_px: int) -> tuple[np.ndarray, float, float]:
-    """Render ``text`` horizontally at an integer font size with FreeType (Pillow).
-
-    Returns the coverage (float32 in [0, 1], padded by 2 px) and the ink-box centre (u0, v0).
-    """
-    from PIL import Image, ImageDraw, ImageFont
-
-    if not text or not text.strip():
-        raise InputError(f"text must contain at least one visible character; got {text!r}")
+def font_dirs() -> list[Path]:
+    """Folders searched for fonts given by name: matplotlib's, the system's, Pillow's and OpenCV's."""
+    dirs: list[Path] = []
     try:
-        f = ImageFont.truetype(str(font), int(size_px))
-    except OSError as exc:
-        raise InputError(f"font {str(font)!r} could not be loaded ({exc}); pass a .ttf/.otf file") from None
-    x0, y0, x1, y1 = f.getbbox(text)
-    pad = 2
-    w, h = int(x1 - x0) + 2 * pad, int(y1 - y0) + 2 * pad
-    img = Image.new("L", (max(w, 1), max(h, 1)), 0)
-    ImageDraw.Draw(img).text((pad - x0, pad - y0), text, fill=255, font=f)
-    cov = np.asarray(img, dtype=np.float32) / 255.0
-    if cov.max() <= 0:
-        raise InputError(f"text {text!r} renders to nothing with font {Path(font).name!r}; "
-                         "check the characters are in the font")
-    ys, xs = np.nonzero(cov > 0)
-    u0 = 0.5 * (xs.min() + xs.max() + 1)
-    v0 = 0.5 * (ys.min() + ys.max() + 1)
-    cov.setflags(write=False)
-    return cov, float(u0), float(v0)
+        import matplotlib
+
+        dirs.append(Path(matplotlib.get_data_path()) / "fonts" / "ttf")
+    except ImportError:  # pragma: no cover - matplotlib is a dependency
+        pass
+    dirs += [Path("/usr/share/fonts"), Path("/usr/local/share/fonts"), Path.home() / ".fonts",
+             Path("/Library/Fonts"), Path("/System/Library/Fonts"), Path("C:/Windows/Fonts")]
+    for mod in ("PIL", "cv2"):
+        try:
+            m = __import__(mod)
+            dirs.append(Path(os.path.dirname(m.__file__)))
+        except ImportError:  # pragma: no cover
+            pass
+    return [d for d in dirs if d.is_dir()]
 
 
-def _affine(pose: Pose, n: int, u0: float, v0: float) -> np.ndarray:
-    """2x3 matrix mapping template pixel (u, v) to image (x, y) for ``pose``."""
-    s = pose.size / n
-    t = np.deg2rad(pose.angle)
-    c, sn = np.cos(t), np.sin(t)
-    # Screen-CCW rotation in y-down coordinates.
-    A = s * np.array([[c, sn], [-sn, c]])
-    b = np.array([pose.cx, pose.cy]) - A @ np.array([u0, v0])
-    return np.c_[A, b]
+@functools.lru_cache(maxsize=1)
+def _font_index() -> dict[str, Path]:
+    idx: dict[str, Path] = {}
+    for d in font_dirs():
+        for p in sorted(d.rglob("*")):
+            if p.suffix.lower() in (".ttf", ".otf", ".ttc"):
+                for key in (p.stem.lower(), p.stem.lower().replace("-", " "), p.name.lower()):
+                    idx.setdefault(key, p)
+    return idx
 
 
-def render_size(size: float) -> int:
-    """Integer size the glyphs are rasterised at before the (near-1) affine rescale."""
-    return int(max(4, round(size)))
-
-
-def mark_box(text: str, pose: Pose, shape: tuple[int, int], margin: int = 2):
-    """Bounding box (y0, y1, x0, x1) of the mark clipped to ``shape``; None if it is outside."""
-    n = render_size(pose.size)
-    cov, u0, v0 = reference(text, pose.font, n)
-    A = _affine(pose, n, u0, v0)
-    h, w = cov.shape
-    corners = np.array([[0, 0, 1], [w, 0, 1], [0, h, 1], [w, h, 1]], float) @ A.T
-    x0 = int(np.floor(corners[:, 0].min())) - margin
-    x1 = int(np.ceil(corners[:, 0].max())) + margin
-    y0 = int(np.floor(corners[:, 1].min())) - margin
-    y1 = int(np.ceil(corners[:, 1].max())) + margin
-    H, W = shape
-    x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, W), min(y1, H)
-    if x1 <= x0 or y1 <= y0:
-        return None
-    return y0, y1, x0, x1
-
-
-def render_mark(text: str, pose: Pose, shape: tuple[int, int], box=None) -> np.ndarray:
-    """Coverage M of the mark over ``box`` (y0, y1, x0, x1) of an image of ``shape`` (float32).
+def resolve_font(font) -> Path:
+    """Turn ``--font`` (a path, or a name such as ``DejaVuSans-Bold``) into a font file path.
 
     Examples
     --------
-    >>> from odnn_sep.image.fonts import default_fonts
-    >>> p = Pose(str(default_fonts()[0]), 20.0, 30.0, 50.0, 40.0)
-    >>> M = render_mark("Hi", p, (80, 100))
-    >>> M.shape, 0.0 <= float(M.min()) and float(M.max()) <= 1.0
-    ((80, 100), True)
+    >>> resolve_font("DejaVuSans-Bold").name
+    'DejaVuSans-Bold.ttf'
+    """
+    p = Path(str(font)).expanduser()
+    if p.is_file():
+        return p
+    idx = _font_index()
+    key = str(font).strip().lower()
+    for k in (key, key.replace(" ", "-"), key.replace("-", " "), key + ".ttf"):
+        if k in idx:
+            return idx[k]
+    raise InputError(
+        f"font {str(font)!r} not found as a file nor by name in {', '.join(str(d) for d in font_dirs())}; "
+        f"pass a .ttf/.otf path or a name such as 'DejaVuSans-Bold'"
+    )
+
+
+def default_fonts() -> list[Path]:
+    """The candidate fonts tried when the user does not pin one (those present on this system)."""
+    out = []
+    for name in DEFAULT_FONT_NAMES:
+        try:
+            p = resolve_font(name)
+        except InputError:
+            continue
+        if p not in out:
+            out.append(p)
+    return out
+
+
+@functools.lru_cache(maxsize=512)
+def _load(path: str, size: float):
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.truetype(path, size=size)
+    except OSError as exc:
+        raise InputError(f"font {path!r} could not be loaded ({exc}); pass a TrueType/OpenType font") from None
+
+
+@functools.lru_cache(maxsize=256)
+def _render_cached(text: str, font: str, size: float) -> np.ndarray:
+    from PIL import Image, ImageDraw
+
+    f = _load(font, float(size))
+    x0, y0, x1, y1 = f.getbbox(text)
+    pad = 2
+    w, h = max(1, x1 - x0) + 2 * pad, max(1, y1 - y0) + 2 * pad
+    im = Image.new("L", (int(w), int(h)), 0)
+    ImageDraw.Draw(im).text((pad - x0, pad - y0), text, fill=255, font=f)
+    a = np.asarray(im, dtype=np.float32) / 255.0
+    a.setflags(write=False)
+    return a
+
+
+def render_text(text: str, font, size: float) -> np.ndarray:
+    """Upright anti-aliased coverage of ``text`` at ``size`` px (em size), ink box plus a 2-px border.
+
+    Examples
+    --------
+    >>> m = render_text("odnn", "DejaVuSans-Bold", 20)
+    >>> float(m.max()) == 1.0 and m.ndim == 2
+    True
+    """
+    if not str(text).strip():
+        raise InputError("text is empty or only whitespace; pass the watermark's visible text")
+    if not size > 0:
+        raise InputError(f"font size must be > 0 px; got {size}")
+    return _render_cached(str(text), str(resolve_font(font)), round(float(size), 3))
+
+
+def place(coverage: np.ndarray, shape: tuple[int, int], center: tuple[float, float], angle: float,
+          scale: float = 1.0) -> tuple[np.ndarray, tuple[int, int, int, int]]:
+    """Warp an upright coverage onto an image grid: rotate ``angle`` degrees (counter-clockwise as
+    displayed) about its centre, scale, and put the centre at ``center`` = (x, y) (sub-pixel).
+
+    Returns the coverage crop and its box (x0, y0, x1, y1) clipped to the image (x1, y1 exclusive);
+    an empty box means the mark lies outside the image.
     """
     import cv2
 
-    if box is None:
-        box = (0, shape[0], 0, shape[1])
-    y0, y1, x0, x1 = box
-    n = render_size(pose.size)
-    cov, u0, v0 = reference(text, pose.font, n)
-    A = _affine(pose, n, u0, v0)
-    A[:, 2] -= (x0, y0)
-    out = cv2.warpAffine(np.ascontiguousarray(cov), A, (x1 - x0, y1 - y0), flags=cv2.INTER_CUBIC,
-                         borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-    return np.clip(out, 0.0, 1.0)
+    h, w = coverage.shape
+    H, W = shape
+    cx, cy = (w - 1) / 2.0, (h - 1) / 2.0
+    th = np.deg2rad(angle)
+    c, s = np.cos(th) * scale, np.sin(th) * scale
+    # extent of the rotated box around the destination centre
+    hw = 0.5 * (abs(c) * w + abs(s) * h) + 2
+    hh = 0.5 * (abs(s) * w + abs(c) * h) + 2
+    x0 = max(0, int(np.floor(center[0] - hw)))
+    y0 = max(0, int(np.floor(center[1] - hh)))
+    x1 = min(W, int(np.ceil(center[0] + hw)) + 1)
+    y1 = min(H, int(np.ceil(center[1] + hh)) + 1)
+    if x1 <= x0 or y1 <= y0:
+        return np.zeros((0, 0), np.float32), (0, 0, 0, 0)
+    # forward map src->dst: R (p - c_src) + center - (x0, y0); cv2's image y axis points down, so a
+    # counter-clockwise rotation on screen is [[c, s], [-s, c]].
+    A = np.array([[c, s], [-s, c]])
+    t = np.array([center[0] - x0, center[1] - y0]) - A @ np.array([cx, cy])
+    Mx = np.hstack([A, t[:, None]]).astype(np.float64)
+    out = cv2.warpAffine(np.ascontiguousarray(coverage, dtype=np.float32), Mx, (x1 - x0, y1 - y0),
+                         flags=cv2.INTER_CUBIC, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    return np.clip(out, 0.0, 1.0), (x0, y0, x1, y1)
 
 
-def combine(masks) -> np.ndarray:
-    """Coverage of overlapping copies: two layers of α·M blend like 1 - Π(1 - M) to first order."""
-    out = None
-    for m in masks:
-        out = m.copy() if out is None else 1.0 - (1.0 - out) * (1.0 - m)
-    return out
+def rotated(coverage: np.ndarray, angle: float, scale: float = 1.0) -> np.ndarray:
+    """The whole coverage rotated about its centre with the canvas expanded to hold it."""
+    h, w = coverage.shape
+    th = np.deg2rad(angle)
+    W = int(np.ceil(abs(np.cos(th)) * w * scale + abs(np.sin(th)) * h * scale)) + 2
+    H = int(np.ceil(abs(np.sin(th)) * w * scale + abs(np.cos(th)) * h * scale)) + 2
+    m, _ = place(coverage, (H, W), ((W - 1) / 2.0, (H - 1) / 2.0), angle, scale)
+    return m
