@@ -107,10 +107,11 @@ class Separator:
         diag = dict(out.get("diagnostics", {}))
         diag.update(phi_info.get("diagnostics", {}))
         g = out["disturbance"]
-        if np.any(g):
+        g_norm = float(np.linalg.norm(g))
+        if g_norm > 0:
             # how much of the estimated disturbance lies in span(F): that part would have gone into theta
             Q, _ = np.linalg.qr(F)
-            diag["disturbance_in_basis_span"] = float(np.linalg.norm(Q.T @ g) / np.linalg.norm(g))
+            diag["disturbance_in_basis_span"] = float(np.linalg.norm(Q.T @ g)) / g_norm
         self.result_ = Result(
             theta=out["theta"], names=names, stderr=out["stderr"], interval=out["interval"],
             physics=F @ out["theta"], disturbance=g, residual=y - F @ out["theta"] - g,
