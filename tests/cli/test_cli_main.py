@@ -51,3 +51,29 @@ def test_batch_reports_each_file_and_continues(tmp_path, capsys):
     assert summary["files"] == 2 and summary["failed"] == 2
     assert all(r["exit_code"] == 1 and r["message"].startswith("Error:") for r in summary["results"])
     assert not (tmp_path / "out" / "broken.wav").exists()
+
+
+def _two_hum_files(folder):
+    import numpy as np
+    import soundfile as sf
+
+    folder.mkdir()
+    sr = 8000
+    t = np.arange(4 * sr) / sr
+    rng = np.random.default_rng(0)
+    for k in range(2):
+        y = 0.1 * rng.normal(size=t.size) + 0.2 * np.sin(2 * np.pi * 50.02 * t + k)
+        sf.write(folder / f"take{k}.wav", y, sr, subtype="PCM_16")
+
+
+@pytest.mark.parametrize("runner", [["--jobs", "2"], ["--dask", "local", "--jobs", "2"]])
+def test_batch_processes_folder(tmp_path, runner):
+    pytest.importorskip("odnn_sep.audio.command")
+    if "--dask" in runner:
+        pytest.importorskip("dask.distributed")
+    _two_hum_files(tmp_path / "in")
+    code = main(["batch", "denoise", str(tmp_path / "in"), "-o", str(tmp_path / "out"), *runner, "--", "--mains", "50"])
+    assert code == 0
+    summary = json.loads((tmp_path / "out" / "batch_summary.json").read_text())
+    assert summary["failed"] == 0 and summary["files"] == 2
+    assert (tmp_path / "out" / "take0.wav").exists() and (tmp_path / "out" / "take1.wav").exists()
