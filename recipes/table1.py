@@ -207,9 +207,9 @@ Adam epochs, θ started at 0. Wall time {elapsed:.0f} s.
   implicit_symmetric OLS is also unbiased (even disturbance, odd basis, symmetric grid).
 - OLS/SINDy use only the physics columns: in `population` the intercept log N0 lives in the periodic
   class (not in the basis), so they put it into the growth term (errors of hundreds of %); ODNN absorbs it.
-- Cone rows: ODNN's 95 % set is a profile-likelihood set from the noisy data. For Monotone it can be
-  narrower than the noise-free identified set and miss θ (see "truth inside": isotonic fits absorb
-  noise unevenly across θ); treat the monotone set as optimistic. Convex covers θ in every trial.
+- Cone rows: ODNN's 95 % set is a profile set from the noisy data (Cp-corrected profile RSS, threshold
+  calibrated by a parametric bootstrap). "truth inside" is its measured coverage; it can fall below 95 %
+  because a cone fit absorbs noise unevenly across θ, and the set can be narrower than the noise-free one.
 - "not conv." counts network-solver runs that ended with a θ-gradient above tolerance (ConvergenceWarning).
 - Differences from the paper's set-ups (see `odnn_sep/signals` docstrings): pendulum separated by
   periodicity (both terms are even in t), heat transfer with a symmetric disturbance and asymmetric
