@@ -52,31 +52,30 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
             cache.update(key=key, F=F, tau=tau)
     if ks:
         phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
-        z = _unit(phi)
-        zk = z.copy()
-        col, kprev = 0, 1
-        for k in ks:
-            for _ in range(k - kprev):
-                zk *= z
-            kprev = k
-            F[:, col] = zk.real
-            F[:, col + 1] = zk.imag
-            col += 2
+        _put_harmonics(F, 0, _unit(phi), ks)
     col = 2 * len(ks)
     for fc, kk in _as_combs(tones):
         # absolute time; the start phase is reduced modulo one cycle so long files keep full
         # precision, and harmonics of one fixed comb come from powers of its fundamental
         ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(0, n, step) * (fc / sr))
-        z = _unit(ph)
-        zk, kprev = z.copy(), 1
-        for k in kk:
-            for _ in range(k - kprev):
-                zk *= z
-            kprev = k
-            F[:, col] = zk.real
-            F[:, col + 1] = zk.imag
-            col += 2
+        col = _put_harmonics(F, col, _unit(ph), kk)
     return F
+
+
+def _put_harmonics(F, col, z, ks):
+    """Write cos/sin of harmonics ``ks`` (increasing) of the unit phasor ``z`` into F from ``col``.
+
+    Harmonics come from repeated multiplication (cheaper than new sines); returns the next column.
+    """
+    zk, kprev = z.copy(), 1
+    for k in ks:
+        for _ in range(k - kprev):
+            zk *= z
+        kprev = k
+        F[:, col] = zk.real
+        F[:, col + 1] = zk.imag
+        col += 2
+    return col
 
 
 def _unit(phi: np.ndarray) -> np.ndarray:
