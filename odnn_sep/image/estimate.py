@@ -11,7 +11,9 @@ low-order polynomial can follow, so the mark is identified. With ``b_c = a col_c
 
 linear in the polynomial coefficients and in ``b`` for a fixed ``a``. ``a`` is shared by all
 channels and patches and ``b`` by all patches; the polynomial of every patch is projected out
-exactly (variable projection), which leaves a one-dimensional profile over ``a``. What pins ``a``
+exactly (variable projection), which leaves a one-dimensional profile over ``a``. ``a`` is chosen
+by the likelihood of the *restored* photo (``profile.PhotoProfile``: texture the polynomials miss
+has the same statistics under the mark and beside it only after the blend is undone). What pins ``a``
 down is that the photo's own contrast under the mark is scaled by ``1 - a`` while ``b`` is the same
 everywhere; on a perfectly flat background only the combination ``(1 - a) I + b`` is seen, and the
 returned standard error says so. Patches whose residual is large (photo texture) are down-weighted
@@ -23,6 +25,11 @@ import dataclasses
 import logging
 
 import numpy as np
+
+from odnn_sep.image.profile import DataProfile, PhotoProfile
+from odnn_sep.image.profile import design as _design
+
+_Profile = DataProfile  # image-domain RSS profile (registration objective)
 
 log = logging.getLogger(__name__)
 
@@ -87,54 +94,6 @@ def _patches(y, M, size, max_patches, rng):
     return take_patches(y, py, px, size), take_patches(M, py, px, size)[:, :, 0]
 
 
-def _design(size: int, degree: int) -> np.ndarray:
-    u, v = np.meshgrid(np.linspace(-1, 1, size), np.linspace(-1, 1, size))
-    u, v = u.ravel(), v.ravel()
-    cols = [np.ones_like(u)]
-    if degree >= 1:
-        cols += [u, v]
-    if degree >= 2:
-        cols += [u * u, u * v, v * v]
-    return np.stack(cols, axis=1)
-
-
-class _Profile:
-    """RSS(alpha) with the per-patch polynomials and the shared b projected out."""
-
-    def __init__(self, Yp, Mp, Phi):
-        self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
-        self.w = np.ones(len(Mp))
-        self.mm = np.sum(Mp * Mp, axis=1)
-        self.yy = np.sum(Yp * Yp, axis=1)
-
-    def parts(self, alpha: float):
-        # Gram-matrix form of the per-patch projections (3-6 columns): much faster than a batched QR.
-        u = 1.0 - alpha * self.Mp                                   # (p, n)
-        Phi, Yp, Mp = self.Phi, self.Yp, self.Mp
-        A = u[:, :, None] * Phi[None]                               # (p, n, k)
-        At = A.transpose(0, 2, 1)
-        G = At @ A + 1e-12 * np.eye(Phi.shape[1])[None]
-        am = (At @ Mp[:, :, None])[:, :, 0]                         # A^T M
-        ay = At @ Yp                                                # A^T y  (p, k, C)
-        rhs = np.concatenate([am[:, :, None], ay], axis=2)
-        sol = np.linalg.solve(G, rhs)                               # G^-1 [A^T M, A^T y]
-        gm, gy = sol[:, :, :1], sol[:, :, 1:]
-        sxx_p = self.mm - np.sum(am * gm[:, :, 0], axis=1)
-        sxy_p = (Mp[:, None, :] @ Yp)[:, 0, :] - np.sum(am[:, :, None] * gy, axis=1)
-        syy_p = self.yy - np.sum(ay * gy, axis=1)
-        w = self.w
-        Sxx = float(np.sum(w * sxx_p))
-        # the colour must be a colour: b = alpha * col with col in [0, 1]. Channels are independent
-        # given alpha, so clipping each 1-D quadratic's minimiser is the constrained optimum.
-        beta = np.clip((w @ sxy_p) / max(Sxx, 1e-300), 0.0, alpha)
-        rss_p = np.sum(syy_p - 2 * beta[None] * sxy_p + (beta[None] ** 2) * sxx_p[:, None], axis=1)
-        return beta, np.maximum(rss_p, 0.0)
-
-    def __call__(self, alpha: float) -> float:
-        _, rss_p = self.parts(alpha)
-        return float(np.sum(self.w * rss_p))
-
-
 def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree: int = 1,
               max_patches: int = 800, alpha_max: float = 1.0, irls: int = 3, random_state=0) -> BlendFit:
     """Estimate opacity ``alpha`` and ``beta = alpha * colour`` of a mark of known coverage ``M``.
@@ -178,36 +137,32 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
         from odnn_sep.errors import NotIdentifiableError
 
         raise NotIdentifiableError("the mark has no sharp edges inside the image; opacity cannot be estimated")
-    prof = _Profile(Yp, Mp, _design(int(np.sqrt(Mp.shape[1])), degree))
-    grid = np.linspace(0.0, alpha_max, 13)[1:]
-    alpha = 0.5
-    for it in range(irls + 1):
-        vals = np.array([prof(a) for a in grid]) if it == 0 else None
-        if vals is not None:
-            k = int(np.argmin(vals))
-            lo, hi = grid[max(k - 1, 0)] - (0.05 if k == 0 else 0), grid[min(k + 1, len(grid) - 1)]
-        else:
-            lo, hi = max(1e-3, alpha - 0.05), min(alpha_max, alpha + 0.05)
-        res = minimize_scalar(prof, bounds=(max(lo, 1e-4), hi), method="bounded", options={"xatol": 1e-5})
-        alpha = float(res.x)
-        if it < irls:
-            _, rss_p = prof.parts(alpha)
-            s = np.median(rss_p) + 1e-30
-            prof.w = 1.0 / (1.0 + (rss_p / (2.0 * s)) ** 2)
-    beta, rss_p = prof.parts(alpha)
+    Phi = _design(int(np.sqrt(Mp.shape[1])), degree)
+    prof = PhotoProfile(Yp, Mp, Phi)
+    a_hi = min(alpha_max, 0.995)  # the photo-domain likelihood needs 1 - a M > 0
+    grid = np.linspace(0.0, a_hi, 25)[1:]
+    vals = np.array([prof(a) for a in grid])
+    k = int(np.argmin(vals))
+    lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
+    alpha = float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6}).x)
+    for _ in range(irls):
+        _, rss_p, _ = prof.parts(alpha)
+        s = np.median(rss_p) + 1e-30
+        prof.w = 1.0 / (1.0 + (rss_p / (2.0 * s)) ** 2)
+        alpha = float(minimize_scalar(prof, bounds=(max(1e-4, alpha - 0.08), min(a_hi, alpha + 0.08)),
+                                      method="bounded", options={"xatol": 1e-6}).x)
+    beta, rss_p, _ = prof.parts(alpha)
     rss = float(np.sum(prof.w * rss_p))
-    # standard error from the profile's curvature (Gaussian approximation)
+    # standard error from the curvature of the negative log-likelihood
     h = 1e-3
-    curv = (prof(min(alpha + h, alpha_max)) - 2 * rss + prof(max(alpha - h, 1e-4))) / h**2
-    dof = max(1, Yp.shape[0] * Yp.shape[1] * Yp.shape[2] - Yp.shape[0] * Yp.shape[2] * prof.Phi.shape[1])
-    sigma2 = rss / dof
-    se = float(np.sqrt(2 * sigma2 / curv)) if curv > 0 else float("inf")
-    # share of the patches' photo-only residual that the mark explains: ~0 for a wrong template
-    prof.w[:] = 1.0
-    Q, _ = np.linalg.qr(prof.Phi)
+    curv = (prof(min(alpha + h, a_hi)) - 2 * prof(alpha) + prof(max(alpha - h, 1e-4))) / h**2
+    se = float(1.0 / np.sqrt(curv)) if curv > 0 else float("inf")
+    # share of the patches' photo-only residual (image domain) that the mark explains: ~0 for a
+    # wrong template; the detection threshold is calibrated on this statistic
+    Q = prof.Q
     Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
     rss0 = float(np.sum(Yt * Yt))
-    rss1 = float(np.sum(prof.parts(alpha)[1]))
+    rss1 = float(np.sum(DataProfile(Yp, Mp, Phi).parts(alpha)[1]))
     explained = max(0.0, 1.0 - rss1 / max(rss0, 1e-300))
     return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(Mp),
                     patch=patch, explained=explained)

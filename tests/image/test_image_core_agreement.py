@@ -27,3 +27,27 @@ def test_profile_matches_core_subspace_separator():
         assert abs(r.theta[0] - beta[c]) < 1e-8
         rss += float(np.sum(r.residual ** 2))
     assert abs(rss - rss_p.sum()) < 1e-8 * max(1.0, rss)
+
+
+def test_photo_profile_matches_core_subspace_separator():
+    # photo domain: (y / u) = planes + b (M / u) with u = 1 - alpha M
+    from odnn_sep.image.profile import PhotoProfile
+
+    y, clean, truth = make_watermark_demo(random_state=9)  # colour (164, 183, 234): inside the bounds
+    Yp, Mp = _patches(y / 255.0, truth["mask"], 8, 20, np.random.default_rng(0))
+    Phi = _design(8, 1)
+    alpha = truth["alpha"]
+    beta, rss_p, u = PhotoProfile(Yp, Mp, Phi).parts(alpha)
+    n, k = Mp.shape[1], Phi.shape[1]
+    G = np.zeros((len(Mp) * n, len(Mp) * k))
+    for p in range(len(Mp)):
+        G[p * n:(p + 1) * n, p * k:(p + 1) * k] = Phi
+    x = np.arange(len(Mp) * n, dtype=float)
+    rss = 0.0
+    for c in range(3):
+        sep = Separator(Basis.from_matrix((Mp / u).reshape(-1, 1), names=["beta"]), disturbance=Subspace(G))
+        r = sep.fit(x, (Yp[:, :, c] / u).ravel()).result_
+        assert 0.0 < r.theta[0] < alpha  # inside the colour bounds the constrained fit is the free one
+        assert abs(r.theta[0] - beta[c]) < 1e-8
+        rss += float(np.sum(r.residual ** 2))
+    assert abs(rss - rss_p.sum()) < 1e-8 * max(1.0, rss)
