@@ -18,6 +18,7 @@ from scipy import linalg
 log = logging.getLogger(__name__)
 
 COND_LIMIT = 1e8
+NEAR_BINS = 64.0
 
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
@@ -178,3 +179,90 @@ def solve_block_network(F, Y, w, names, random_state=None, epochs: int = 300):
         sep.fit(x, Y[keep, c] * sw)
         theta[:, c] = sep.result_.theta
     return theta
+
+
+class FullBlockFitter:
+    """The exact solver for full-length blocks, with the fixed-frequency columns evaluated once.
+
+    A fixed line (tone, further comb) over a block starting at sample ``i0`` is the same column
+    pair as over a block starting at 0, turned by the phase ``k * 2 pi * i0 * f / sr``: a change
+    of coordinates of its (cos, sin) pair. So the fixed and nuisance columns, their Gram block and
+    their sub-sampled copy are computed once (at ``i0 = 0``), and each block computes only the
+    tracked comb's columns; the fitted coefficients are turned back to the absolute-time phase
+    convention of :func:`block_basis`. Same least-squares problem, same answer up to rounding.
+    """
+
+    def __init__(self, L: int, sr: int, ks, fixed_lines, w: np.ndarray, gram_step: int):
+        self.L, self.sr, self.ks = L, sr, list(ks)
+        self.fixed = list(fixed_lines)
+        self.w = np.asarray(w, float)
+        self.pm = 2 * len(self.ks)
+        pairs = [(fc, k) for fc, kk in _as_combs(self.fixed) for k in kk]
+        self.fc = np.array([p[0] for p in pairs], float)
+        self.kf = np.array([p[1] for p in pairs], float)
+        self.pf = 2 * len(pairs)
+        self.R = block_basis(0, L, 0, sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, dtype=np.float32)
+        p = self.pm + self.R.shape[1]
+        self.q = gram_step if gram_step > 1 and L // gram_step >= 8 * p else 1
+        wq = self.w[:: self.q]
+        Rs = np.asfortranarray(self.R[:: self.q])
+        self.G_rr = _weighted_gram(Rs, wq, float(self.q)).astype(np.float64)
+        self.RWs = np.asfortranarray(Rs * wq.astype(np.float32)[:, None])
+        self.wq = wq
+        self.w32 = self.w.astype(np.float32)
+        self.cache, self.sub_cache = {"min_n": L}, {"min_n": L}
+
+    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, Y: np.ndarray):
+        """``(theta (2 * lines, C), hum (L, C))`` for the block starting at ``i0``, or None when the
+        block's basis is not well conditioned in float32 or a harmonic lies within NEAR_BINS window
+        bins of 0 Hz or Nyquist (the caller then uses :func:`solve_block`)."""
+        L, sr, q = self.L, self.sr, self.q
+        pm = self.pm
+        if pm:
+            fk = np.asarray(self.ks, float) * f0
+            margin = NEAR_BINS * sr / L
+            if fk.min() < margin or fk.max() > sr / (2 * q) - margin:
+                return None
+        if pm:
+            M = block_basis(i0, L, centre, sr, f0, rate, curv, self.ks, [], nuisance=False, cache=self.cache,
+                            dtype=np.float32)
+            Ms = M if q == 1 else block_basis(i0, L, centre, sr, f0, rate, curv, self.ks, [], nuisance=False,
+                                             cache=self.sub_cache, step=q, dtype=np.float32)
+            G_mm = _weighted_gram(Ms, self.wq, float(q)).astype(np.float64)
+            G_mr = np.zeros((pm, self.R.shape[1]))
+            # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
+            # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
+            # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
+            near = np.abs(np.asarray(self.ks, float)[:, None] * f0 - (self.kf * self.fc)[None, :]) < NEAR_BINS * sr / L
+            for i in np.flatnonzero(near.any(axis=1)):
+                cols = np.flatnonzero(np.repeat(near[i], 2))
+                G_mr[2 * i: 2 * i + 2, cols] = float(q) * np.dot(Ms[:, 2 * i: 2 * i + 2].T, self.RWs[:, cols])
+            G = np.block([[G_mm, G_mr], [G_mr.T, self.G_rr]])
+        else:
+            G = self.G_rr
+        Yw = Y.astype(np.float32) * self.w32[:, None]
+        rhs_r = np.dot(self.R.T, Yw)
+        rhs = np.vstack([np.dot(M.T, Yw), rhs_r]) if pm else rhs_r
+        rhs = rhs.astype(np.float64)
+        d = np.sqrt(np.maximum(np.diag(G), 1e-300))
+        try:
+            c, low = linalg.cho_factor(G / np.outer(d, d), check_finite=False)
+            rc = np.diag(c).min() / np.diag(c).max()
+        except linalg.LinAlgError:
+            return None
+        if rc ** 2 < 1e-3:
+            return None
+        theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
+        pf = self.pf
+        th_m, th_f = theta[:pm], theta[pm: pm + pf]
+        hum = np.dot(self.R[:, :pf], th_f.astype(np.float32))
+        if pm:
+            hum += np.dot(M, th_m.astype(np.float32))
+        hum = hum * self.w32[:, None]
+        if pf:
+            # back to absolute time: (a - i b) at t = 0 of the file
+            alpha = 2 * np.pi * self.kf * np.mod(i0 * self.fc / sr, 1.0)
+            z = (th_f[0::2] - 1j * th_f[1::2]) * np.exp(-1j * alpha)[:, None]
+            th_f = np.empty_like(th_f)
+            th_f[0::2], th_f[1::2] = z.real, -z.imag
+        return np.vstack([th_m, th_f]), hum

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from odnn_sep.audio import blocklen as _blocklen
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import fit as _fit
 from odnn_sep.audio import track as _track
@@ -191,43 +192,30 @@ def _run(source, sink, **kw):
         return _run_inner(source, sink, **kw)
 
 
-AUTO_BLOCKS_S = (8.0, 16.0)
-
-
-def _choose_block(source, **kw) -> float:
-    """Block length for ``block_s='auto'``: the one whose processed lines sit closest to their
-    local floor on a central excerpt (<= 64 s).
-
-    Short blocks follow fast drift and amplitude changes but cut a wider notch into the content
-    under each line; long blocks cut a narrow notch but leave hum that changes within a block.
-    Score: mean |line level after| (residual hum or a lowered band) plus the mean depth of the
-    deepest cut within +-1 Hz of each line below both the input and the local floor (a hole).
-    """
-    sr, N = source.sr, source.frames
-    if N < 3 * AUTO_BLOCKS_S[-1] * sr:
-        return AUTO_BLOCKS_S[0]
-    n = int(min(N, 64 * sr))
-    x = source.read((N - n) // 2, n)
-    scores = []
-    # the excerpt's spectrum, detection and demodulation do not depend on the block length:
-    # computed by the first trial, reused by the second
-    shared = {}
-    for T in AUTO_BLOCKS_S:
-        r = _denoise_array(x, sr, block_s=T, solver="exact", progress=False, random_state=0, _shared=shared, **kw)
-        lv = [np.abs(r.levels_after[i]["level_db"]).mean() for i in range(len(r.harmonics))]
-        if not lv:
-            return AUTO_BLOCKS_S[0]
-        cuts = [_detect.cut_db(r.spectra["freqs"], r.spectra["before"], r.spectra["after"], fl)
-                for fl in r.line_freqs[: len(r.harmonics)]]
-        scores.append(float(np.mean(lv) + np.mean(np.maximum(0.0, -np.asarray(cuts)))))
-    best = AUTO_BLOCKS_S[int(np.argmin(scores))]
-    log.info("block length: %s s (mean |line level after| %s dB for %s s)", best, np.round(scores, 2),
-             AUTO_BLOCKS_S)
-    return best
+def _fit_generic(i0, n, centre, sr, trk, b, ks, fixed_lines, blk, w, w_fit, solver, gram_step, basis_cache,
+                 sub_cache, col_names, random_state):
+    """One block through the general path (edge blocks, the network solver, ill-conditioned blocks):
+    ``(theta (p, C), hum (n, C))``."""
+    # float32 basis for the exact solver: its values come from float32 sines anyway
+    # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
+    F = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
+                         cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
+    if solver == "exact":
+        F_sub = None
+        if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
+            F_sub = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
+                                     fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
+        theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
+    else:
+        theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
+                                         random_state=random_state)
+    p_lines = F.shape[1] - 2
+    hum = np.dot(F[:, :p_lines], theta[:p_lines].astype(F.dtype)) * w[:, None]
+    return theta, hum
 
 
 def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-               after_source_fn, max_combs=3, _shared=None):
+               after_source_fn, max_combs=3):
     sr, N, C = source.sr, source.frames, source.channels
     mains = _parse_mains(mains, sr)
     harmonics = _parse_harmonics(harmonics)
@@ -250,21 +238,24 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     nyq = sr / 2
     top = min(0.95 * nyq, max_hz if max_hz is not None else np.inf,
               (_detect.MAX_HARMONICS + 1) * (65.0 if mains == "auto" else mains))
-    if _shared and "det" in _shared:
-        spec_before, det = _shared["spec_before"], _shared["det"]
-    else:
-        spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
-        det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
-                                 max_hz=max_hz)
-        if _shared is not None:
-            _shared.update(spec_before=spec_before, det=det)
+    spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
+    det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
+                             max_hz=max_hz)
     ks, tl = det.harmonics, det.tones
-    if auto_block:
-        # compare block lengths on an excerpt with the lines found here (no re-detection, no
-        # further combs: that keeps the comparison cheap and about the same lines)
-        block_s = AUTO_BLOCKS_S[0] if not ks else _choose_block(
-            source, mains=det.nominal_hz, harmonics=list(ks), tones=tones, alpha=alpha, max_hz=max_hz,
-            max_combs=1)
+    if auto_block and (not ks or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
+        block_s, auto_block = _blocklen.CANDIDATES_S[0], False
+    bar = _progress_bar(progress, (2 if ks else 1) * N, "denoise")
+    tick = (lambda k: bar.update(k)) if bar is not None else None
+    trk = None
+    if ks:
+        weights = np.stack([1.0 / np.maximum(det.floors[("h", k)], 1e-300) for k in ks], axis=1)   # (C, K)
+        D = _track.demodulate(source, det.mains_hz, ks, progress=tick)
+        if auto_block:
+            block_s, trk = _blocklen.choose_block(D, sr, N, det.mains_hz, ks, weights)
+        else:
+            trk = _track.track_fundamental(D, sr, N, det.mains_hz, ks, weights,
+                                           hop=max(1, int(round(block_s * sr / 2))))
+        del D
     hop = max(1, int(round(block_s * sr / 2)))
     nb = (N - 1) // hop + 2
     nl = len(ks) + len(tl)
@@ -272,19 +263,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     if not ks and not tl:
         log.warning("no significant mains hum found (tested %s); the output equals the input",
                     "50 and 60 Hz" if mains == "auto" else f"{mains:g} Hz")
-    bar = _progress_bar(progress, (2 if ks else 1) * N, "denoise")
-    tick = (lambda k: bar.update(k)) if bar is not None else None
-
-    if ks:
-        weights = np.stack([1.0 / np.maximum(det.floors[("h", k)], 1e-300) for k in ks], axis=1)   # (C, K)
-        D = _shared.get("D") if _shared else None
-        if D is None:
-            D = _track.demodulate(source, det.mains_hz, ks, progress=tick)
-            if _shared is not None:
-                _shared["D"] = D
-        trk = _track.track_fundamental(D, sr, N, det.mains_hz, ks, weights, hop=hop)
-        del D
-    else:
+    if not ks:
         t = np.arange(nb) * hop / sr
         z = np.zeros(nb)
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
@@ -329,7 +308,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     L = 2 * hop
     prev_piece = np.zeros((0, C))
     prev_tail = np.zeros((0, C))
-    w_full, basis_cache, sub_cache = None, {"min_n": L}, {"min_n": L}
+    w_full, basis_cache, sub_cache, fitter = None, {"min_n": L}, {"min_n": L}, None
     for b in range(nb):
         piece = source.read(b * hop, hop)
         s0 = (b - 1) * hop
@@ -347,22 +326,18 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
             # fit weights: the block's window, or a Hann over the visible part of a block cut by
             # the signal's start/end (a one-sided window would leak the content onto the lines)
             w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
-            # float32 basis for the exact solver: its values come from float32 sines anyway
-            # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
-            F = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
-                                 cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
-            if solver == "exact":
-                F_sub = None
-                if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
-                    F_sub = _fit.block_basis(i0, n, b * hop, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
-                                             fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
-                theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
+            got = None
+            if n == L and solver == "exact":
+                if fitter is None:
+                    fitter = _fit.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step)
+                got = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], blk)
+            if got is not None:
+                theta, hum = got
             else:
-                theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
-                                                 random_state=random_state)
+                theta, hum = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w, w_fit, solver,
+                                          gram_step, basis_cache, sub_cache, col_names, random_state)
             p_lines = 2 * nl
             theta = theta[:p_lines]
-            hum = np.dot(F[:, :p_lines], theta.astype(F.dtype)) * w[:, None]
             a, bb = theta[0::2].T, theta[1::2].T           # (C, nl)
             amps[b] = np.hypot(a, bb)
             phs[b] = np.arctan2(-bb, a)
@@ -448,7 +423,7 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
 
 
 def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-                   max_combs=3, _shared=None):
+                   max_combs=3):
     src = ArraySource(y, sr)
     out = np.empty_like(src.data)
     hum = np.empty_like(src.data)
@@ -462,7 +437,7 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
 
     res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource(out, sr), max_combs=max_combs, _shared=_shared)
+               after_source_fn=lambda: ArraySource(out, sr), max_combs=max_combs)
     res.y = out[:, 0].copy() if src.mono else out
     res.hum = hum[:, 0].copy() if src.mono else hum
     return res
