@@ -282,17 +282,22 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         combs = _detect.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                            alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
                                            max_harmonic=max(ks), main_f0=f_med)
+    # the spectrum locates a further comb only to a fraction of a bin; refine it on the
+    # demodulated signal (one long window) so a 16 s fixed-frequency fit stays in phase; one
+    # demodulation pass serves every further comb
+    D2 = _track.demodulate(source, 1.0, [k * c.fundamental_hz for c in combs for k in c.harmonics]) \
+        if combs else None
+    col = 0
     for ci, c in enumerate(combs):
         others = [f_med] + [o.fundamental_hz for j, o in enumerate(combs) if j != ci]
         half = min(2 * df_hr / min(c.harmonics), 0.45 * min(abs(o - c.fundamental_hz) for o in others))
-        # the spectrum locates a further comb only to a fraction of a bin; refine it on the
-        # demodulated signal (one long window) so a 16 s fixed-frequency fit stays in phase
         w2 = np.stack([1.0 / np.maximum(spec_hr.psd[np.argmin(np.abs(spec_hr.freqs - k * c.fundamental_hz))], 1e-300)
                        for k in c.harmonics], axis=1)
-        D2 = _track.demodulate(source, c.fundamental_hz, c.harmonics)
-        c.fundamental_hz = _track.refine_fixed_comb(D2, sr, c.fundamental_hz, c.harmonics, w2,
+        kc = len(c.harmonics)
+        c.fundamental_hz = _track.refine_fixed_comb(D2[:, :, col: col + kc], sr, c.fundamental_hz, c.harmonics, w2,
                                                     half_hz=half)
-        del D2
+        col += kc
+    del D2
     comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
     names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
     nl = len(names)
