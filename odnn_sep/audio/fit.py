@@ -213,7 +213,9 @@ class FullBlockFitter:
         self.cache, self.sub_cache = {"min_n": L}, {"min_n": L}
 
     def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, Y: np.ndarray):
-        """``(theta (2 * lines, C), hum (L, C))`` for the block starting at ``i0``, or None when the
+        """``(theta (2 * lines, C), tracked-comb columns (L, 2K))`` for the block starting at ``i0``
+        (fixed lines in absolute time: see :meth:`fixed_hum`; the columns are overwritten by the
+        next call), or None when the
         block's basis is not well conditioned in float32 or a harmonic lies within NEAR_BINS window
         bins of 0 Hz or Nyquist (the caller then uses :func:`solve_block`)."""
         L, sr, q = self.L, self.sr, self.q
@@ -255,14 +257,20 @@ class FullBlockFitter:
         theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
         pf = self.pf
         th_m, th_f = theta[:pm], theta[pm: pm + pf]
-        hum = np.dot(self.R[:, :pf], th_f.astype(np.float32))
-        if pm:
-            hum += np.dot(M, th_m.astype(np.float32))
-        hum = hum * self.w32[:, None]
         if pf:
             # back to absolute time: (a - i b) at t = 0 of the file
-            alpha = 2 * np.pi * self.kf * np.mod(i0 * self.fc / sr, 1.0)
-            z = (th_f[0::2] - 1j * th_f[1::2]) * np.exp(-1j * alpha)[:, None]
+            z = (th_f[0::2] - 1j * th_f[1::2]) * np.exp(-1j * self._alpha(i0))[:, None]
             th_f = np.empty_like(th_f)
             th_f[0::2], th_f[1::2] = z.real, -z.imag
-        return np.vstack([th_m, th_f]), hum
+        return np.vstack([th_m, th_f]), (M if pm else np.zeros((L, 0), np.float32))
+
+    def _alpha(self, i0: int) -> np.ndarray:
+        return 2 * np.pi * self.kf * np.mod(i0 * self.fc / self.sr, 1.0)
+
+    def fixed_hum(self, i0: int, n: int, z: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """The fixed lines over samples ``i0 .. i0 + n`` (n <= L) with complex amplitudes ``z``
+        (lines, C; ``a - i b`` in absolute time), times the window ``w``."""
+        zr = z * np.exp(1j * self._alpha(i0))[:, None]
+        th = np.empty((self.pf, z.shape[1]), np.float32)
+        th[0::2], th[1::2] = zr.real, -zr.imag
+        return np.dot(self.R[:n, : self.pf], th) * w.astype(np.float32)[:, None]

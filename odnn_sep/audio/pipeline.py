@@ -17,14 +17,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from odnn_sep.audio import baseband as _baseband
+from odnn_sep.audio import blockfit as _blockfit
 from odnn_sep.audio import blocklen as _blocklen
 from odnn_sep.audio import detect as _detect
-from odnn_sep.audio import fit as _fit
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.io import ArraySource, ClipCounter, FileSource, is_integer_subtype, output_subtype
 from odnn_sep.errors import InputError
 
 log = logging.getLogger(__name__)
+
+SMOOTH_BLOCKS = 4   # line amplitudes pooled over up to this many blocks on each side (blockfit.py)
+POOL_MAIN = True
 
 
 @dataclass
@@ -192,30 +196,8 @@ def _run(source, sink, **kw):
         return _run_inner(source, sink, **kw)
 
 
-def _fit_generic(i0, n, centre, sr, trk, b, ks, fixed_lines, blk, w, w_fit, solver, gram_step, basis_cache,
-                 sub_cache, col_names, random_state):
-    """One block through the general path (edge blocks, the network solver, ill-conditioned blocks):
-    ``(theta (p, C), hum (n, C))``."""
-    # float32 basis for the exact solver: its values come from float32 sines anyway
-    # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
-    F = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
-                         cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
-    if solver == "exact":
-        F_sub = None
-        if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
-            F_sub = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
-                                     fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
-        theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
-    else:
-        theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
-                                         random_state=random_state)
-    p_lines = F.shape[1] - 2
-    hum = np.dot(F[:, :p_lines], theta[:p_lines].astype(F.dtype)) * w[:, None]
-    return theta, hum
-
-
 def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-               after_source_fn, max_combs=3):
+               after_source_fn, max_combs=3, smooth_blocks=None):
     sr, N, C = source.sr, source.frames, source.channels
     mains = _parse_mains(mains, sr)
     harmonics = _parse_harmonics(harmonics)
@@ -258,7 +240,6 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         del D
     hop = max(1, int(round(block_s * sr / 2)))
     nb = (N - 1) // hop + 2
-    nl = len(ks) + len(tl)
     names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
     if not ks and not tl:
         log.warning("no significant mains hum found (tested %s); the output equals the input",
@@ -268,7 +249,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         z = np.zeros(nb)
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
-    combs, df_hr, f_med = [], 1.0, det.mains_hz
+    combs, df_hr, f_med, spec_hr = [], 1.0, det.mains_hz, None
     if ks and not isinstance(harmonics, int) and max_combs > 1:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
@@ -279,9 +260,25 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         df_hr = spec_hr.df
         known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + \
                 [(t, 2 * df_hr) for t in tl]
+        # gaps in the comb only: isolated lines above the highest harmonic found are more likely
+        # tonal content than hum (as for further combs)
+        k_top = max(ks)
+        missing = [k for k in range(1, k_top) if k not in ks]
+        more = []
+        if missing:
+            n_first = sum(1 for c in det.candidates if c["harmonic"] is not None)
+            D3 = _track.demodulate(source, det.mains_hz, missing)
+            more, cands2 = _baseband.second_look(D3, sr, det.mains_hz, missing, trk, alpha=alpha,
+                                                 n_tests=n_first + len(missing), seg_s=seg_hr)
+            del D3
+            det.candidates += cands2
+        if more:
+            ks = sorted(ks + more)
+            known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
+            names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
         combs = _detect.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                            alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
-                                           max_harmonic=max(ks), main_f0=f_med)
+                                           max_harmonic=k_top, main_f0=f_med)
     # the spectrum locates a further comb only to a fraction of a bin; refine it on the
     # demodulated signal (one long window) so a 16 s fixed-frequency fit stays in phase; one
     # demodulation pass serves every further comb
@@ -300,61 +297,27 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     del D2
     comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
     names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
-    nl = len(names)
     tl_fit = list(tl) + comb_tones
     fixed_lines = list(tl) + [(c.fundamental_hz, c.harmonics) for c in combs]
 
-    col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
     f_top = max([k * (det.mains_hz or 0.0) * 1.01 for k in ks] + [float(t) for t in tl_fit] + [1.0])
     gram_step = max(1, int(sr // (4 * f_top + 1)))
-    amps = np.zeros((nb, C, nl))
-    phs = np.zeros((nb, C, nl))
-    valid = np.zeros(nb, bool)
-    L = 2 * hop
-    prev_piece = np.zeros((0, C))
-    prev_tail = np.zeros((0, C))
-    w_full, basis_cache, sub_cache, fitter = None, {"min_n": L}, {"min_n": L}, None
-    for b in range(nb):
-        piece = source.read(b * hop, hop)
-        s0 = (b - 1) * hop
-        blk = np.vstack([prev_piece, piece]) if prev_piece.size else piece
-        i0 = max(s0, 0)
-        n = blk.shape[0]
-        hum = np.zeros((n, C))
-        if n and nl:
-            if n == L:
-                if w_full is None:
-                    w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
-                w = w_full
-            else:
-                w = np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
-            # fit weights: the block's window, or a Hann over the visible part of a block cut by
-            # the signal's start/end (a one-sided window would leak the content onto the lines)
-            w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
-            got = None
-            if n == L and solver == "exact":
-                if fitter is None:
-                    fitter = _fit.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step)
-                got = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], blk)
-            if got is not None:
-                theta, hum = got
-            else:
-                theta, hum = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w, w_fit, solver,
-                                          gram_step, basis_cache, sub_cache, col_names, random_state)
-            p_lines = 2 * nl
-            theta = theta[:p_lines]
-            a, bb = theta[0::2].T, theta[1::2].T           # (C, nl)
-            amps[b] = np.hypot(a, bb)
-            phs[b] = np.arctan2(-bb, a)
-            valid[b] = n == L
-        npv = prev_piece.shape[0]
-        if npv:
-            removed = prev_tail + hum[:npv]
-            sink(prev_piece - removed, removed)
-        prev_tail = hum[npv:]
-        prev_piece = piece
-        if tick is not None:
-            tick(piece.shape[0])
+    # local noise floor at every line (for pooling amplitudes across blocks)
+    main_psd = fixed_psd = None
+    if ks or tl_fit:
+        spec_fl = spec_hr if spec_hr is not None else spec_before
+        all_f = [k * f_med for k in ks] + tl_fit
+        fl_all = [(f, 2 * spec_fl.df) for f in all_f]
+        psd = np.stack([_detect.line_level(spec_fl, f, 2 * spec_fl.df,
+                                           [e for e in fl_all if abs(e[0] - f) > 1e-9])["floor"] for f in all_f])
+        if np.isfinite(psd).all():
+            main_psd, fixed_psd = (psd[: len(ks)] if ks else None), (psd[len(ks):] if tl_fit else None)
+    amps, phs, valid = _blockfit.fit_pass(source, sink, hop=hop, trk=trk, ks=ks, fixed_lines=fixed_lines,
+                                          names=names, solver=solver, random_state=random_state,
+                                          gram_step=gram_step, fixed_psd=fixed_psd,
+                                          main_psd=main_psd if POOL_MAIN else None,
+                                          smooth_blocks=SMOOTH_BLOCKS if smooth_blocks is None else smooth_blocks,
+                                          tick=tick)
     if bar is not None:
         bar.close()
 

@@ -1,0 +1,161 @@
+"""Pass 2 of :func:`denoise`: per-block fits, fixed-line smoothing across blocks, overlap-add.
+
+Each 50 %-overlapping block is fitted by weighted least squares on the tracked harmonic basis
+plus the fixed lines (tones, further combs) (fit.py); the fitted hum is windowed by sin^2 (the
+windows sum to one, so blocks join without clicks), subtracted and written progressively.
+
+Fixed lines are steady by nature (a second device, another sample clock), and their per-block
+amplitudes carry the noise of one block: subtracting them as fitted cuts a notch into the content
+under each line as wide as a block allows. So their complex amplitudes are pooled over the
+neighbouring blocks (up to ``smooth_blocks`` on each side) with a positive-part James-Stein
+weight: the pooled mean where the scatter between blocks is what the local noise floor predicts,
+the block's own value where the line really changes. Output is delayed by that many blocks
+(memory: a few blocks). The tracked comb is not pooled: its per-block phase reference follows
+the track, and its amplitude is free to follow the hum from block to block.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.audio import fit as _fit
+
+
+def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str, random_state, gram_step: int,
+             fixed_psd=None, main_psd=None, smooth_blocks: int = 4, tick=None):
+    """Fit every block, subtract, write through ``sink(clean, removed)``.
+
+    ``fixed_psd`` (fixed lines, C), ``main_psd`` (harmonics, C): local noise floor PSD at each line
+    (per Hz, one-sided), for the pooling weights; None disables pooling of those lines.
+    Returns ``(amps, phs, valid)``:
+    (blocks, C, lines) peak amplitude and phase, and which blocks are full length.
+    """
+    sr, N, C = source.sr, source.frames, source.channels
+    nb = (N - 1) // hop + 2
+    L = 2 * hop
+    pm = 2 * len(ks)
+    nfix = sum(len(kk) for _, kk in _fit._as_combs(fixed_lines))
+    nl = len(ks) + nfix
+    amps = np.zeros((nb, C, nl))
+    phs = np.zeros((nb, C, nl))
+    valid = np.zeros(nb, bool)
+    col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
+    w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
+    fitter = _fit.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step) if nl else None
+    pool_fixed = fixed_psd is not None and nfix > 0
+    pool_main = main_psd is not None and len(ks) > 0
+    M = smooth_blocks if (pool_fixed or pool_main) else 0
+    psd = np.vstack(([main_psd] if pool_main else []) + ([fixed_psd] if pool_fixed else [])) if M else None
+    pooled_rows = np.r_[np.arange(len(ks)) if pool_main else [], len(ks) + np.arange(nfix) if pool_fixed else []]
+    pooled_rows = pooled_rows.astype(int)
+    Phi = _block_phase(trk, hop, sr) if pool_main else None
+    kk = np.asarray(ks, float)
+    basis_cache, sub_cache = {"min_n": L}, {"min_n": L}
+    zs, vs = [], []
+    prev_piece = np.zeros((0, C))
+    prev_tail = np.zeros((0, C))
+    for b in range(nb):
+        piece = source.read(b * hop, hop)
+        s0 = (b - 1) * hop
+        blk = np.vstack([prev_piece, piece]) if prev_piece.size else piece
+        i0 = max(s0, 0)
+        n = blk.shape[0]
+        hum = np.zeros((n, C))
+        zq = None
+        if n and nl:
+            w = w_full if n == L else np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
+            # fit weights: the block's window, or a Hann over the visible part of a block cut by
+            # the signal's start/end (a one-sided window would leak the content onto the lines)
+            w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
+            got = None
+            if n == L and solver == "exact":
+                got = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], blk)
+            if got is None:
+                got = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step,
+                                   basis_cache, sub_cache, col_names, random_state)
+            theta, Fm = got
+            theta = theta[: 2 * nl]
+            valid[b] = n == L
+            # complex amplitudes a - i b: tracked lines in the block's phase reference, fixed
+            # lines in absolute time
+            z = theta[0::2] - 1j * theta[1::2]                                  # (nl, C)
+            if M:
+                zq = z[pooled_rows].copy()
+                if pool_main:
+                    # tracked lines are pooled in a common phase reference: the track's phase
+                    # at each block centre
+                    zq[: len(ks)] *= np.exp(-1j * kk * Phi[b])[:, None]
+                zs.append(zq)
+                # E|z - z0|^2 = 3 S sr / n for a sin^2-weighted fit on noise of PSD S
+                vs.append(3.0 * np.maximum(psd, 1e-300) * sr / max(n, 1))
+                zp = _pooled(zs, vs, b, M)
+                if pool_main:
+                    zp[: len(ks)] *= np.exp(1j * kk * Phi[b])[:, None]
+                z[pooled_rows] = zp
+            amps[b] = np.abs(z).T
+            phs[b] = np.angle(z).T
+            w32 = w.astype(np.float32)[:, None]
+            if pm:
+                th = np.empty((pm, C), np.float32)
+                th[0::2], th[1::2] = z[: len(ks)].real, -z[: len(ks)].imag
+                hum = np.dot(Fm, th.astype(Fm.dtype)) * w32
+            if nfix:
+                hum = hum + fitter.fixed_hum(i0, n, z[len(ks):], w)
+        if M and zq is None:
+            zs.append(None)
+            vs.append(None)
+        npv = prev_piece.shape[0]
+        if npv:
+            removed = prev_tail + hum[:npv]
+            sink(prev_piece - removed, removed)
+        prev_tail = hum[npv:]
+        prev_piece = piece
+        if tick is not None:
+            tick(piece.shape[0])
+    return amps, phs, valid
+
+
+def _block_phase(trk, hop: int, sr: int) -> np.ndarray:
+    """Phase of the tracked fundamental at each block centre (rad, from the first centre): each
+    step is the mean of the two neighbouring blocks' own cubic phase models across the hop."""
+    h = hop / sr
+    f, r, q = trk.f0, trk.rate, trk.curv
+    fwd = f[:-1] * h + r[:-1] * h ** 2 / 2 + q[:-1] * h ** 3 / 6
+    bwd = f[1:] * h - r[1:] * h ** 2 / 2 + q[1:] * h ** 3 / 6
+    step = 2 * np.pi * np.mod(0.5 * (fwd + bwd), 1.0)
+    return np.concatenate([[0.0], np.cumsum(step)])
+
+
+def _pooled(zs, vs, f: int, M: int) -> np.ndarray:
+    """Positive-part James-Stein pooling of block ``f``'s amplitudes towards the precision-weighted
+    mean of blocks ``f - M .. f`` (causal: the output is not delayed)."""
+    idx = [j for j in range(f - M, f + 1) if 0 <= j < len(zs) and zs[j] is not None]
+    z_f = zs[f]
+    if len(idx) < 3:
+        return z_f
+    Z = np.stack([zs[j] for j in idx])              # (nw, lines, C)
+    W = 1.0 / np.stack([vs[j] for j in idx])
+    zbar = (W * Z).sum(axis=0) / W.sum(axis=0)
+    # scatter over what the noise predicts: ~1 for a steady line
+    r = (W * np.abs(Z - zbar) ** 2).sum(axis=0) / (len(idx) - 1)
+    lam = np.clip(1.0 - 1.0 / np.maximum(r, 1e-12), 0.0, 1.0)
+    return zbar + lam * (z_f - zbar)
+
+
+def _fit_generic(i0, n, centre, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step, basis_cache,
+                 sub_cache, col_names, random_state):
+    """One block through the general path (edge blocks, the network solver, ill-conditioned blocks):
+    ``(theta (p, C), tracked-comb columns (n, 2K))``; fixed lines in absolute time."""
+    # float32 basis for the exact solver: its values come from float32 sines anyway
+    # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
+    F = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
+                         cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
+    if solver == "exact":
+        F_sub = None
+        if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
+            F_sub = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
+                                     fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
+        theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
+    else:
+        theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
+                                         random_state=random_state)
+    return theta, F[:, : 2 * len(ks)]
