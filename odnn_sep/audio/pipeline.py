@@ -228,10 +228,16 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         block_s, auto_block = _blocklen.CANDIDATES_S[0], False
     bar = _progress_bar(progress, (2 if ks else 1) * N, "denoise")
     tick = (lambda k: bar.update(k)) if bar is not None else None
-    trk = None
+    trk, D3 = None, None
+    look_again = bool(ks) and not isinstance(harmonics, int) and max_combs > 1
+    # gaps in the comb, for a second look once the track is known (isolated lines above the
+    # highest harmonic found are more likely tonal content than hum, as for further combs)
+    missing = [k for k in range(1, max(ks)) if k not in ks] if look_again else []
     if ks:
         weights = np.stack([1.0 / np.maximum(det.floors[("h", k)], 1e-300) for k in ks], axis=1)   # (C, K)
-        D = _track.demodulate(source, det.mains_hz, ks, progress=tick)
+        # one demodulation pass for the harmonics found and the gaps
+        D = _track.demodulate(source, det.mains_hz, list(ks) + missing, progress=tick)
+        D, D3 = D[:, :, : len(ks)], D[:, :, len(ks):]
         if auto_block:
             block_s, trk = _blocklen.choose_block(D, sr, N, det.mains_hz, ks, weights)
         else:
@@ -250,7 +256,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
     combs, df_hr, f_med, spec_hr = [], 1.0, det.mains_hz, None
-    if ks and not isinstance(harmonics, int) and max_combs > 1:
+    if look_again:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
         f_med = float(np.median(trk.f0[trk.confident])) if trk.confident.any() else det.mains_hz
@@ -260,18 +266,14 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         df_hr = spec_hr.df
         known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + \
                 [(t, 2 * df_hr) for t in tl]
-        # gaps in the comb only: isolated lines above the highest harmonic found are more likely
-        # tonal content than hum (as for further combs)
         k_top = max(ks)
-        missing = [k for k in range(1, k_top) if k not in ks]
         more = []
         if missing:
             n_first = sum(1 for c in det.candidates if c["harmonic"] is not None)
-            D3 = _track.demodulate(source, det.mains_hz, missing)
             more, cands2 = _baseband.second_look(D3, sr, det.mains_hz, missing, trk, alpha=alpha,
                                                  n_tests=n_first + len(missing), seg_s=seg_hr)
-            del D3
             det.candidates += cands2
+        del D3
         if more:
             ks = sorted(ks + more)
             known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]

@@ -44,21 +44,28 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
     kf = f_ref * np.asarray(ks, dtype=float)
     J = -(-n // m)
     D = np.empty((J, C, len(kf)), dtype=np.complex64)
+    K = len(kf)
     tau = np.arange(m) / sr
     ang = 2 * np.pi * np.outer(tau, kf)
-    Er, Ei = np.cos(ang), -np.sin(ang)                  # (m, K)
+    # cos and -sin side by side: one single-precision product per read (the chunk sums feed the
+    # tracker and the line tests, where 1e-7 relative rounding is far below the noise)
+    E = np.hstack([np.cos(ang), -np.sin(ang)]).astype(np.float32)      # (m, 2K)
     per = max(1, read_frames // m) * m
     for start in range(0, n, per):
         x = source.read(start, per)
         nj = -(-x.shape[0] // m)
         if x.shape[0] < nj * m:
             x = np.vstack([x, np.zeros((nj * m - x.shape[0], C))])
-        X = x.reshape(nj, m, C).transpose(0, 2, 1).reshape(nj * C, m)
-        S = (np.dot(X, Er) + 1j * np.dot(X, Ei)).reshape(nj, C, len(kf))
+        X = np.ascontiguousarray(x.reshape(nj, m, C).transpose(0, 2, 1), dtype=np.float32).reshape(nj * C, m)
+        S = np.dot(X, E).reshape(nj, C, 2 * K)
         j = np.arange(start // m, start // m + nj, dtype=float)
         # reference phase at each chunk start, reduced modulo one cycle before scaling (precision)
         cyc = np.mod(np.outer(j * (m / sr), kf), 1.0)
-        D[start // m: start // m + nj] = S * np.exp(-2j * np.pi * cyc)[:, None, :]
+        rot = np.exp(-2j * np.pi * cyc).astype(np.complex64)[:, None, :]
+        Dj = D[start // m: start // m + nj]
+        Dj.real = S[:, :, :K]
+        Dj.imag = S[:, :, K:]
+        Dj *= rot
         if progress is not None:
             progress(x.shape[0])
     return D
@@ -175,7 +182,12 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         # estimate is the frequency at the window's centroid, not at the block centre
         coverage[b] = win.sum() / (L / m / 2)
         t_eff[b] = float((win * tc).sum() / max(win.sum(), 1e-300))
-        A = D[j0:j1].astype(np.complex128) * win[:, None, None] * sqw
+        A = D[j0:j1] * (win[:, None, None] * sqw).astype(np.float32)
+        # E is used only through ratios and log differences: normalise so the single-precision
+        # products cannot overflow whatever the sample units and floor weights
+        amax = float(np.abs(A).max()) if A.size else 0.0
+        if amax > 0 and np.isfinite(amax):
+            A *= np.float32(1.0 / amax)
         tau = tc - b * hop / sr
         half = 0.06 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
         centre = prev
@@ -190,13 +202,15 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
             centre = grid[i]
         fine_rel = np.linspace(-step, step, 11)
         fine = grid[i] + fine_rel
-        Ef = _energy_rel(A, tau, ks, float(grid[i]), fine_rel, cache)
+        # fine grid and noise reference in one product: E for pure noise is about
+        # sum_j win_j^2 |D|^2, for a pure line (sum win)^2 |d|^2; the noise reference is the same
+        # harmonic energy a little way off the peak (0.25-0.45 Hz per unit of harmonic number),
+        # i.e. the local floor around every line
+        E2 = _energy_rel(A, tau, ks, float(grid[i]), np.concatenate([fine_rel, NOISE_OFFSETS]), cache)
+        Ef = E2[: len(fine_rel)]
         i2 = int(np.argmax(Ef))
         est = _parabolic(fine, Ef, i2)
-        # E for pure noise is about sum_j win_j^2 |D|^2 ; for a pure line it is (sum win)^2 |d|^2
-        # noise reference: the same harmonic energy a little way off the peak (0.25-0.45 Hz per
-        # unit of harmonic number), i.e. the local floor around every line
-        noise = float(np.median(_energy_rel(A, tau, ks, est, NOISE_OFFSETS, cache)))
+        noise = float(np.median(E2[len(fine_rel):]))
         strength[b] = float(Ef[i2]) / max(noise, 1e-300)
         if abs(est) > max_offset_hz:
             est = float(np.clip(est, -max_offset_hz, max_offset_hz))
