@@ -189,7 +189,9 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         if amax > 0 and np.isfinite(amax):
             A *= np.float32(1.0 / amax)
         tau = tc - b * hop / sr
-        half = 0.06 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
+        # between neighbouring blocks the grid moves by a few mHz: a narrow search around the
+        # previous estimate (re-centred below when the peak sits on its edge)
+        half = 0.03 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
         centre = prev
         rel = np.arange(-half, half + step / 2, step)
         Ac = A[:, :, coarse_ks]
