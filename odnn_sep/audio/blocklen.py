@@ -4,9 +4,11 @@ Short blocks follow fast drift and amplitude changes but cut a wider notch into 
 each line; long blocks cut a narrow notch but leave hum that changes within a block. The choice
 is made on the chunk sums of pass 1 (a 100 Hz complex baseband of every hum line), where the
 block fit can be emulated at a tiny fraction of the cost of running it on the samples: per
-candidate length, track the fundamental, remove the tracked phase, fit one constant complex
+candidate length, remove the tracked phase, fit one constant complex
 amplitude per line and block (window-weighted mean, the baseband image of the per-sample
-least-squares fit), cross-fade the blocks and look at the residual baseband spectrum.
+least-squares fit), cross-fade the blocks and look at the residual baseband spectrum. One track
+(with the longest candidate's blocks) serves every candidate's emulation: within a block the
+free complex amplitude absorbs what the track does not follow.
 
 Score (lower is better), as the line metrics of the report: mean over lines of |residual level in
 +-0.5 Hz over the floor 2-10 Hz away| plus the mean depth of the deepest cut within +-1 Hz below
@@ -40,16 +42,16 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
     De = D[j0: j0 + j_ex]
     n_ex = min(n_frames - j0 * m, De.shape[0] * m)
     whole = j0 == 0 and De.shape[0] == J
-    scores, tracks = [], {}
-    for T in candidates:
-        hop = max(1, int(round(T * sr / 2)))
-        trk = _track.track_fundamental(De, sr, n_ex, f_ref, ks, weights, hop=hop)
-        tracks[T] = trk
-        scores.append(_score(De, sr, n_ex, f_ref, ks, trk, hop))
+    # one track (the longest candidate's: fewest blocks) serves every emulation; the chosen
+    # length's own track is computed only when it is another one
+    T_ref = candidates[-1]
+    hop_ref = max(1, int(round(T_ref * sr / 2)))
+    trk_ref = _track.track_fundamental(De, sr, n_ex, f_ref, ks, weights, hop=hop_ref)
+    scores = [_score(De, sr, n_ex, f_ref, ks, trk_ref, max(1, int(round(T * sr / 2)))) for T in candidates]
     best = candidates[int(np.argmin(scores))]
     log.info("block length: %s s (score %s dB for %s s)", best, np.round(scores, 2), candidates)
-    if whole:
-        return best, tracks[best]
+    if whole and best == T_ref:
+        return best, trk_ref
     hop = max(1, int(round(best * sr / 2)))
     return best, _track.track_fundamental(D, sr, n_frames, f_ref, ks, weights, hop=hop)
 
