@@ -20,6 +20,7 @@ import logging
 
 import numpy as np
 
+from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import track as _track
 
 log = logging.getLogger(__name__)
@@ -47,7 +48,10 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
     T_ref = candidates[-1]
     hop_ref = max(1, int(round(T_ref * sr / 2)))
     trk_ref = _track.track_fundamental(De, sr, n_ex, f_ref, ks, weights, hop=hop_ref)
-    scores = [_score(De, sr, n_ex, f_ref, ks, trk_ref, max(1, int(round(T * sr / 2)))) for T in candidates]
+    u = _baseband.derotate(De, ks, _baseband.tracked_phase(De, sr, f_ref, trk_ref)).astype(np.complex64)
+    welch = _Welch(u.shape[0], sr)
+    Pu = welch(u)
+    scores = [_score(u, Pu, welch, sr, n_ex, max(1, int(round(T * sr / 2)))) for T in candidates]
     best = candidates[int(np.argmin(scores))]
     log.info("block length: %s s (score %s dB for %s s)", best, np.round(scores, 2), candidates)
     if whole and best == T_ref:
@@ -56,15 +60,30 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
     return best, _track.track_fundamental(D, sr, n_frames, f_ref, ks, weights, hop=hop)
 
 
-def _score(D, sr, n_frames, f_ref, ks, trk, hop) -> float:
+class _Welch:
+    """Welch power (Hann, 50 % overlap, SEG_S segments) of a (J, C, K) baseband along axis 0."""
+
+    def __init__(self, J: int, sr: int):
+        m = _track.chunk_length(sr)
+        nseg = int(round(SEG_S * sr / m))
+        self.ok = J >= 2 * nseg
+        self.f = np.fft.fftfreq(nseg, m / sr)
+        self.win = np.hanning(nseg + 2)[1:-1].astype(np.float32)[None, :, None, None]
+        starts = np.arange(0, max(J - nseg + 1, 1), nseg // 2)
+        self.idx = starts[:, None] + np.arange(nseg)[None, :]                 # (S, nseg)
+
+    def __call__(self, x) -> np.ndarray:
+        if not self.ok:
+            return None
+        X = np.fft.fft(x.astype(np.complex64, copy=False)[self.idx] * self.win, axis=1)
+        return (X.real ** 2 + X.imag ** 2).sum(axis=0)
+
+
+def _score(u, Pu, welch, sr, n_frames, hop) -> float:
+    """Emulate the block fit with blocks of ``2 * hop`` samples on the tracked baseband ``u``."""
     m = _track.chunk_length(sr)
-    J, C, K = D.shape
-    ks = np.asarray(ks, float)
+    J = u.shape[0]
     tc = (np.arange(J) * m + (m - 1) / 2) / sr
-    # tracked phase relative to the reference comb, integrated on the chunk grid
-    dfreq = np.interp(tc, trk.t, trk.f0) - f_ref
-    psi = 2 * np.pi * np.cumsum(dfreq) * (m / sr)
-    u = D.astype(np.complex128) * np.exp(-1j * psi[:, None] * ks[None, :])[:, None, :]
     fit = np.zeros_like(u)
     L = 2 * hop
     nb = (n_frames - 1) // hop + 2
@@ -82,18 +101,10 @@ def _score(D, sr, n_frames, f_ref, ks, trk, hop) -> float:
         a = (wf[:, None, None] * u[i0:i1]).sum(axis=0) / max(wf.sum(), 1e-300)
         fit[i0:i1] += w[:, None, None] * a[None]
     r = u - fit
-    nseg = int(round(SEG_S * sr / m))
-    if J < 2 * nseg:
+    if Pu is None:
         return 0.0
-    f = np.fft.fftfreq(nseg, m / sr)
-    win = np.hanning(nseg + 2)[1:-1]
-    step = nseg // 2
-    starts = range(0, J - nseg + 1, step)
-    Pu = np.zeros((nseg, C, K))
-    Pr = np.zeros((nseg, C, K))
-    for s in starts:
-        Pu += np.abs(np.fft.fft(u[s: s + nseg] * win[:, None, None], axis=0)) ** 2
-        Pr += np.abs(np.fft.fft(r[s: s + nseg] * win[:, None, None], axis=0)) ** 2
+    Pr = welch(r)
+    f = welch.f
     af = np.abs(f)
     band, near, w1 = af <= 0.5, (af >= 2.0) & (af <= 10.0), af <= 1.0
     floor_u = np.median(Pu[near], axis=0)
