@@ -1,0 +1,187 @@
+"""Matching features for the text search: band-pass correlation maps and sign-free edge maps.
+
+Band-pass matching is the search's primary detector. A blended mark adds ``a M (c - I)`` to the
+photo; after removing what is smooth at the scale of a stroke (a Gaussian high-pass, the same
+"locally smooth photo" model the opacity fit uses), what is left is photo texture plus the glyph
+edges scaled by ``a (c - I)``. The score of a placement is the share of that band-passed energy,
+counted only on the template's edge band, that the template explains (summed over channels, sign
+free per channel). Unlike a normalised correlation over the whole template window, the photo's
+texture between the letters does not dilute it, so faint marks still stand out.
+
+Edge maps (structure-tensor magnitude and doubled-angle orientation) are kept for the repeat search:
+they are sign-free along the mark, which matters once the template is known to be right.
+"""
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from odnn_sep.image.render import render_text, rotated
+
+BP_SIGMA = 1.5     # px at the matching level: high-pass scale (a stroke at ~10 px glyph height)
+PAD = 8            # px of zero margin around every level: marks may run off the image's edge
+
+
+def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
+    """Edge features of a float image: (|g|, |g| cos 2t, |g| sin 2t) from the colour structure tensor.
+
+    The doubled angle makes the orientation features sign-free: a mark lighter or darker than the
+    photo under it (which varies along the mark) gives the same feature, while photo edges that
+    cross the glyph outlines at other angles do not correlate.
+    """
+    import cv2
+
+    img = np.asarray(img, dtype=np.float32)
+    if img.ndim == 2:
+        img = img[:, :, None]
+    jxx = np.zeros(img.shape[:2], np.float32)
+    jyy = np.zeros_like(jxx)
+    jxy = np.zeros_like(jxx)
+    for c in range(img.shape[2]):
+        gx = cv2.Sobel(img[:, :, c], cv2.CV_32F, 1, 0, ksize=3)
+        gy = cv2.Sobel(img[:, :, c], cv2.CV_32F, 0, 1, ksize=3)
+        jxx += gx * gx
+        jyy += gy * gy
+        jxy += gx * gy
+    mag = np.sqrt(jxx + jyy)
+    inv = 1.0 / np.maximum(mag, 1e-12)
+    # Saturate the edge strength: a faint mark's outlines must weigh as much as the photo's
+    # high-contrast edges, or the correlation follows the photo.
+    k = float(np.median(mag)) * 3.0 + 1e-3 * float(mag.max()) + 1e-12
+    w = np.tanh(mag / k)
+    f = np.stack([w, (jxx - jyy) * inv * inv * w, 2.0 * jxy * inv * inv * w], axis=2)
+    if blur > 0:
+        f = cv2.GaussianBlur(f, (0, 0), blur)
+    return np.ascontiguousarray(f)
+
+
+def bandpass_map(img: np.ndarray, levels: int = 255) -> tuple[np.ndarray, np.ndarray]:
+    """(R, E): high-passed channels (h, w, C) float32 and their energy summed over channels (h, w),
+    floored so that flat or clipped areas (no texture at all) cannot give a near-zero denominator."""
+    import cv2
+
+    img = np.asarray(img, dtype=np.float32)
+    if img.ndim == 2:
+        img = img[:, :, None]
+    R = np.empty_like(img)
+    for c in range(img.shape[2]):
+        R[:, :, c] = img[:, :, c] - cv2.GaussianBlur(img[:, :, c], (0, 0), BP_SIGMA)
+    E = np.sum(R * R, axis=2)
+    floor = img.shape[2] / (12.0 * levels**2) + 0.05 * float(np.median(E))
+    # the margin carries no signal and the floor energy, so a template hanging over the image's edge
+    # is scored on the part that is inside
+    R = cv2.copyMakeBorder(R, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=0)
+    if R.ndim == 2:
+        R = R[:, :, None]
+    E = cv2.copyMakeBorder(E + floor, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=floor)
+    return R, np.ascontiguousarray(E)
+
+
+class Pyramid:
+    """The image at arbitrary downscale factors (snapped to a half-octave grid), with its feature
+    maps computed once per factor."""
+
+    def __init__(self, img: np.ndarray, base_max: int = 768):
+        import cv2
+
+        self.H, self.W = img.shape[:2]
+        self.base = min(1.0, base_max / max(self.H, self.W))
+        img = np.asarray(img, dtype=np.float32)
+        if self.base < 1.0:
+            img = cv2.resize(img, (max(1, round(self.W * self.base)), max(1, round(self.H * self.base))),
+                             interpolation=cv2.INTER_AREA)
+        self.img = img if img.ndim == 3 else img[:, :, None]
+        self.cache: dict = {}
+
+    def _image(self, k: int) -> np.ndarray:
+        import cv2
+
+        if ("img", k) not in self.cache:
+            h, w = self.img.shape[:2]
+            im = self.img if k == 0 else cv2.resize(
+                self.img, (max(1, round(w * 2 ** (-k / 2))), max(1, round(h * 2 ** (-k / 2)))),
+                interpolation=cv2.INTER_AREA)
+            self.cache[("img", k)] = im if im.ndim == 3 else im[:, :, None]
+        return self.cache[("img", k)]
+
+    def _k(self, d: float) -> int:
+        return int(np.clip(np.round(-2 * np.log2(max(d, 1e-6) / self.base)), 0, 40))
+
+    def level(self, d: float, blur: float) -> tuple[np.ndarray, float]:
+        """Edge map (with a ``PAD`` margin) at full-resolution scale factor ~d, and the exact factor."""
+        k = self._k(d)
+        if ("edge", k, blur) not in self.cache:
+            import cv2
+
+            e = edge_map(self._image(k), blur)
+            self.cache[("edge", k, blur)] = cv2.copyMakeBorder(e, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=0)
+        e = self.cache[("edge", k, blur)]
+        return e, self._image(k).shape[1] / self.W
+
+    def bandpass(self, d: float):
+        """(R, E, factor) band-pass maps (with a ``PAD`` margin) at full-resolution scale factor ~d."""
+        k = self._k(d)
+        if ("bp", k) not in self.cache:
+            self.cache[("bp", k)] = bandpass_map(self._image(k))
+        R, E = self.cache[("bp", k)]
+        return R, E, self._image(k).shape[1] / self.W
+
+
+@functools.lru_cache(maxsize=4096)
+def edge_template(text: str, font: str, size_lvl: float, angle: float, blur: float) -> np.ndarray:
+    m = rotated(render_text(text, font, max(size_lvl, 1.0)), angle)
+    return edge_map(m, blur)
+
+
+@functools.lru_cache(maxsize=4096)
+def bp_template(text: str, font: str, size_lvl: float, angle: float) -> tuple[np.ndarray, np.ndarray]:
+    """(T, band): high-passed coverage (normalised to unit energy) and its edge band (0/1)."""
+    import cv2
+
+    m = rotated(render_text(text, font, max(size_lvl, 1.0)), angle).astype(np.float32)
+    T = m - cv2.GaussianBlur(m, (0, 0), BP_SIGMA)
+    T /= max(float(np.sqrt(np.sum(T * T))), 1e-12)
+    band = (np.abs(T) > 0.05 * float(np.abs(T).max())).astype(np.float32)
+    T.setflags(write=False)
+    band.setflags(write=False)
+    return T, band
+
+
+def match_edges(edges: np.ndarray, tmpl: np.ndarray) -> np.ndarray | None:
+    """Normalised cross-correlation map of edge features (None when the template does not fit)."""
+    import cv2
+
+    if tmpl.shape[0] >= edges.shape[0] or tmpl.shape[1] >= edges.shape[1] or tmpl[:, :, 0].std() < 1e-9:
+        return None
+    r = cv2.matchTemplate(edges, tmpl, cv2.TM_CCOEFF_NORMED)
+    return np.nan_to_num(r, nan=-1.0, posinf=-1.0, neginf=-1.0)
+
+
+def match_bandpass(R: np.ndarray, E: np.ndarray, T: np.ndarray, band: np.ndarray) -> np.ndarray | None:
+    """Share of the band-passed energy on the template's edge band that the template explains."""
+    import cv2
+
+    if T.shape[0] >= R.shape[0] or T.shape[1] >= R.shape[1]:
+        return None
+    num = None
+    for c in range(R.shape[2]):
+        r = cv2.matchTemplate(np.ascontiguousarray(R[:, :, c]), T, cv2.TM_CCORR)
+        num = r * r if num is None else num + r * r
+    den = cv2.matchTemplate(E, band, cv2.TM_CCORR)
+    return np.nan_to_num(num / np.maximum(den, 1e-30), nan=0.0, posinf=0.0, neginf=0.0)
+
+
+def peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float, int, int]]:
+    """Up to ``n`` local maxima of ``r`` above ``floor``, at least ``radius`` apart (greedy NMS)."""
+    out = []
+    r = r.copy()
+    for _ in range(n):
+        i = int(np.argmax(r))
+        yy, xx = divmod(i, r.shape[1])
+        v = float(r[yy, xx])
+        if v < floor:
+            break
+        out.append((v, yy, xx))
+        r[max(0, yy - radius):yy + radius + 1, max(0, xx - radius):xx + radius + 1] = -1.0
+    return out
