@@ -12,7 +12,9 @@ import logging
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import signal, special, stats
+from scipy import special, stats
+
+from odnn_sep.audio.spectrum import Spectrum, excerpt_spectrum  # noqa: F401  (re-exported)
 
 log = logging.getLogger(__name__)
 
@@ -20,28 +22,6 @@ DRIFT_TOL_HZ = 0.1      # fundamental wander the detection band allows for (per 
 MAX_HARMONICS = 40
 FLOOR_GAP_HZ = 1.0      # gap between a line band and the floor region
 FLOOR_WIDTH_HZ = 8.0    # width of the floor region on each side
-
-
-@dataclass
-class Spectrum:
-    freqs: np.ndarray        # (nf,)
-    psd: np.ndarray          # (nf, channels), mean power per Hz over segments
-    n_segments: int          # Welch segments averaged (per channel)
-    seconds: float           # signal duration analysed
-    segments: np.ndarray | None = None   # (nf, channels, n_segments) per-segment PSD (for detection)
-
-    @property
-    def df(self) -> float:
-        return float(self.freqs[1] - self.freqs[0])
-
-    @property
-    def numerical_floor(self) -> float:
-        return 1e-12 * float(np.mean(self.psd)) + 1e-300
-
-    @property
-    def dof_per_bin(self) -> float:
-        # Hann, 50 % overlap: each extra segment adds about 0.9 of an independent one
-        return 2.0 * max(1.0, 0.9 * self.n_segments)
 
 
 @dataclass
@@ -55,86 +35,9 @@ class Detection:
     alpha: float = 1e-3
 
 
-def excerpt_spectrum(source, *, seg_s: float = 4.0, max_total_s: float = 240.0,
-                     n_excerpts: int = 8, keep_segments_hz: float | None = None) -> Spectrum:
-    """Welch PSD of the whole input, or of evenly spaced excerpts when it is longer than
-    ``max_total_s`` (bounded time and memory on long files).
-
-    ``keep_segments_hz``: also keep the per-segment periodograms below this frequency (used by
-    the persistence test in :func:`detect_hum`).
-    """
-    sr, n = source.sr, source.frames
-    nper = int(min(seg_s * sr, max(n // 2, 16)))
-    nper = max(nper, min(n, 16))
-    total = int(max_total_s * sr)
-    if n <= total:
-        spans = [(0, n)]
-    else:
-        length = total // n_excerpts
-        starts = np.linspace(0, n - length, n_excerpts).astype(int)
-        spans = [(int(s), length) for s in starts]
-    acc, nseg, segs = None, 0, []
-    for s, length in spans:
-        x = source.read(s, length)
-        if x.shape[0] < nper:
-            continue
-        f, P_sum, k, P_keep = _periodograms(x, sr, nper, keep_segments_hz)
-        acc = P_sum if acc is None else acc + P_sum
-        nseg += k
-        if P_keep is not None:
-            segs.append(P_keep)
-    return Spectrum(freqs=f, psd=acc / nseg, n_segments=nseg, seconds=sum(s[1] for s in spans) / sr,
-                    segments=np.concatenate(segs, axis=-1) if segs else None)
-
-
-def _periodograms(x, sr, nper, keep_hz, batch: int = 16):
-    """Hann-windowed, mean-removed periodograms of 50 %-overlapping segments (one-sided PSD, the
-    scaling of ``scipy.signal.spectrogram(mode='psd')``), computed a few segments at a time so
-    memory stays bounded. Returns freqs, the sum over segments (nf, C), the segment count and,
-    when ``keep_hz`` is given, the per-segment PSD below it (nf_keep, C, segments) in float32."""
-    from numpy.lib.stride_tricks import sliding_window_view
-    from scipy import fft
-
-    step = nper - nper // 2
-    n, C = x.shape
-    nseg = 1 + (n - nper) // step
-    win = _hann(nper)
-    scale = 1.0 / (sr * float((win.astype(np.float64) ** 2).sum()))
-    f = fft.rfftfreq(nper, 1.0 / sr)
-    onesided = np.full(len(f), 2.0)
-    onesided[0] = 1.0
-    if nper % 2 == 0:
-        onesided[-1] = 1.0
-    nkeep = int(np.searchsorted(f, keep_hz, side="right")) if keep_hz is not None else 0
-    P_sum = np.zeros((len(f), C))
-    keep = np.empty((nkeep, C, nseg), np.float32) if keep_hz is not None else None
-    for c in range(C):
-        view = sliding_window_view(x[:, c], nper)[::step][:nseg]
-        for b0 in range(0, nseg, batch):
-            seg = view[b0: b0 + batch]
-            # mean removed in float64, then float32 for the window and the FFT: its rounding
-            # noise (~1e-7 of the segment's RMS) sits far below the 120 dB numerical floor used
-            # by the line tests, at half the cost of a float64 transform
-            seg = ((seg - seg.mean(axis=1, keepdims=True)).astype(np.float32)) * win
-            X = fft.rfft(seg, axis=1)
-            P = X.real ** 2 + X.imag ** 2                       # float32: no cancellation here
-            P *= (scale * onesided).astype(np.float32)
-            P_sum[:, c] += P.sum(axis=0, dtype=np.float64)
-            if keep is not None:
-                keep[:, c, b0: b0 + P.shape[0]] = P[:, :nkeep].T
-    return f, P_sum, nseg, keep
-
-
 @functools.lru_cache(maxsize=64)
 def _chi2_median(nu: float) -> float:
     return float(stats.chi2.median(nu))
-
-
-@functools.lru_cache(maxsize=8)
-def _hann(nper: int) -> np.ndarray:
-    w = signal.get_window("hann", nper).astype(np.float32)
-    w.flags.writeable = False
-    return w
 
 
 def band_halfwidth(spec: Spectrum, k: float) -> float:
@@ -323,91 +226,6 @@ def line_levels(spec: Spectrum, freqs, *, half_width_hz=None) -> list[dict]:
         st = line_level(spec, f, bw, excl)
         out.append({"freq_hz": float(f), "level_db": [float(v) for v in st["level_db"]]})
     return out
-
-
-@dataclass
-class Comb:
-    fundamental_hz: float
-    harmonics: list[int]
-    candidates: list[dict] = field(default_factory=list)
-
-
-def detect_extra_combs(spec: Spectrum, sr: int, nominal: float, main: list, *, min_sep_hz: float,
-                       alpha: float = 1e-3, max_hz: float | None = None, max_combs: int = 2,
-                       rel_search: float = 0.01, max_harmonic: int | None = None,
-                       main_f0: float | None = None, near_rel: float = 0.003) -> list[Comb]:
-    """Further hum combs near the same nominal fundamental (a second device, or the grid seen
-    through another sample clock), found on a high-resolution spectrum with the lines already
-    explained masked out.
-
-    ``main``: (frequency, half-width) of every line already removed. Further combs are searched
-    within ``near_rel`` (0.3 %) of ``main_f0``: a clock offset or a second device, not a musical
-    note series that happens to lie within 1 % of 50/60 Hz. A comb is kept when at least
-    three of its harmonics pass the line test at ``alpha`` after a Bonferroni correction over all
-    harmonics and all resolvable fundamentals in the search range (the look-elsewhere effect);
-    harmonics closer than ``min_sep_hz`` to a line already removed are left to that line's fit
-    (the two would be collinear over one block).
-    """
-    pooled = spec.psd.sum(axis=1)
-    df = spec.df
-    ks_all = _candidate_harmonics(nominal, sr, "auto", max_hz)
-    # a further comb is searched only as far up as the main comb reaches: isolated high lines
-    # are more likely tonal content than hum
-    k_top = max_harmonic if max_harmonic is not None else MAX_HARMONICS
-    ks_all = [k for k in ks_all if k <= k_top]
-    if not ks_all:
-        return []
-    known = list(main)
-    combs = []
-    # the same grid seen through another clock, or a second device: close to the main comb
-    centre = main_f0 if main_f0 is not None else nominal
-    lo, hi = centre * (1 - near_rel), centre * (1 + near_rel)
-    step = df / (4 * max(ks_all))
-    grid = np.arange(lo, hi, step)
-    n_grid_eff = max(1.0, (hi - lo) * max(ks_all) / df)
-    floors = {}
-    for k in ks_all:
-        st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), k * nominal,
-                        k * nominal * rel_search + 2 * df, known)
-        floors[k] = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else np.inf
-    for _ in range(max_combs):
-        score = np.zeros_like(grid)
-        for k in ks_all:
-            val = np.interp(k * grid, spec.freqs, pooled) / floors[k]
-            for f, bw in known:
-                val[np.abs(k * grid - f) - max(bw - 2 * df, 0.0) < max(min_sep_hz, 2 * df)] = 0.0
-            score += np.log1p(val)
-        i = int(np.argmax(score))
-        fc = float(grid[i])
-        if 0 < i < len(grid) - 1:
-            a, b, c = score[i - 1: i + 2]
-            den = a - 2 * b + c
-            if den < 0:
-                fc += 0.5 * (a - c) / den * step
-        n_tests = len(ks_all) * n_grid_eff
-        sig, cands = [], []
-        bw = 1.5 * df
-        for k in ks_all:
-            fk = k * fc
-            # centre-to-centre distance, less only the drift part of a known line's width
-            if min((abs(fk - f) - max(b - 2 * df, 0.0) for f, b in known), default=np.inf) < max(min_sep_hz, 2 * df):
-                continue
-            st = line_level(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
-            if not np.isfinite(st["floor"]).all():
-                continue
-            p = max(st["p_value"], persistence_p_value(spec, fk, bw, st["floor"]))
-            p_adj = min(1.0, p * n_tests)
-            cands.append({"family_hz": fc, "harmonic": k, "freq_hz": fk, "level_db": [float(v) for v in
-                                                                                     st["level_db"]],
-                          "p_value_bonferroni": p_adj, "significant": bool(p_adj < alpha)})
-            if p_adj < alpha:
-                sig.append(k)
-        if len(sig) < 3:   # a note and its octave (k, 2k) must not pass for a comb
-            break
-        combs.append(Comb(fundamental_hz=fc, harmonics=sig, candidates=cands))
-        known += [(k * fc, bw) for k in sig]
-        log.info("further hum comb at %.4f Hz, harmonics %s", fc, sig)
-    return combs
 
 
 def cut_db(freqs, before, after, f: float, *, half_width_hz: float = 1.0) -> float:

@@ -3,186 +3,36 @@
 Pipeline (all passes stream in blocks, so memory does not grow with the file length):
 
 1. detection on a Welch spectrum: fundamental (50/60 Hz or given), harmonics present, tones;
-2. pass 1: demodulated 10 ms chunk sums -> per-block fundamental track (track.py);
-3. pass 2: per 50 %-overlapping block, weighted least squares of the samples on the tracked
-   harmonic basis (fit.py), fitted hum windowed by sin^2 (the windows sum to one, so blocks join
+2. pass 1: demodulated 10 ms chunk sums -> block length (blocklen.py) and per-block fundamental
+   track (track.py); gaps in the comb looked at again on the tracked baseband (baseband.py);
+   further steady combs near the main one (combs.py);
+3. pass 2 (blockfit.py): per 50 %-overlapping block, weighted least squares of the samples on the
+   tracked harmonic basis plus the fixed lines (fit.py), amplitudes pooled across blocks where
+   the lines are steady, fitted hum windowed by sin^2 (the windows sum to one, so blocks join
    without clicks), subtracted and written progressively;
-4. line levels above the local floor before and after, for the report.
+4. line levels above the local floor before and after, for the report (result.py).
 """
 from __future__ import annotations
 
 import logging
-import sys
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import blockfit as _blockfit
 from odnn_sep.audio import blocklen as _blocklen
+from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
+from odnn_sep.audio import params as _params
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.io import ArraySource, ClipCounter, FileSource, is_integer_subtype, output_subtype
+from odnn_sep.audio.result import DenoiseResult
 from odnn_sep.errors import InputError
 
 log = logging.getLogger(__name__)
 
 SMOOTH_BLOCKS = 4   # line amplitudes pooled over up to this many blocks on each side (blockfit.py)
 POOL_MAIN = True
-
-
-@dataclass
-class DenoiseResult:
-    """What :func:`denoise` found and removed.
-
-    Attributes
-    ----------
-    y : ndarray or None
-        Cleaned signal, same shape as the input (None from :func:`denoise_file`).
-    hum : ndarray or None
-        The removed hum + tones (``input = y + hum``).
-    sr : int
-    mains_hz : float or None
-        Median tracked fundamental (Hz); None when no hum was found.
-    nominal_hz : float or None
-        Family chosen by detection (50, 60 or the requested value).
-    harmonics : list of int
-        Harmonic numbers removed.
-    tones : list of float
-        Tone frequencies removed (refined, Hz).
-    track_t, track_hz : ndarray
-        Fundamental track: block centres (s) and frequency (Hz).
-    amplitudes, phases : ndarray, shape (n_blocks, channels, n_lines)
-        Peak amplitude (sample units) and phase (rad) of each line per block; phases are at the
-        block centre for harmonics and at t = 0 for tones (cosine convention).
-    line_names : list of str
-        ``h<k>`` for the tracked comb, ``tone_<f>Hz`` for tones, ``c<i>_h<k>`` for further combs.
-    line_freqs : list of float
-        Frequency of each line (Hz; harmonics at the median tracked fundamental).
-    extra_combs : list of dict
-        Further steady combs within 0.3 % of the main one (``fundamental_hz``, ``harmonics``),
-        e.g. the same grid seen through a second sample clock or a second device.
-    levels_before, levels_after : list of dict
-        Each line's level above its local noise floor (dB, per channel).
-    report : dict
-        JSON-ready summary (see :meth:`as_dict`).
-    """
-
-    y: np.ndarray | None
-    hum: np.ndarray | None
-    sr: int
-    mains_hz: float | None
-    nominal_hz: float | None
-    harmonics: list
-    tones: list
-    track_t: np.ndarray
-    track_hz: np.ndarray
-    amplitudes: np.ndarray
-    phases: np.ndarray
-    line_names: list
-    levels_before: list
-    levels_after: list
-    candidates: list = field(default_factory=list)
-    extra_combs: list = field(default_factory=list)
-    line_freqs: list = field(default_factory=list)
-    block_valid: np.ndarray | None = None
-    clip_message: str | None = None
-    info: dict = field(default_factory=dict)
-    spectra: dict = field(default_factory=dict, repr=False)
-
-    def line_amplitude(self, name: str) -> np.ndarray:
-        """Median peak amplitude of one line per channel, over blocks fully inside the signal."""
-        i = self.line_names.index(name)
-        sel = self.block_valid if self.block_valid is not None and self.block_valid.any() else slice(None)
-        return np.median(self.amplitudes[sel, :, i], axis=0)
-
-    def as_dict(self) -> dict:
-        sel = self.block_valid if self.block_valid is not None and self.block_valid.any() else slice(None)
-        lines = []
-        for i, name in enumerate(self.line_names):
-            ph = self.phases[:, :, i]
-            circ = np.angle(np.exp(1j * ph[sel]).mean(axis=0)) if ph.size else []
-            is_h = i < len(self.harmonics)
-            lines.append({
-                "name": name,
-                "harmonic": self.harmonics[i] if is_h else None,
-                "freq_hz": self.line_freqs[i] if i < len(self.line_freqs) else None,
-                "amplitude_peak": {"median": np.median(self.amplitudes[sel, :, i], axis=0).tolist()
-                                   if self.amplitudes.size else [],
-                                   "per_block": self.amplitudes[:, :, i].tolist()},
-                "phase_rad": {"circular_mean": np.asarray(circ).tolist(), "per_block": ph.tolist(),
-                              "reference": "block centre (harmonics), t = 0 (tones); cosine"},
-                "level_above_floor_db": {"before": self.levels_before[i]["level_db"],
-                                         "after": self.levels_after[i]["level_db"]},
-            })
-        return {
-            **self.info,
-            "sr": self.sr,
-            "mains": {"nominal_hz": self.nominal_hz, "fundamental_hz": self.mains_hz,
-                      "candidates_tested": self.candidates},
-            "harmonics": list(self.harmonics),
-            "tones_hz": list(self.tones),
-            "extra_combs": self.extra_combs,
-            "track": {"time_s": self.track_t.tolist(), "freq_hz": self.track_hz.tolist()},
-            "lines": lines,
-            "units": {"amplitude_peak": "same units as the samples (full scale = 1.0 for files)",
-                      "level_above_floor_db": "mean PSD within the line band over the median local floor, "
-                                              "dB, per channel"},
-            "clipping": self.clip_message,
-        }
-
-
-def _parse_mains(mains, sr):
-    if isinstance(mains, str) and mains.strip().lower() == "auto":
-        return "auto"
-    try:
-        v = float(mains)
-    except (TypeError, ValueError):
-        raise InputError(f"mains must be 'auto', 50, 60 or a frequency in Hz; got {mains!r}") from None
-    if not np.isfinite(v) or v <= 0:
-        raise InputError(f"mains must be a positive frequency in Hz; got {mains!r}")
-    if v >= sr / 2:
-        raise InputError(f"mains={v:g} Hz is at or above the Nyquist frequency ({sr / 2:g} Hz for sr={sr}); "
-                         f"choose a fundamental below {sr / 2:g} Hz")
-    return v
-
-
-def _parse_harmonics(harmonics):
-    if isinstance(harmonics, str) and harmonics.strip().lower() == "auto":
-        return "auto"
-    if isinstance(harmonics, (list, tuple)):
-        # an explicit set of harmonic numbers (internal use: re-running on an excerpt)
-        return sorted({_parse_harmonics(h) for h in harmonics})
-    try:
-        v = int(harmonics)
-        if v != float(harmonics):
-            raise ValueError
-    except (TypeError, ValueError):
-        raise InputError(f"harmonics must be 'auto' or a positive integer; got {harmonics!r}") from None
-    if v < 1:
-        raise InputError(f"harmonics must be 'auto' or a positive integer; got {harmonics!r}")
-    return v
-
-
-def _parse_tones(tones, sr):
-    out = []
-    for t in tones or ():
-        try:
-            v = float(t)
-        except (TypeError, ValueError):
-            raise InputError(f"tone must be a frequency in Hz; got {t!r}") from None
-        if not np.isfinite(v) or v <= 0 or v >= sr / 2:
-            raise InputError(f"tone={t!r} Hz must be between 0 and the Nyquist frequency ({sr / 2:g} Hz)")
-        out.append(v)
-    return out
-
-
-def _progress_bar(enabled: bool, total: int, desc: str):
-    if not enabled or not sys.stderr.isatty():
-        return None
-    from tqdm import tqdm
-
-    return tqdm(total=total, desc=desc, unit="smp", unit_scale=True, file=sys.stderr, leave=False)
 
 
 def _run(source, sink, **kw):
@@ -199,9 +49,9 @@ def _run(source, sink, **kw):
 def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
                after_source_fn, max_combs=3, smooth_blocks=None):
     sr, N, C = source.sr, source.frames, source.channels
-    mains = _parse_mains(mains, sr)
-    harmonics = _parse_harmonics(harmonics)
-    tones = _parse_tones(tones, sr)
+    mains = _params.parse_mains(mains, sr)
+    harmonics = _params.parse_harmonics(harmonics)
+    tones = _params.parse_tones(tones, sr)
     if solver not in ("exact", "network"):
         raise InputError(f"solver must be 'exact' or 'network'; got {solver!r}")
     auto_block = isinstance(block_s, str) and block_s.strip().lower() == "auto"
@@ -226,7 +76,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     ks, tl = det.harmonics, det.tones
     if auto_block and (not ks or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
         block_s, auto_block = _blocklen.CANDIDATES_S[0], False
-    bar = _progress_bar(progress, (2 if ks else 1) * N, "denoise")
+    bar = _params.progress_bar(progress, (2 if ks else 1) * N, "denoise")
     tick = (lambda k: bar.update(k)) if bar is not None else None
     trk, D3 = None, None
     look_again = bool(ks) and not isinstance(harmonics, int) and max_combs > 1
@@ -255,7 +105,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         z = np.zeros(nb)
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
-    combs, df_hr, f_med, spec_hr = [], 1.0, det.mains_hz, None
+    combs, f_med, spec_hr = [], det.mains_hz, None
     if look_again:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
@@ -278,25 +128,10 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
             ks = sorted(ks + more)
             known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
             names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
-        combs = _detect.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
-                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
-                                           max_harmonic=k_top, main_f0=f_med)
-    # the spectrum locates a further comb only to a fraction of a bin; refine it on the
-    # demodulated signal (one long window) so a 16 s fixed-frequency fit stays in phase; one
-    # demodulation pass serves every further comb
-    D2 = _track.demodulate(source, 1.0, [k * c.fundamental_hz for c in combs for k in c.harmonics]) \
-        if combs else None
-    col = 0
-    for ci, c in enumerate(combs):
-        others = [f_med] + [o.fundamental_hz for j, o in enumerate(combs) if j != ci]
-        half = min(2 * df_hr / min(c.harmonics), 0.45 * min(abs(o - c.fundamental_hz) for o in others))
-        w2 = np.stack([1.0 / np.maximum(spec_hr.psd[np.argmin(np.abs(spec_hr.freqs - k * c.fundamental_hz))], 1e-300)
-                       for k in c.harmonics], axis=1)
-        kc = len(c.harmonics)
-        c.fundamental_hz = _track.refine_fixed_comb(D2[:, :, col: col + kc], sr, c.fundamental_hz, c.harmonics, w2,
-                                                    half_hz=half)
-        col += kc
-    del D2
+        combs = _combs.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
+                                          alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
+                                          max_harmonic=k_top, main_f0=f_med)
+    _combs.refine_combs(source, sr, combs, f_med, spec_hr)
     comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
     names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
     tl_fit = list(tl) + comb_tones

@@ -1,0 +1,61 @@
+"""Validation of the options of :func:`~odnn_sep.audio.denoise` (one-line errors naming the option)."""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+
+
+def parse_mains(mains, sr):
+    if isinstance(mains, str) and mains.strip().lower() == "auto":
+        return "auto"
+    try:
+        v = float(mains)
+    except (TypeError, ValueError):
+        raise InputError(f"mains must be 'auto', 50, 60 or a frequency in Hz; got {mains!r}") from None
+    if not np.isfinite(v) or v <= 0:
+        raise InputError(f"mains must be a positive frequency in Hz; got {mains!r}")
+    if v >= sr / 2:
+        raise InputError(f"mains={v:g} Hz is at or above the Nyquist frequency ({sr / 2:g} Hz for sr={sr}); "
+                         f"choose a fundamental below {sr / 2:g} Hz")
+    return v
+
+
+def parse_harmonics(harmonics):
+    if isinstance(harmonics, str) and harmonics.strip().lower() == "auto":
+        return "auto"
+    if isinstance(harmonics, (list, tuple)):
+        # an explicit set of harmonic numbers (internal use: re-running on an excerpt)
+        return sorted({parse_harmonics(h) for h in harmonics})
+    try:
+        v = int(harmonics)
+        if v != float(harmonics):
+            raise ValueError
+    except (TypeError, ValueError):
+        raise InputError(f"harmonics must be 'auto' or a positive integer; got {harmonics!r}") from None
+    if v < 1:
+        raise InputError(f"harmonics must be 'auto' or a positive integer; got {harmonics!r}")
+    return v
+
+
+def parse_tones(tones, sr):
+    out = []
+    for t in tones or ():
+        try:
+            v = float(t)
+        except (TypeError, ValueError):
+            raise InputError(f"tone must be a frequency in Hz; got {t!r}") from None
+        if not np.isfinite(v) or v <= 0 or v >= sr / 2:
+            raise InputError(f"tone={t!r} Hz must be between 0 and the Nyquist frequency ({sr / 2:g} Hz)")
+        out.append(v)
+    return out
+
+
+def progress_bar(enabled: bool, total: int, desc: str):
+    if not enabled or not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit="smp", unit_scale=True, file=sys.stderr, leave=False)
