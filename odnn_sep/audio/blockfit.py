@@ -19,6 +19,8 @@ import numpy as np
 
 from odnn_sep.audio import fit as _fit
 
+STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line counts as steady (~1 % test)
+
 
 def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str, random_state, gram_step: int,
              fixed_psd=None, main_psd=None, smooth_blocks: int = 4, tick=None):
@@ -26,8 +28,9 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
 
     ``fixed_psd`` (fixed lines, C), ``main_psd`` (harmonics, C): local noise floor PSD at each line
     (per Hz, one-sided), for the pooling weights; None disables pooling of those lines.
-    Returns ``(amps, phs, valid)``:
-    (blocks, C, lines) peak amplitude and phase, and which blocks are full length.
+    Returns ``(amps, phs, valid, overall)``: (blocks, C, lines) peak amplitude and phase, which
+    blocks are full length, and (C, lines) whole-input amplitudes of steady lines (NaN where a
+    line is not steady or not pooled; None without pooling).
     """
     sr, N, C = source.sr, source.frames, source.channels
     nb = (N - 1) // hop + 2
@@ -111,17 +114,38 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
         prev_piece = piece
         if tick is not None:
             tick(piece.shape[0])
-    return amps, phs, valid
+    return amps, phs, valid, _overall(zs, vs, valid, pooled_rows, nl, C) if M else None
+
+
+def _overall(zs, vs, valid, rows, nl: int, C: int):
+    """One amplitude per line and channel for the whole input: the modulus of the precision-weighted
+    mean of the full blocks' complex amplitudes (common phase reference) where the lines are
+    steady (scatter between blocks within twice what the floor predicts), NaN elsewhere (the
+    caller then reports the median over blocks)."""
+    idx = [j for j in range(len(zs)) if zs[j] is not None and valid[j]]
+    out = np.full((C, nl), np.nan)
+    if len(idx) < 3:
+        return out
+    Z = np.stack([zs[j] for j in idx])
+    W = 1.0 / np.stack([vs[j] for j in idx])
+    zbar = (W * Z).sum(axis=0) / W.sum(axis=0)
+    # blocks overlap by half: neighbours share a sixth of their noise, so the scatter about the
+    # mean is compared with (n - 1) independent-block units
+    r = (W * np.abs(Z - zbar) ** 2).sum(axis=0) / (len(idx) - 1)
+    steady = r <= STEADY_SCATTER
+    out[:, rows] = np.where(steady, np.abs(zbar), np.nan).T
+    return out
 
 
 def _block_phase(trk, hop: int, sr: int) -> np.ndarray:
-    """Phase of the tracked fundamental at each block centre (rad, from the first centre): each
-    step is the mean of the two neighbouring blocks' own cubic phase models across the hop."""
+    """Phase of the tracked fundamental at each block centre (rad, from the first centre): the
+    integral of the track between centres by the Hermite (corrected trapezoid) rule. The blocks'
+    own cubic terms are left out: they come from second differences of the track and are the
+    noisiest part of it."""
     h = hop / sr
-    f, r, q = trk.f0, trk.rate, trk.curv
-    fwd = f[:-1] * h + r[:-1] * h ** 2 / 2 + q[:-1] * h ** 3 / 6
-    bwd = f[1:] * h - r[1:] * h ** 2 / 2 + q[1:] * h ** 3 / 6
-    step = 2 * np.pi * np.mod(0.5 * (fwd + bwd), 1.0)
+    f, r = trk.f0, trk.rate
+    cyc = h * (f[:-1] + f[1:]) / 2 + h ** 2 * (r[:-1] - r[1:]) / 12
+    step = 2 * np.pi * np.mod(cyc, 1.0)
     return np.concatenate([[0.0], np.cumsum(step)])
 
 
@@ -131,7 +155,7 @@ def _pooled(zs, vs, f: int, M: int) -> np.ndarray:
     idx = [j for j in range(f - M, f + 1) if 0 <= j < len(zs) and zs[j] is not None]
     z_f = zs[f]
     if len(idx) < 3:
-        return z_f
+        return z_f.copy()
     Z = np.stack([zs[j] for j in idx])              # (nw, lines, C)
     W = 1.0 / np.stack([vs[j] for j in idx])
     zbar = (W * Z).sum(axis=0) / W.sum(axis=0)

@@ -149,7 +149,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
                                            [e for e in fl_all if abs(e[0] - f) > 1e-9])["floor"] for f in all_f])
         if np.isfinite(psd).all():
             main_psd, fixed_psd = (psd[: len(ks)] if ks else None), (psd[len(ks):] if tl_fit else None)
-    amps, phs, valid = _blockfit.fit_pass(source, sink, hop=hop, trk=trk, ks=ks, fixed_lines=fixed_lines,
+    amps, phs, valid, overall = _blockfit.fit_pass(source, sink, hop=hop, trk=trk, ks=ks, fixed_lines=fixed_lines,
                                           names=names, solver=solver, random_state=random_state,
                                           gram_step=gram_step, fixed_psd=fixed_psd,
                                           main_psd=main_psd if POOL_MAIN else None,
@@ -172,7 +172,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         track_t=trk.t, track_hz=trk.f0 if ks else np.zeros(0), amplitudes=amps, phases=phs,
         line_names=names, levels_before=before, levels_after=after,
         candidates=det.candidates + [c for comb in combs for c in comb.candidates],
-        block_valid=valid,
+        block_valid=valid, amplitude_overall=overall,
         info={"solver": solver, "block_s": 2 * hop / sr, "channels": C, "frames": N, "duration_s": N / sr},
         spectra={"freqs": spec_before.freqs, "before": spec_before.psd, "after": spec_after.psd},
     )

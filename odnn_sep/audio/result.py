@@ -30,6 +30,10 @@ class DenoiseResult:
     amplitudes, phases : ndarray, shape (n_blocks, channels, n_lines)
         Peak amplitude (sample units) and phase (rad) of each line per block; phases are at the
         block centre for harmonics and at t = 0 for tones (cosine convention).
+    amplitude_overall : ndarray or None, shape (channels, n_lines)
+        Whole-input amplitude of each steady line: modulus of the precision-weighted mean of the
+        blocks' complex amplitudes in a common phase reference (NaN where the line changes more
+        than the noise allows).
     line_names : list of str
         ``h<k>`` for the tracked comb, ``tone_<f>Hz`` for tones, ``c<i>_h<k>`` for further combs.
     line_freqs : list of float
@@ -61,15 +65,22 @@ class DenoiseResult:
     extra_combs: list = field(default_factory=list)
     line_freqs: list = field(default_factory=list)
     block_valid: np.ndarray | None = None
+    amplitude_overall: np.ndarray | None = None
     clip_message: str | None = None
     info: dict = field(default_factory=dict)
     spectra: dict = field(default_factory=dict, repr=False)
 
     def line_amplitude(self, name: str) -> np.ndarray:
-        """Median peak amplitude of one line per channel, over blocks fully inside the signal."""
+        """Peak amplitude of one line per channel over the whole input: the pooled estimate where the
+        line is steady (:attr:`amplitude_overall`), else the median over blocks fully inside the
+        signal."""
         i = self.line_names.index(name)
         sel = self.block_valid if self.block_valid is not None and self.block_valid.any() else slice(None)
-        return np.median(self.amplitudes[sel, :, i], axis=0)
+        med = np.median(self.amplitudes[sel, :, i], axis=0)
+        if self.amplitude_overall is None:
+            return med
+        ov = self.amplitude_overall[:, i]
+        return np.where(np.isfinite(ov), ov, med)
 
     def as_dict(self) -> dict:
         sel = self.block_valid if self.block_valid is not None and self.block_valid.any() else slice(None)
@@ -84,6 +95,7 @@ class DenoiseResult:
                 "freq_hz": self.line_freqs[i] if i < len(self.line_freqs) else None,
                 "amplitude_peak": {"median": np.median(self.amplitudes[sel, :, i], axis=0).tolist()
                                    if self.amplitudes.size else [],
+                                   "overall": self.line_amplitude(name).tolist() if self.amplitudes.size else [],
                                    "per_block": self.amplitudes[:, :, i].tolist()},
                 "phase_rad": {"circular_mean": np.asarray(circ).tolist(), "per_block": ph.tolist(),
                               "reference": "block centre (harmonics), t = 0 (tones); cosine"},
