@@ -43,6 +43,7 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
     valid = np.zeros(nb, bool)
     col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
     w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
+    w32_full = w_full.astype(np.float32)
     fitter = _fit.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step) if nl else None
     pool_fixed = fixed_psd is not None and nfix > 0
     pool_main = main_psd is not None and len(ks) > 0
@@ -96,13 +97,13 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
                 z[pooled_rows] = zp
             amps[b] = np.abs(z).T
             phs[b] = np.angle(z).T
-            w32 = w.astype(np.float32)[:, None]
+            # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply
+            hum = fitter.fixed_hum(i0, n, z[len(ks):]) if nfix else np.zeros((n, C), np.float32)
             if pm:
-                th = np.empty((pm, C), np.float32)
+                th = np.empty((pm, C), Fm.dtype)
                 th[0::2], th[1::2] = z[: len(ks)].real, -z[: len(ks)].imag
-                hum = np.dot(Fm, th.astype(Fm.dtype)) * w32
-            if nfix:
-                hum = hum + fitter.fixed_hum(i0, n, z[len(ks):], w)
+                hum += np.dot(Fm, th)
+            hum *= (w32_full if n == L else w.astype(np.float32))[:, None]
         if M and zq is None:
             zs.append(None)
             vs.append(None)

@@ -302,13 +302,10 @@ class FullBlockFitter:
     def _alpha(self, i0: int) -> np.ndarray:
         return 2 * np.pi * self.kf * np.mod(i0 * self.fc / self.sr, 1.0)
 
-    def fixed_hum(self, i0: int, n: int, z: np.ndarray, w: np.ndarray) -> np.ndarray:
+    def fixed_hum(self, i0: int, n: int, z: np.ndarray) -> np.ndarray:
         """The fixed lines over samples ``i0 .. i0 + n`` (n <= L) with complex amplitudes ``z``
-        (lines, C; ``a - i b`` in absolute time), times the window ``w``."""
+        (lines, C; ``a - i b`` in absolute time), unwindowed, float32 (n, C)."""
         zr = z * np.exp(1j * self._alpha(i0))[:, None]
         th = np.empty((self.pf, z.shape[1]), np.float32)
         th[0::2], th[1::2] = zr.real, -zr.imag
-        w32 = self.w32 if n == self.L else w.astype(np.float32)
-        hum = np.dot(self.R[:n, : self.pf], th)
-        hum *= w32[:, None]
-        return hum
+        return np.dot(self.R[:n, : self.pf], th)
