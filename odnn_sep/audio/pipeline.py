@@ -131,7 +131,8 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         combs = _combs.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
                                           max_harmonic=k_top, main_f0=f_med)
-    _combs.refine_combs(source, sr, combs, f_med, spec_hr)
+    tl = _combs.refine_combs(source, sr, combs, f_med, spec_hr if spec_hr is not None else spec_before, tones=tl)
+    names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
     comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
     names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
     tl_fit = list(tl) + comb_tones
