@@ -30,6 +30,14 @@ class ArraySource:
         self.frames, self.channels = self.data.shape
         self.name = "y"
 
+    @classmethod
+    def wrap(cls, data: np.ndarray, sr: int) -> ArraySource:
+        """A source over an array already checked (n, channels) float64, without copying it."""
+        self = cls.__new__(cls)
+        self.data, self.mono, self.sr, self.name = data, False, int(sr), "y"
+        self.frames, self.channels = data.shape
+        return self
+
     def read(self, start: int, n: int) -> np.ndarray:
         return self.data[max(start, 0): max(start + n, 0)]
 

@@ -231,7 +231,9 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
 def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
                    max_combs=3):
     src = ArraySource(y, sr)
-    out = np.empty_like(src.data)
+    # the source holds a private copy of y, read strictly ahead of what is written: the output
+    # goes into it in place (one large allocation less)
+    out = src.data
     hum = np.empty_like(src.data)
     pos = [0]
 
@@ -243,9 +245,9 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
 
     res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource(out, sr), max_combs=max_combs)
-    res.y = out[:, 0].copy() if src.mono else out
-    res.hum = hum[:, 0].copy() if src.mono else hum
+               after_source_fn=lambda: ArraySource.wrap(out, sr), max_combs=max_combs)
+    res.y = out[:, 0] if src.mono else out
+    res.hum = hum[:, 0] if src.mono else hum
     return res
 
 
