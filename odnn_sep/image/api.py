@@ -78,13 +78,13 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     True
     """
     from odnn_sep.image.estimate import fit_blend, invert
-    from odnn_sep.image.io import merge, split
+    from odnn_sep.image.io import paste, split
 
     t0 = time.perf_counter()
     if (text is None or not str(text).strip()) and mask is None:
         raise InputError("give the watermark's text (text=/--text) or a mask of its area (mask=/--mask); got neither")
     planes = split(image)
-    y = planes.color
+    y = planes.view  # float crops on demand: large images are never converted whole
     H, W = y.shape[:2]
     region = None
     if mask is not None:
@@ -97,9 +97,11 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
         region = mk > 0
         if not region.any():
             raise InputError("mask has no nonzero pixels; mark the watermark's area with nonzero values")
-    report: dict = {"mode": "text" if text else "mask", "image_size": [W, H], "channels": int(planes.color.shape[2])
+    report: dict = {"mode": "text" if text else "mask", "image_size": [W, H], "channels": int(y.shape[2])
                     + (1 if planes.alpha is not None else 0), "bit_depth": int(planes.dtype.itemsize * 8)}
     if text:
+        if max(H, W) <= WORK_MAX_PX:
+            y = y.full()
         M, alpha, color, info = _text_mode(y, str(text), font, region, min_score, angle_range, max_marks,
                                            random_state)
         report.update(info)
@@ -122,19 +124,20 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
                 Mc = np.clip(m / alpha, 0.0, 1.0)
         except NotIdentifiableError:
             pass
-        M = np.zeros((H, W))
+        M = np.zeros((H, W), np.float32)
         M[y0:y1, x0:x1] = Mc
         report.update({"bbox": [int(x0), int(y0), int(x1), int(y1)], "marks": []})
-    out = y.copy()
     lost = np.zeros((H, W), bool)
     nz = np.nonzero(M > 0)
-    if nz[0].size:
+    restored = None
+    if nz[0].size:  # only the mark's box is inverted and written back; the rest is copied unchanged
         b = (max(0, nz[1].min() - 4), max(0, nz[0].min() - 4), min(W, nz[1].max() + 5), min(H, nz[0].max() + 5))
         o, lo = invert(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], alpha, color, levels=planes.levels,
                        inpaint=inpaint_lost)
-        out[b[1]:b[3], b[0]:b[2]] = o
+        restored = paste(planes, o, b)
         lost[b[1]:b[3], b[0]:b[2]] = lo
-    restored = merge(planes, out)
+    if restored is None:
+        restored = paste(planes)
     report.update({"alpha": round(float(alpha), 5), **_color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})
@@ -219,7 +222,7 @@ def _assemble(y, text, placed, score, min_score, random_state):
 
     H, W = y.shape[:2]
     best = placed[0]
-    M = np.zeros((H, W))
+    M = np.zeros((H, W), np.float32)
     for p in placed:
         x0, y0, x1, y1 = p.box
         M[y0:y1, x0:x1] = np.maximum(M[y0:y1, x0:x1], p.coverage)
@@ -258,10 +261,11 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
     H, W = y.shape[:2]
     f = WORK_MAX_PX / max(H, W)
     w, h = max(1, round(W * f)), max(1, round(H * f))
-    small = cv2.resize(np.asarray(y, dtype=np.float32), (w, h), interpolation=cv2.INTER_AREA)
-    if small.ndim == 2:
-        small = small[:, :, None]
-    small = small.astype(np.float64)
+    if hasattr(y, "reduced"):
+        small = y.reduced(w, h)
+    else:
+        small = cv2.resize(np.asarray(y, dtype=np.float32), (w, h), interpolation=cv2.INTER_AREA)
+        small = (small if small.ndim == 3 else small[:, :, None]).astype(np.float64)
     reg = None
     if region is not None:
         reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0

@@ -15,20 +15,62 @@ from odnn_sep.errors import FormatError, InputError
 EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".bmp")
 
 
+class FloatView:
+    """Read-only float view of the colour planes: crops are converted to float64 in [0, 1] on demand.
+
+    A 12-megapixel photo as float64 is ~290 MB; converting (and later rounding back) all of it cost
+    seconds while only the mark's neighbourhood is ever looked at in full resolution.
+    """
+
+    def __init__(self, raw: np.ndarray, scale: float):
+        self.raw = raw                  # (H, W, C) view of the input's colour channels, input dtype
+        self.scale = scale
+        self.shape = raw.shape
+        self.ndim = 3
+
+    def __getitem__(self, key) -> np.ndarray:
+        c = np.asarray(self.raw[key], dtype=np.float64)
+        if self.scale != 1.0:
+            c *= self.scale
+        return np.clip(c, 0.0, 1.0, out=c)
+
+    def full(self) -> np.ndarray:
+        return self[:, :]
+
+    def reduced(self, w: int, h: int) -> np.ndarray:
+        """The whole image resampled (area average) to w x h, float64 (H, W, C)."""
+        import cv2
+
+        a = self.raw
+        if a.dtype.kind == "f":
+            a = np.asarray(a, dtype=np.float32)
+        r = cv2.resize(np.ascontiguousarray(a), (w, h), interpolation=cv2.INTER_AREA)
+        if r.ndim == 2:
+            r = r[:, :, None]
+        return np.clip(r.astype(np.float64) * self.scale, 0.0, 1.0)
+
+
 @dataclasses.dataclass
 class Planes:
-    """An image split for processing: colour planes as float (H, W, C) in [0, 1], plus what is needed
-    to put it back together in the original format."""
+    """An image split for processing: a float view of the colour planes (H, W, C) in [0, 1], plus
+    what is needed to put it back together in the original format."""
 
-    color: np.ndarray
+    image: np.ndarray
+    view: FloatView
     alpha: np.ndarray | None
     dtype: np.dtype
     levels: int
     grey: bool
 
+    @property
+    def color(self) -> np.ndarray:
+        """All colour planes as float64 (converts the whole image)."""
+        return self.view.full()
+
 
 def split(image) -> Planes:
-    """Validate an image array and split it into float colour planes and a pass-through alpha."""
+    """Validate an image array and split it into a float view of its colour planes and a pass-through
+    alpha (no full-image copy)."""
     a = np.asarray(image)
     if a.size == 0 or a.ndim < 2 or 0 in a.shape[:2]:
         raise InputError(f"image is empty (shape {a.shape}); pass an image with at least one pixel")
@@ -47,25 +89,39 @@ def split(image) -> Planes:
         check_finite("image", a)
     else:
         raise InputError(f"image dtype must be uint8, uint16 or float in [0, 1]; got {a.dtype}")
-    f = a.astype(np.float64) / (levels if a.dtype.kind == "u" else 1.0)
-    grey = f.ndim == 2
-    color = f[:, :, None] if grey else f[:, :, :3]
-    alpha = a[:, :, 3].copy() if (a.ndim == 3 and a.shape[2] == 4) else None
-    return Planes(np.clip(color, 0.0, 1.0), alpha, a.dtype, levels, grey)
+    grey = a.ndim == 2
+    raw = a[:, :, None] if grey else a[:, :, :3]
+    alpha = a[:, :, 3] if (a.ndim == 3 and a.shape[2] == 4) else None
+    view = FloatView(raw, 1.0 / levels if a.dtype.kind == "u" else 1.0)
+    return Planes(a, view, alpha, a.dtype, levels, grey)
+
+
+def _to_dtype(planes: Planes, c: np.ndarray) -> np.ndarray:
+    c = np.clip(c, 0.0, 1.0)
+    if planes.dtype.kind == "u":
+        return np.round(c * planes.levels).astype(planes.dtype)
+    return c.astype(planes.dtype)
+
+
+def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarray:
+    """A copy of the input (its format, alpha untouched) with the restored colour ``crop`` (float,
+    (h, w, C)) written into ``box`` = (x0, y0, x1, y1); the rest stays bit-identical."""
+    out = np.array(planes.image, copy=True)
+    if crop is None:
+        return out
+    x0, y0, x1, y1 = box
+    c = _to_dtype(planes, crop)
+    if planes.grey:
+        out[y0:y1, x0:x1] = c[:, :, 0]
+    else:
+        out[y0:y1, x0:x1, :3] = c
+    return out
 
 
 def merge(planes: Planes, color: np.ndarray) -> np.ndarray:
-    """Put restored colour planes back into the input's format (rounding and clipping integers)."""
-    c = np.clip(color, 0.0, 1.0)
-    if planes.dtype.kind == "u":
-        c = np.round(c * planes.levels).astype(planes.dtype)
-    else:
-        c = c.astype(planes.dtype)
-    if planes.grey:
-        return c[:, :, 0]
-    if planes.alpha is not None:
-        return np.concatenate([c, planes.alpha[:, :, None]], axis=2)
-    return c
+    """Put restored colour planes (whole image, float) back into the input's format."""
+    H, W = planes.view.shape[:2]
+    return paste(planes, color, (0, 0, W, H))
 
 
 def read_image(path) -> np.ndarray:

@@ -81,16 +81,19 @@ class PhotoProfile:
         """(beta (C,), per-patch RSS of the restored photo (p,), u = 1 - alpha M (p, n))."""
         u = 1.0 - alpha * self.Mp
         Q = self.Q
-        Yt = self.Yp / u[:, :, None]
-        Mt = self.Mp / u
-        Yr = Yt - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yt))
-        Mr = Mt - (Mt @ Q) @ Q.T
+        inv = 1.0 / u
+        Yt = self.Yp * inv[:, :, None]                              # restored patches (p, n, C)
+        Mt = self.Mp * inv                                          # (p, n)
+        # sums of squares and cross products with the plane part removed (no (p, n, C) residual array)
+        qy = np.matmul(Yt.transpose(0, 2, 1), Q)                    # (p, C, k)
+        qm = Mt @ Q                                                 # (p, k)
+        syy = np.einsum("pnc,pnc->p", Yt, Yt) - np.einsum("pck,pck->p", qy, qy)
+        sxy = np.matmul(Mt[:, None, :], Yt)[:, 0, :] - np.einsum("pk,pck->pc", qm, qy)
+        sxx = np.einsum("pn,pn->p", Mt, Mt) - np.einsum("pk,pk->p", qm, qm)
         w = self.w
-        Sxx = float(np.sum(w * np.sum(Mr * Mr, axis=1)))
-        sxy_p = np.einsum("pn,pnc->pc", Mr, Yr)
-        beta = np.clip((w @ sxy_p) / max(Sxx, 1e-300), 0.0, alpha)
-        R = Yr - beta[None, None, :] * Mr[:, :, None]
-        return beta, np.sum(R * R, axis=(1, 2)), u
+        beta = np.clip((w @ sxy) / max(float(w @ sxx), 1e-300), 0.0, alpha)
+        rss_p = syy - 2.0 * (sxy @ beta) + sxx * float(beta @ beta)
+        return beta, np.maximum(rss_p, 0.0), u
 
     def __call__(self, alpha: float) -> float:
         _, rss_p, u = self.parts(alpha)

@@ -95,12 +95,18 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
         p, f = np.zeros(4), f_start
     # Fonts are usually rendered at a whole pixel size, and hinting makes a 29.15 px rendering differ
     # from a 29 px one in ways no continuous scale reproduces: test the nearest whole size as well.
-    s_int = round(size * np.exp(p[3]))
-    if s_int >= 1 and abs(size * np.exp(p[3]) - s_int) > 1e-3:
+    # Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one.
+    s_c = size * np.exp(p[3])
+    best_int = None
+    for s_int in sorted({int(np.floor(s_c)), int(np.ceil(s_c))}):
+        if s_int < 1 or abs(s_c - s_int) < 1e-3:
+            continue
         q3 = np.log(s_int / size)
-        q, g = nm(lambda v: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]))
-        if g < f:
-            p, f = np.r_[q, q3], g
+        q, g = nm(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]))
+        if best_int is None or g < best_int[1]:
+            best_int = (np.r_[q, q3], g)
+    if best_int is not None and best_int[1] < f:
+        p, f = best_int
     M = cov(p)
     fit = fit_blend(crop, M, random_state=random_state)
     return Placed(Path(font), float(size * np.exp(p[3])), float(angle + p[2]),
