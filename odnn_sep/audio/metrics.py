@@ -16,9 +16,9 @@ import numpy as np
 from scipy import signal
 
 
-def _psd(x, sr, seg_s=4.0):
+def _psd(x, sr, seg_s=4.0, window="hann"):
     nper = int(min(seg_s * sr, len(x)))
-    return signal.welch(x, fs=sr, window="hann", nperseg=nper, noverlap=nper // 2, axis=0)
+    return signal.welch(x, fs=sr, window=window, nperseg=nper, noverlap=nper // 2, axis=0)
 
 
 def line_metrics(x_in, x_out, sr, lines, *, f0=None, seg_s: float = 4.0) -> dict:
@@ -75,3 +75,37 @@ def snr_improvement_db(host, hum, y_out) -> float:
     host = np.asarray(host, float)
     err = np.asarray(y_out, float) - host
     return float(10 * np.log10(np.sum(np.asarray(hum, float) ** 2) / max(np.sum(err ** 2), 1e-300)))
+
+
+def band_floor_offset_db(x, sr, lines, exclude_hz, *, seg_s: float = 32.0, exclude_half_width_hz: float = 0.2):
+    """How far the content under each line sits from its local floor, before any processing.
+
+    Mean PSD within +-0.5 Hz of each line with the bins near every hum line (``exclude_hz``,
+    +-``exclude_half_width_hz``) left out, over the median PSD 2-10 Hz away (other lines left
+    out), in dB, on a fine Welch spectrum. It is the line level a perfect removal would show
+    with the report's metric: a floor that is not flat near a line (room modes, a neighbouring
+    partial) puts a lower bound on ``|level after|`` there.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(1); t = np.arange(960000) / 8000
+    >>> x = rng.standard_normal(t.size) + np.sin(2 * np.pi * 60 * t)
+    >>> abs(band_floor_offset_db(x, 8000, [60.0], [60.0])[0]) < 1.0
+    True
+    """
+    x = np.asarray(x, float)
+    f, P = _psd(x, sr, seg_s, window="blackmanharris")
+    near_line = np.zeros(f.shape, bool)
+    for g in exclude_hz:
+        near_line |= np.abs(f - g) <= exclude_half_width_hz
+    out = []
+    for fl in lines:
+        d = np.abs(f - fl)
+        band = (d <= 0.5) & ~near_line
+        floor = (d >= 2.0) & (d <= 10.0)
+        for g in exclude_hz:
+            floor &= np.abs(f - g) > 1.0
+        out.append(float(10 * np.log10(P[band].mean() / np.median(P[floor]))) if band.any() and floor.any()
+                   else float("nan"))
+    return out
