@@ -52,8 +52,15 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
         if cache is not None and n >= cache.get("min_n", 0):
             cache.update(key=key, F=F, tau=tau)
     if ks:
-        phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
-        _put_harmonics(F, 0, _unit(phi), ks)
+        # phase in cycles, f0 tau + rate tau^2 / 2 + curv tau^3 / 6, evaluated in place and
+        # reduced to its fraction in float64 (fewer passes over a long block than radians)
+        cyc = np.multiply(tau, curv / 6)
+        cyc += rate / 2
+        cyc *= tau
+        cyc += f0
+        cyc *= tau
+        cyc -= np.rint(cyc)
+        _put_harmonics(F, 0, _unit_cycles(cyc), ks)
     col = 2 * len(ks)
     for fc, kk in _as_combs(tones):
         # absolute time; the start phase is reduced modulo one cycle so long files keep full
@@ -88,6 +95,17 @@ def _unit(phi: np.ndarray) -> np.ndarray:
     z = np.empty(phi.shape, np.complex64)
     z.real = np.cos(r32)
     z.imag = np.sin(r32)
+    return z
+
+
+def _unit_cycles(frac: np.ndarray) -> np.ndarray:
+    """exp(2 pi i frac) as complex64 for a phase already reduced to [-1/2, 1/2] cycle (see
+    :func:`_unit`)."""
+    r32 = frac.astype(np.float32)
+    r32 *= np.float32(2 * np.pi)
+    z = np.empty(frac.shape, np.complex64)
+    np.cos(r32, out=z.real)
+    np.sin(r32, out=z.imag)
     return z
 
 
