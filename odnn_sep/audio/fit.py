@@ -236,7 +236,7 @@ class FullBlockFitter:
         self.cache = {"min_n": L}
         # midpoint grid for the tracked-comb Gram entries (see _near_gram): spacing s samples,
         # fine enough for every difference frequency kept (< NEAR_BINS window bins)
-        rate_d = max(200.0, 8 * NEAR_BINS * sr / L)
+        rate_d = 12 * NEAR_BINS * sr / L
         Jd = int(min(L, np.ceil(L * rate_d / sr)))
         self.s_d = L / Jd
         self.t_d = -0.5 + self.s_d * (np.arange(Jd) + 0.5)
