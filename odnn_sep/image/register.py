@@ -83,10 +83,10 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
         prof = _Profile(Yp, take_patches(cov(p), py, px, ps)[:, :, 0], Phi)
         return prof(a0)
 
-    def nm(fun, x0, step):
+    def nm(fun, x0, step, maxiter=iterations):
         sim = np.vstack([x0, x0 + np.diag(step)])
         r = minimize(fun, x0, method="Nelder-Mead",
-                     options={"initial_simplex": sim, "maxiter": iterations, "xatol": 0.02, "fatol": 1e-9})
+                     options={"initial_simplex": sim, "maxiter": maxiter, "xatol": 0.02, "fatol": 1e-9})
         return r.x, float(r.fun)
 
     f_start = obj(np.zeros(4))
@@ -102,7 +102,7 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
         if s_int < 1 or abs(s_c - s_int) < 1e-3:
             continue
         q3 = np.log(s_int / size)
-        q, g = nm(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]))
+        q, g = nm(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]), min(iterations, 40))
         if best_int is None or g < best_int[1]:
             best_int = (np.r_[q, q3], g)
     if best_int is not None and best_int[1] < f:
