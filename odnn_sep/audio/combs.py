@@ -56,9 +56,9 @@ def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: li
     grid = np.arange(lo, hi, step)
     n_grid_eff = max(1.0, (hi - lo) * max(ks_all) / df)
     floors = {}
+    spec_pooled = _detect.Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds)
     for k in ks_all:
-        st = _detect.line_level(_detect.Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), k * nominal,
-                        k * nominal * rel_search + 2 * df, known)
+        st = _detect.line_level(spec_pooled, k * nominal, k * nominal * rel_search + 2 * df, known)
         floors[k] = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else np.inf
     for _ in range(max_combs):
         score = np.zeros_like(grid)

@@ -115,9 +115,9 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
     lo, hi = nominal * (1 - rel_search), nominal * (1 + rel_search)
     grid = np.arange(lo, hi, min(0.002, spec.df / 20))
     score = np.zeros_like(grid)
+    spec_pooled = Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds)
     for k in ks:
-        st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds),
-                        k * nominal, band_halfwidth(spec, k) + k * nominal * rel_search)
+        st = line_level(spec_pooled, k * nominal, band_halfwidth(spec, k) + k * nominal * rel_search)
         fl = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else 1.0
         # log scale: every harmonic votes, not just the strongest one (whose broad peak alone
         # cannot pin the fundamental to better than its bin width)

@@ -21,8 +21,9 @@ class Spectrum:
     def df(self) -> float:
         return float(self.freqs[1] - self.freqs[0])
 
-    @property
+    @functools.cached_property
     def numerical_floor(self) -> float:
+        # a mean over every bin: computed once (line tests ask for it hundreds of times)
         return 1e-12 * float(np.mean(self.psd)) + 1e-300
 
     @property
