@@ -177,9 +177,10 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         screened.append((f.explained, c))
     screened.sort(key=lambda t: -t[0])
     best, best_nc = None, None
-    for _, c in screened[:3]:
-        if best is not None and best.fit.explained >= 0.5:
-            break  # a clear detection: no need to refine weaker hypotheses
+    for sc0, c in screened[:3]:
+        if best is not None and best.fit.explained >= 0.5 and sc0 < 0.8 * screened[0][0]:
+            break  # a clear detection: no need to refine clearly weaker hypotheses (another font at
+            # the same place screens about as well, and is refined)
         try:
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
                        random_state=random_state)

@@ -94,8 +94,9 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     top = _select(sorted(cands, key=lambda c: -c[0]), w100, max_hypotheses, per_size_bin)
     out: list[Match] = []
     for _, s0, a0, cx0, cy0 in top:
-        # several fonts: a quick 3x3 (size, angle) look picks the font, which alone is refined
-        font, s1 = fonts[0], s0
+        # several fonts: a quick 3x3 (size, angle) look ranks them and the best two are refined (the
+        # blend fit that screens the hypotheses afterwards tells similar fonts apart far better)
+        picks = [(fonts[0], s0)]
         if len(fonts) > 1:
             quick = []
             for fo in fonts:
@@ -103,13 +104,13 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
                 m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=((0.05, 2.5, 1),))
                 if m is not None:
                     quick.append((m.score, fo, sf))
-            if quick:
-                _, font, s1 = max(quick, key=lambda q: q[0])
-        best = _refine(pyr, text, str(font), s1, a0, cx0, cy0)
-        if best is not None and not any(
-                abs(np.log(best.size / o.size)) < 0.04 and abs(best.angle - o.angle) < 2.0
-                and np.hypot(best.center[0] - o.center[0], best.center[1] - o.center[1]) < 3.0 for o in out):
-            out.append(best)
+            picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2]]
+        for font, s1 in picks:
+            best = _refine(pyr, text, str(font), s1, a0, cx0, cy0)
+            if best is not None and not any(
+                    best.font == o.font and abs(np.log(best.size / o.size)) < 0.04 and abs(best.angle - o.angle) < 2.0
+                    and np.hypot(best.center[0] - o.center[0], best.center[1] - o.center[1]) < 3.0 for o in out):
+                out.append(best)
     out.sort(key=lambda m: -m.score)
     return out
 
