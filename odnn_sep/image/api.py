@@ -144,7 +144,7 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     return UnwatermarkResult(restored, float(alpha), np.asarray(color), M, lost, report)
 
 
-def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state):
+def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
     from odnn_sep.image.estimate import detection_score, fit_blend
     from odnn_sep.image.locate import Match, repeats, search
     from odnn_sep.image.register import refine, render_at
@@ -182,8 +182,9 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
             break  # a clear detection: no need to refine clearly weaker hypotheses (another font at
             # the same place screens about as well, and is refined)
         try:
+            # on a reduced copy the placement is only a start for the full-resolution registration
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
-                       random_state=random_state)
+                       iterations=30 if reduced else 60, whole_sizes=not reduced, random_state=random_state)
         except NotIdentifiableError:
             continue
         if best is None or p.fit.explained > best.fit.explained:
@@ -208,7 +209,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
                 if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
                     continue
                 p = refine(y, text, best.font, best.size, best.angle, (r.center[0] + off[0], r.center[1] + off[1]),
-                           iterations=30, random_state=random_state)
+                           iterations=30, whole_sizes=not reduced, random_state=random_state)
             except NotIdentifiableError:
                 continue
             x0, y0, x1, y1 = p.box
@@ -272,7 +273,8 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
         reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
         if not reg.any():
             reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_AREA) > 0
-    _, _, _, info = _text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state)
+    _, _, _, info = _text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
+                               reduced=True)
     fx, fy = W / w, H / h
     placed, scores = [], []
     for k, mk in enumerate(info["marks"]):

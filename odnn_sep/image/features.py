@@ -96,6 +96,9 @@ class Pyramid:
                              interpolation=cv2.INTER_AREA)
         self.img = img if img.ndim == 3 else img[:, :, None]
         self.cache: dict = {}
+        import threading
+
+        self._lock = threading.RLock()  # levels are filled lazily, possibly from worker threads
 
     def _image(self, k: int) -> np.ndarray:
         import cv2
@@ -114,6 +117,10 @@ class Pyramid:
     def level(self, d: float, blur: float) -> tuple[np.ndarray, float]:
         """Edge map (with a ``PAD`` margin) at full-resolution scale factor ~d, and the exact factor."""
         k = self._k(d)
+        with self._lock:
+            return self._edge_level(k, blur)
+
+    def _edge_level(self, k: int, blur: float):
         if ("edge", k, blur) not in self.cache:
             import cv2
 
@@ -125,9 +132,10 @@ class Pyramid:
     def bandpass(self, d: float, luma: bool = False):
         """(R, E, factor) band-pass maps (with a ``PAD`` margin) at full-resolution scale factor ~d."""
         k = self._k(d)
-        if ("bp", k, luma) not in self.cache:
-            self.cache[("bp", k, luma)] = bandpass_map(self._image(k), luma=luma)
-        R, E = self.cache[("bp", k, luma)]
+        with self._lock:
+            if ("bp", k, luma) not in self.cache:
+                self.cache[("bp", k, luma)] = bandpass_map(self._image(k), luma=luma)
+            R, E = self.cache[("bp", k, luma)]
         return R, E, self._image(k).shape[1] / self.W
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import os
 from pathlib import Path
 
 import numpy as np
@@ -30,9 +31,9 @@ log = logging.getLogger(__name__)
 REF_SIZE = 100.0
 COARSE_H = 10.0    # glyph height (px) at the coarse level
 FINE_H = 24.0      # glyph height (px) at the refinement level
-# The coarse grid correlates the mean of the colour channels (half the correlations of per-channel
-# scores; on development photos it found the same marks); the refinement uses every channel.
-COARSE_LUMA = True
+# Every colour channel counts at the coarse level too: a coloured mark can differ from the photo
+# in hue far more than in brightness (the channel mean lost such marks on development photos).
+COARSE_LUMA = False
 
 
 @dataclasses.dataclass
@@ -79,21 +80,38 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(ratio)))
     n_a = int(np.ceil(angle_range / da))
     angles = np.linspace(-angle_range, angle_range, 2 * n_a + 1) if n_a else np.zeros(1)
-    cands: list[tuple[float, float, float, float, float]] = []  # (score, size, angle, cx, cy)
-    for s in sizes:
-        R, E, f = pyr.bandpass(COARSE_H / (h100 * s / REF_SIZE), luma=COARSE_LUMA)
+    # levels first (the pyramid's cache is not thread-safe), then the sizes on a few threads
+    # (OpenCV's template matching releases the GIL and runs single-threaded at these sizes)
+    maps = {s: pyr.bandpass(COARSE_H / (h100 * s / REF_SIZE), luma=COARSE_LUMA) for s in sizes}
+
+    def one_size(s):
+        R, E, f = maps[s]
+        found = []
         for a in angles:
             T, band = bp_template(text, f0, round(s * f, 2), float(a))
             r = match_bandpass(R, E, T, band)
             if r is None:
                 continue
             for v, yy, xx in peaks(r, peaks_per_map, max(2, min(T.shape) // 2), 0.0):
-                cands.append((v, s, float(a), *_centre(xx, yy, T, f)))
+                found.append((v, s, float(a), *_centre(xx, yy, T, f)))
+        return found
+
+    cands: list[tuple[float, float, float, float, float]] = []  # (score, size, angle, cx, cy)
+    workers = max(1, min(4, os.cpu_count() or 1))
+    if workers > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(workers) as ex:
+            for found in ex.map(one_size, sizes):
+                cands += found
+    else:
+        for s in sizes:
+            cands += one_size(s)
     if not cands:
         return []
     top = _select(sorted(cands, key=lambda c: -c[0]), w100, max_hypotheses, per_size_bin)
-    out: list[Match] = []
-    for _, s0, a0, cx0, cy0 in top:
+    def one_hypothesis(c):
+        _, s0, a0, cx0, cy0 = c
         # several fonts: a quick 3x3 (size, angle) look ranks them and the best two are refined (the
         # blend fit that screens the hypotheses afterwards tells similar fonts apart far better)
         picks = [(fonts[0], s0)]
@@ -105,12 +123,21 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
                 if m is not None:
                     quick.append((m.score, fo, sf))
             picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2]]
-        for font, s1 in picks:
-            best = _refine(pyr, text, str(font), s1, a0, cx0, cy0)
-            if best is not None and not any(
-                    best.font == o.font and abs(np.log(best.size / o.size)) < 0.04 and abs(best.angle - o.angle) < 2.0
-                    and np.hypot(best.center[0] - o.center[0], best.center[1] - o.center[1]) < 3.0 for o in out):
-                out.append(best)
+        return [_refine(pyr, text, str(font), s1, a0, cx0, cy0) for font, s1 in picks]
+
+    if workers > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(workers) as ex:
+            refined = list(ex.map(one_hypothesis, top))
+    else:
+        refined = [one_hypothesis(c) for c in top]
+    out: list[Match] = []
+    for best in (m for ms in refined for m in ms):
+        if best is not None and not any(
+                best.font == o.font and abs(np.log(best.size / o.size)) < 0.04 and abs(best.angle - o.angle) < 2.0
+                and np.hypot(best.center[0] - o.center[0], best.center[1] - o.center[1]) < 3.0 for o in out):
+            out.append(best)
     out.sort(key=lambda m: -m.score)
     return out
 

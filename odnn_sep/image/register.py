@@ -43,10 +43,11 @@ def render_at(text, font, size, angle, center, shape, margin: int = 3):
 
 
 def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *, iterations: int = 60,
-           random_state=0) -> Placed:
+           whole_sizes: bool = True, random_state=0) -> Placed:
     """Refine (centre, angle, size) of one mark by the blend model's residual, then fit opacity/colour.
 
-    ``y`` is the whole image as float (H, W, C) in [0, 1].
+    ``y`` is the whole image as float (H, W, C) in [0, 1] (or a view giving float crops).
+    ``whole_sizes``: also try the whole font sizes next to the optimum (off on a resampled copy).
     """
     from scipy.optimize import minimize
 
@@ -98,7 +99,7 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
     # Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one.
     s_c = size * np.exp(p[3])
     best_int = None
-    for s_int in sorted({int(np.floor(s_c)), int(np.ceil(s_c))}):
+    for s_int in sorted({int(np.floor(s_c)), int(np.ceil(s_c))}) if whole_sizes else ():
         if s_int < 1 or abs(s_c - s_int) < 1e-3:
             continue
         q3 = np.log(s_int / size)
