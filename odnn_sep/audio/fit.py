@@ -75,10 +75,13 @@ def _put_harmonics(F, col, z, ks):
 
     Harmonics come from repeated multiplication (cheaper than new sines); returns the next column.
     """
-    zk, kprev = z.copy(), 1
+    zk, kprev = z, 1
     for k in ks:
-        for _ in range(k - kprev):
-            zk *= z
+        if k > kprev:
+            # the first power makes a new array, so z itself is never changed
+            zk = zk * z
+            for _ in range(k - kprev - 1):
+                zk *= z
         kprev = k
         F[:, col] = zk.real
         F[:, col + 1] = zk.imag
@@ -270,8 +273,7 @@ class FullBlockFitter:
                 G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
         else:
             G = self.G_rr
-        Yw = Y.astype(np.float32)
-        Yw *= self.w32[:, None]
+        Yw = np.multiply(Y, self.w32[:, None], dtype=np.float32)
         rhs_r = np.dot(self.R.T, Yw)
         rhs = np.vstack([np.dot(M.T, Yw), rhs_r]) if pm else rhs_r
         rhs = rhs.astype(np.float64)
