@@ -32,7 +32,7 @@ from odnn_sep.errors import InputError
 log = logging.getLogger(__name__)
 
 SMOOTH_BLOCKS = 4   # line amplitudes pooled over up to this many blocks on each side (blockfit.py)
-POOL_MAIN = True
+POOL_MAIN = True    # pool the tracked comb too (in the track's common phase reference), not only fixed lines
 
 
 def _run(source, sink, **kw):
