@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.audio import fit as _fit
+from odnn_sep.audio import fullblock as _fullblock
 
 STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line counts as steady (~1 % test)
 
@@ -44,7 +45,7 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
     col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
     w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
     w32_full = w_full.astype(np.float32)
-    fitter = _fit.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step) if nl else None
+    fitter = _fullblock.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step) if nl else None
     pool_fixed = fixed_psd is not None and nfix > 0
     pool_main = main_psd is not None and len(ks) > 0
     M = smooth_blocks if (pool_fixed or pool_main) else 0

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from odnn_sep.audio import fit
+from odnn_sep.audio import fit, fullblock
 
 
 def test_full_block_fitter_matches_float64_least_squares():
@@ -13,7 +13,7 @@ def test_full_block_fitter_matches_float64_least_squares():
     # a second comb 0.09 Hz above the tracked one (close pairs) and a tone
     fixed = [(60.09, [1, 2, 3]), 333.3]
     w = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
-    fr = fit.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3)
+    fr = fullblock.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3)
     i0, centre, f0, rate, curv = 3 * 16000, 4 * 16000, 59.99, 0.002, -0.0003
     Mb = fit.block_basis(i0, L, centre, sr, f0, rate, curv, ks, [], nuisance=False).astype(float)
     R = fr.R.astype(float)
@@ -36,7 +36,7 @@ def test_full_block_fitter_matches_float64_least_squares():
 def test_full_block_fitter_declines_harmonics_near_nyquist():
     sr, L = 1000, 16000
     w = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
-    fr = fit.FullBlockFitter(L, sr, [1, 2, 3, 4, 5, 6, 7, 8, 9], [], w, gram_step=1)
+    fr = fullblock.FullBlockFitter(L, sr, [1, 2, 3, 4, 5, 6, 7, 8, 9], [], w, gram_step=1)
     # harmonic 9 of 55.3 Hz is 497.7 Hz, 2.3 Hz under Nyquist: the sum-frequency terms are not
     # negligible there, so the caller must take the general path
     assert fr.fit(0, 8000, 55.3, 0.0, 0.0, np.zeros((L, 1))) is None
