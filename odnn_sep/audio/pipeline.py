@@ -7,9 +7,9 @@ Pipeline (all passes stream in blocks, so memory does not grow with the file len
    track (track.py); gaps in the comb looked at again on the tracked baseband (baseband.py);
    further steady combs near the main one (combs.py);
 3. pass 2 (blockfit.py): per 50 %-overlapping block, weighted least squares of the samples on the
-   tracked harmonic basis plus the fixed lines (fit.py), amplitudes pooled across blocks where
-   the lines are steady, fitted hum windowed by sin^2 (the windows sum to one, so blocks join
-   without clicks), subtracted and written progressively;
+   tracked harmonic basis plus the fixed lines (fit.py, fullblock.py), amplitudes pooled across
+   blocks where the lines are steady, fitted hum windowed by sin^2 (the windows sum to one, so
+   blocks join without clicks), subtracted and written progressively;
 4. line levels above the local floor before and after, for the report (result.py).
 """
 from __future__ import annotations
