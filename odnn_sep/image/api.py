@@ -11,9 +11,10 @@ from odnn_sep.errors import InputError, NotIdentifiableError
 
 log = logging.getLogger(__name__)
 
-# Detection threshold on the share of the edge patches' photo-only residual that the mark explains.
-# Random texts placed on clean photos (the scikit-image photos and procedural images, every default
-# font, sizes 10-60 px, angles +-45 deg) explain < 0.02; the marks of the benchmark explain 0.3-0.97.
+# Detection threshold on the share of the edge patches' photo-only residual that the mark explains
+# (``estimate.detection_score``). The best placement the search finds for a random text on a clean
+# photo (no mark; every default font, angles +-45 deg) scores below ~0.18 (BENCHMARKS.md reports the
+# check); marks of opacity >= 0.3 usually score 0.3-0.99.
 MIN_SCORE = 0.2
 
 # Images larger than this (longest side, px) are searched on a reduced copy; only the found marks
@@ -163,7 +164,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
     cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2)
     # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
-    # then refine the two best: correlation alone ranks small spurious templates too high
+    # then refine the best three: correlation alone ranks small spurious templates too high
     screened = []
     for c in cands:
         m, box = render_at(text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]), (H, W))

@@ -193,13 +193,20 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     on texture explains little, so this is the statistic the detection threshold applies to. A real
     mark is explained along its whole length, while a chance alignment with photo structure (a
     star field, a few edges) usually explains one part only: the score is capped at 1.5 times the
-    share on the weaker half of the mark.
+    share on the weaker half of the mark. A share measured on few patches varies more by chance
+    (its spread goes as 1/sqrt(n)), and the search picks the best of many placements, so small
+    marks with fewer than ``FULL_WEIGHT_PATCHES`` edge patches are discounted by sqrt(n / 100):
+    one threshold then holds for every size.
     """
     patch = int(np.clip(round(2.5 * stroke_width(M) + 4), 8, 32))
-    # at most ~150k pixels: large marks have large patches, and plenty of them
-    n = int(np.clip(150_000 // patch**2, 100, 600))
+    # at most ~150k pixels: large marks have large patches, and plenty of them (never below 100)
+    n = int(np.clip(150_000 // patch**2, FULL_WEIGHT_PATCHES, 600))
     fit = fit_blend(y, M, patch=patch, irls=1, max_patches=n, random_state=random_state)
-    return float(min(fit.explained, 1.5 * fit.weaker_half))
+    shrink = min(1.0, float(np.sqrt(fit.n_patches / FULL_WEIGHT_PATCHES)))
+    return float(min(fit.explained, 1.5 * fit.weaker_half) * shrink)
+
+
+FULL_WEIGHT_PATCHES = 100
 
 
 def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, levels: int = 255,

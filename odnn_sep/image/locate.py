@@ -3,7 +3,8 @@
 The search is coarse-to-fine on band-pass correlation (``features.match_bandpass``): every (size,
 angle) on a log/linear grid at a pyramid level where the glyphs are about 10 px tall, the best
 places of each, then a finer (size, angle, position) grid at a level where they are about 24 px
-tall around the best hypotheses, for every candidate font. The final sub-pixel fit minimises the
+tall around the best hypotheses (without a pinned font: for the two fonts that look best there).
+The caller screens the hypotheses with the blend fit, and the final sub-pixel fit minimises the
 blend model's residual (see ``register``).
 """
 from __future__ import annotations
