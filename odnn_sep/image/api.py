@@ -171,7 +171,7 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
         if m.size == 0:
             continue
         try:
-            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0,
+            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0, xatol=2e-3,
                           random_state=random_state)
         except NotIdentifiableError:
             continue

@@ -100,7 +100,8 @@ def _patches(y, M, size, max_patches, rng):
 
 
 def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree: int = 1,
-              max_patches: int = 800, alpha_max: float = 1.0, irls: int = 3, random_state=0) -> BlendFit:
+              max_patches: int = 800, alpha_max: float = 1.0, irls: int = 3, xatol: float = 1e-6,
+              random_state=0) -> BlendFit:
     """Estimate opacity ``alpha`` and ``beta = alpha * colour`` of a mark of known coverage ``M``.
 
     Parameters
@@ -109,6 +110,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     M : (h, w) coverage in [0, 1]
     patch : patch side in px (default 8)
     degree : polynomial degree of the photo inside a patch (0, 1 or 2)
+    xatol : tolerance on ``alpha`` (a screening fit that only needs ``explained`` can be coarse)
 
     Examples
     --------
@@ -150,13 +152,13 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     vals = np.array([prof(a) for a in grid])
     k = int(np.argmin(vals))
     lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
-    alpha = float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": 1e-6}).x)
+    alpha = float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": xatol}).x)
     for _ in range(irls):
         _, rss_p, _ = prof.parts(alpha)
         s = np.median(rss_p) + 1e-30
         prof.w = 1.0 / (1.0 + (rss_p / (2.0 * s)) ** 2)
         alpha = float(minimize_scalar(prof, bounds=(max(1e-4, alpha - 0.08), min(a_hi, alpha + 0.08)),
-                                      method="bounded", options={"xatol": 1e-6}).x)
+                                      method="bounded", options={"xatol": xatol}).x)
     beta, rss_p, _ = prof.parts(alpha)
     rss = float(np.sum(prof.w * rss_p))
     # standard error from the curvature of the negative log-likelihood
