@@ -57,27 +57,27 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
     basis_cache, sub_cache = {"min_n": L}, {"min_n": L}
     zs, vs = [], []
     prev_piece = np.zeros((0, C))
-    prev_tail = np.zeros((0, C))
+    prev_tail = np.zeros((C, 0), np.float32)
     for b in range(nb):
         piece = source.read(b * hop, hop)
         s0 = (b - 1) * hop
-        blk = np.vstack([prev_piece, piece]) if prev_piece.size else piece
+        parts = [p for p in (prev_piece, piece) if p.shape[0]]
         i0 = max(s0, 0)
-        n = blk.shape[0]
-        hum = np.zeros((n, C))
+        n = prev_piece.shape[0] + piece.shape[0]
+        hum = None                                                              # (C, n) float32
         zq = None
         if n and nl:
-            w = w_full if n == L else np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
-            # fit weights: the block's window, or a Hann over the visible part of a block cut by
-            # the signal's start/end (a one-sided window would leak the content onto the lines)
-            w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
-            got = None
+            theta = Fm = None
             if n == L and solver == "exact":
-                got = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], blk)
-            if got is None:
-                got = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step,
-                                   basis_cache, sub_cache, col_names, random_state)
-            theta, Fm = got
+                theta = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts)
+            w = w_full if n == L else np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
+            if theta is None:
+                # fit weights: the block's window, or a Hann over the visible part of a block cut
+                # by the signal's start/end (a one-sided window would leak the content onto the lines)
+                w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
+                blk = np.vstack(parts) if len(parts) > 1 else parts[0]
+                theta, Fm = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step,
+                                         basis_cache, sub_cache, col_names, random_state)
             theta = theta[: 2 * nl]
             valid[b] = n == L
             # complex amplitudes a - i b: tracked lines in the block's phase reference, fixed
@@ -99,20 +99,23 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
             amps[b] = np.abs(z).T
             phs[b] = np.angle(z).T
             # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply
-            hum = fitter.fixed_hum(i0, n, z[len(ks):]) if nfix else np.zeros((n, C), np.float32)
+            hum = fitter.fixed_hum(i0, n, z[len(ks):]) if nfix else np.zeros((C, n), np.float32)
             if pm:
-                th = np.empty((pm, C), Fm.dtype)
-                th[0::2], th[1::2] = z[: len(ks)].real, -z[: len(ks)].imag
-                hum += np.dot(Fm, th)
-            hum *= (w32_full if n == L else w.astype(np.float32))[:, None]
+                if Fm is None:
+                    hum += fitter.tracked_hum(z[: len(ks)], n)
+                else:
+                    th = np.empty((C, pm), Fm.dtype)
+                    th[:, 0::2], th[:, 1::2] = z[: len(ks)].real.T, -z[: len(ks)].imag.T
+                    hum += np.dot(th, Fm.T)
+            hum *= w32_full if n == L else w.astype(np.float32)
         if M and zq is None:
             zs.append(None)
             vs.append(None)
         npv = prev_piece.shape[0]
         if npv:
-            removed = prev_tail + hum[:npv]
+            removed = (prev_tail + hum[:, :npv] if hum is not None else prev_tail).T
             sink(prev_piece - removed, removed)
-        prev_tail = hum[npv:]
+        prev_tail = hum[:, npv:] if hum is not None else np.zeros((C, n - npv), np.float32)
         prev_piece = piece
         if tick is not None:
             tick(piece.shape[0])

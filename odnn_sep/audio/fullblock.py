@@ -1,5 +1,5 @@
-"""The exact solver for full-length blocks: fixed-line columns evaluated once, tracked-comb Gram in
-closed form (see :class:`FullBlockFitter`)."""
+"""The exact solver for full-length blocks: fixed-line sums through one short table, tracked-comb
+Gram in closed form (see :class:`FullBlockFitter`)."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,27 +8,35 @@ from scipy import linalg
 from odnn_sep.audio import fit as _fit
 
 NEAR_BINS = 64.0   # lines closer than this many window bins are coupled in the Gram matrix
+CHUNK = 4096       # samples per chunk of the fixed-line table (its products stay in cache)
 
 
 class FullBlockFitter:
-    """The exact solver for full-length blocks, with the fixed-frequency columns evaluated once.
+    """The exact solver for full-length blocks, without a per-block basis for the fixed lines.
 
-    A fixed line (tone, further comb) over a block starting at sample ``i0`` is the same column
-    pair as over a block starting at 0, turned by the phase ``k * 2 pi * i0 * f / sr``: a change
-    of coordinates of its (cos, sin) pair. So the fixed and nuisance columns and their Gram block
-    are computed once (at ``i0 = 0``), and each block computes only the tracked comb's columns;
-    the fitted coefficients are turned back to the absolute-time phase convention of
-    :func:`block_basis`.
+    A fixed line (tone, further comb) at sample ``i0 + j c + u`` of a block (chunk ``j`` of
+    ``c`` samples, offset ``u``) is ``exp(i theta(i0)) exp(i theta(j c)) exp(i theta(u))``: the same
+    short table of ``c`` rows for every chunk of every block, turned by a phase per chunk. So the
+    window-weighted sums of the samples against the fixed columns are one product of the samples
+    (chunks as rows) with that table, combined over chunks with the chunk phasors, and the fixed
+    lines' hum is the table times per-chunk coefficients: no basis the length of a block is
+    evaluated or read for them. The constant and trend nuisance columns ride along (the table
+    holds ``1`` and ``u``).
 
-    The tracked comb's Gram block needs no sum over samples: over a full sin^2-weighted block its
-    harmonics (all at least NEAR_BINS window bins from each other, from 0 Hz and from Nyquist)
-    are orthogonal to ~1e-8, so it is ``sum(w) / 2`` times the identity; its couplings to the few
-    fixed lines close to a harmonic are slow phasors summed on a coarse grid (:meth:`_near_gram`).
-    Same least-squares problem, same answer to single-precision rounding (checked in the tests
-    against a float64 solve).
+    The tracked comb's columns are the powers of one complex phasor per sample (kept, so the fitted
+    comb is synthesised from the same powers). Its Gram block needs no sum over samples: over a
+    full sin^2-weighted block its harmonics (all at least NEAR_BINS window bins from each other,
+    from 0 Hz and from Nyquist) are orthogonal to ~1e-8, so it is ``sum(w) / 2`` times the
+    identity; its couplings to the few fixed lines close to a harmonic are slow phasors summed on
+    a coarse grid (:meth:`_near_gram`). The fixed and nuisance Gram block is computed once.
+    Same least-squares problem as :func:`fit.solve_block` on :func:`fit.block_basis`, same answer
+    to single-precision rounding (checked in the tests against a float64 solve).
+
+    Fitted amplitudes of the fixed lines are in absolute time (phase at sample 0 of the input);
+    the tracked comb's in the block's own reference (its centre).
     """
 
-    def __init__(self, L: int, sr: int, ks, fixed_lines, w: np.ndarray, gram_step: int):
+    def __init__(self, L: int, sr: int, ks, fixed_lines, w: np.ndarray, gram_step: int, chunk: int = CHUNK):
         self.L, self.sr, self.ks = L, sr, list(ks)
         self.fixed = list(fixed_lines)
         self.w = np.asarray(w, float)
@@ -36,15 +44,28 @@ class FullBlockFitter:
         pairs = [(fc, k) for fc, kk in _fit._as_combs(self.fixed) for k in kk]
         self.fc = np.array([p[0] for p in pairs], float)
         self.kf = np.array([p[1] for p in pairs], float)
-        self.pf = 2 * len(pairs)
-        self.R = _fit.block_basis(0, L, 0, sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, dtype=np.float32)
-        p = self.pm + self.R.shape[1]
+        self.nf = len(pairs)
+        self.pf = 2 * self.nf
+        p = self.pm + self.pf + 2
         self.q = gram_step if gram_step > 1 and L // gram_step >= 8 * p else 1
-        wq = self.w[:: self.q]
-        self.G_rr = _fit._weighted_gram(np.asfortranarray(self.R[:: self.q]), wq, float(self.q)).astype(np.float64)
+        R_sub = _fit.block_basis(0, L, 0, sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, step=self.q,
+                                 dtype=np.float32)
+        self.G_rr = _fit._weighted_gram(R_sub, self.w[:: self.q], float(self.q)).astype(np.float64)
         self.w32 = self.w.astype(np.float32)
         self.wsum = float(self.w.sum())
-        self.cache = {"min_n": L}
+        self.tau_cache = {"min_n": L}
+        # chunk table: fixed columns over one chunk (as block_basis from sample 0), then 1 and u
+        c = int(max(1, min(chunk, L)))
+        self.c, self.nch = c, -(-L // c)
+        Rc = _fit.block_basis(0, c, 0, sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, dtype=np.float32)
+        Rc[:, self.pf + 1] = np.arange(c, dtype=np.float32)
+        self.Rc = np.ascontiguousarray(Rc)                              # (c, pf + 2)
+        self.RcT = np.ascontiguousarray(Rc[:, : self.pf].T)             # (pf, c)
+        # chunk phasors exp(i theta_l(j c)) relative to the block start (the same for every block)
+        self.E = np.exp(2j * np.pi * self.kf[:, None] * np.mod(np.outer(self.fc, np.arange(self.nch) * c) / sr, 1.0))
+        # trend column (-1 + 2 t / (L - 1)) per chunk: offset part and slope part
+        self.tr0 = -1.0 + 2.0 * c * np.arange(self.nch) / max(L - 1, 1)
+        self.tr1 = 2.0 / max(L - 1, 1)
         # midpoint grid for the tracked-comb Gram entries (see _near_gram): spacing s samples,
         # fine enough for every difference frequency kept (< NEAR_BINS window bins)
         rate_d = 12 * NEAR_BINS * sr / L
@@ -53,13 +74,31 @@ class FullBlockFitter:
         self.t_d = -0.5 + self.s_d * (np.arange(Jd) + 0.5)
         self.w_d = np.sin(np.pi * (self.t_d + 0.5) / L) ** 2
         self.E_fix = np.exp(-2j * np.pi * np.mod(np.outer(self.kf * self.fc, self.t_d) / sr, 1.0))   # (nf, Jd)
+        self.Z = np.empty((len(self.ks), L), np.complex64) if self.pm else None
+        self._Yw = None
 
-    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, Y: np.ndarray):
-        """``(theta (2 * lines, C), tracked-comb columns (L, 2K))`` for the block starting at ``i0``
-        (fixed lines in absolute time: see :meth:`fixed_hum`; the columns are overwritten by the
-        next call), or None when the
-        block's basis is not well conditioned in float32 or a harmonic lies within NEAR_BINS window
-        bins of 0 Hz or Nyquist (the caller then uses :func:`solve_block`)."""
+    def weighted(self, parts, w32=None, n=None) -> np.ndarray:
+        """The samples times the window, channels as rows, float32 (C, nch * c), zero past the
+        block's end; ``parts``: consecutive (m, C) pieces of the block."""
+        C = parts[0].shape[1]
+        if self._Yw is None or self._Yw.shape[0] != C:
+            self._Yw = np.zeros((C, self.nch * self.c), np.float32)
+        Yw = self._Yw
+        w32 = self.w32 if w32 is None else w32
+        a = 0
+        for y in parts:
+            b = a + y.shape[0]
+            np.multiply(y.T, w32[a:b], out=Yw[:, a:b], dtype=np.float32)
+            a = b
+        Yw[:, a:] = 0.0
+        return Yw
+
+    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts):
+        """``theta (2 * lines, C)`` for the full block starting at ``i0`` (``parts``: its samples,
+        consecutive (m, C) pieces), or None when the block's basis is not well conditioned in
+        float32 or a harmonic lies within NEAR_BINS window bins of 0 Hz or Nyquist (the caller
+        then uses :func:`fit.solve_block`). The tracked comb's powers are kept for
+        :meth:`tracked_hum` until the next call."""
         L, sr = self.L, self.sr
         pm = self.pm
         if pm:
@@ -67,9 +106,7 @@ class FullBlockFitter:
             margin = NEAR_BINS * sr / L
             if fk.min() < margin or fk.max() > sr / 2 - margin:
                 return None
-            M = _fit.block_basis(i0, L, centre, sr, f0, rate, curv, self.ks, [], nuisance=False, cache=self.cache,
-                            dtype=np.float32)
-            G = np.zeros((pm + self.R.shape[1],) * 2)
+            G = np.zeros((pm + self.G_rr.shape[0],) * 2)
             G[:pm, :pm] = np.diag(np.full(pm, 0.5 * self.wsum))
             G[pm:, pm:] = self.G_rr
             # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
@@ -81,10 +118,6 @@ class FullBlockFitter:
                 G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
         else:
             G = self.G_rr
-        Yw = np.multiply(Y, self.w32[:, None], dtype=np.float32)
-        rhs_r = np.dot(self.R.T, Yw)
-        rhs = np.vstack([np.dot(M.T, Yw), rhs_r]) if pm else rhs_r
-        rhs = rhs.astype(np.float64)
         d = np.sqrt(np.maximum(np.diag(G), 1e-300))
         try:
             c, low = linalg.cho_factor(G / np.outer(d, d), check_finite=False)
@@ -93,6 +126,13 @@ class FullBlockFitter:
             return None
         if rc ** 2 < 1e-3:
             return None
+        Yw = self.weighted(parts)
+        rhs_r = self.fixed_sums(Yw)
+        if pm:
+            self._powers(i0, L, centre, f0, rate, curv)
+            rhs = np.vstack([self.tracked_sums(Yw, L), rhs_r])
+        else:
+            rhs = rhs_r
         theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
         pf = self.pf
         th_m, th_f = theta[:pm], theta[pm: pm + pf]
@@ -101,7 +141,66 @@ class FullBlockFitter:
             z = (th_f[0::2] - 1j * th_f[1::2]) * np.exp(-1j * self._alpha(i0))[:, None]
             th_f = np.empty_like(th_f)
             th_f[0::2], th_f[1::2] = z.real, -z.imag
-        return np.vstack([th_m, th_f]), (M if pm else np.zeros((L, 0), np.float32))
+        return np.vstack([th_m, th_f])
+
+    def fixed_sums(self, Yw) -> np.ndarray:
+        """Sums of the weighted samples ``Yw`` (C, nch * c) against the fixed columns (block-start
+        phase reference) and the two nuisance columns: (pf + 2, C), float64."""
+        C = Yw.shape[0]
+        S = np.dot(Yw.reshape(C * self.nch, self.c), self.Rc).astype(np.float64)
+        S = S.reshape(C, self.nch, self.pf + 2)
+        out = np.empty((self.pf + 2, C))
+        if self.pf:
+            X = S[:, :, 0: self.pf: 2] + 1j * S[:, :, 1: self.pf: 2]             # (C, nch, nf)
+            Z = np.einsum("lj,cjl->lc", self.E, X)
+            out[0: self.pf: 2], out[1: self.pf: 2] = Z.real, Z.imag
+        out[self.pf] = S[:, :, self.pf].sum(axis=1)
+        out[self.pf + 1] = np.dot(S[:, :, self.pf], self.tr0) + self.tr1 * S[:, :, self.pf + 1].sum(axis=1)
+        return out
+
+    def _powers(self, i0, n, centre, f0, rate, curv):
+        """The tracked harmonics' phasors over samples ``i0 .. i0 + n`` into ``self.Z[:, :n]``:
+        powers of one phasor per sample, by repeated multiplication (as :func:`fit.block_basis`)."""
+        key = (n, i0 - centre)
+        if self.tau_cache.get("key") == key:
+            tau = self.tau_cache["tau"]
+        else:
+            tau = (i0 + np.arange(n) - centre) / self.sr
+            if n >= self.tau_cache["min_n"]:
+                self.tau_cache.update(key=key, tau=tau)
+        cyc = np.multiply(tau, curv / 6)
+        cyc += rate / 2
+        cyc *= tau
+        cyc += f0
+        cyc *= tau
+        cyc -= np.rint(cyc)
+        Z = self.Z[:, :n]
+        z = Z[0] if self.ks[0] == 1 else np.empty(n, np.complex64)
+        r32 = cyc.astype(np.float32)
+        r32 *= np.float32(2 * np.pi)
+        np.cos(r32, out=z.real)
+        np.sin(r32, out=z.imag)
+        kprev, src = 1, z
+        for i, k in enumerate(self.ks):
+            if k == 1:
+                continue
+            np.multiply(src, z, out=Z[i])
+            for _ in range(k - kprev - 1):
+                np.multiply(Z[i], z, out=Z[i])
+            kprev, src = k, Z[i]
+
+    def tracked_sums(self, Yw, n) -> np.ndarray:
+        """Sums of ``Yw`` against the tracked columns (cos, sin per harmonic): (pm, C), float64."""
+        Yc = Yw[:, :n].astype(np.complex64)
+        X = np.dot(self.Z[:, :n], Yc.T)                                              # (K, C)
+        out = np.empty((self.pm, Yw.shape[0]))
+        out[0::2], out[1::2] = X.real, X.imag
+        return out
+
+    def tracked_hum(self, z: np.ndarray, n: int) -> np.ndarray:
+        """The tracked comb with complex amplitudes ``z`` (K, C; ``a - i b``, block reference) over
+        the last fitted block's first ``n`` samples, unwindowed, float32 (C, n)."""
+        return np.dot(z.T.astype(np.complex64), self.Z[:, :n]).real
 
     def _near_gram(self, i0, centre, f0, rate, curv, near) -> np.ndarray:
         """Gram entries between the tracked columns and the fixed columns (pm, pf).
@@ -132,8 +231,12 @@ class FullBlockFitter:
 
     def fixed_hum(self, i0: int, n: int, z: np.ndarray) -> np.ndarray:
         """The fixed lines over samples ``i0 .. i0 + n`` (n <= L) with complex amplitudes ``z``
-        (lines, C; ``a - i b`` in absolute time), unwindowed, float32 (n, C)."""
-        zr = z * np.exp(1j * self._alpha(i0))[:, None]
-        th = np.empty((self.pf, z.shape[1]), np.float32)
-        th[0::2], th[1::2] = zr.real, -zr.imag
-        return np.dot(self.R[:n, : self.pf], th)
+        (lines, C; ``a - i b`` in absolute time), unwindowed, float32 (C, n)."""
+        C = z.shape[1]
+        nch = -(-n // self.c)
+        # per chunk: amplitude turned to the chunk's start, as (cos, -sin) coefficients
+        b = (z * np.exp(1j * self._alpha(i0))[:, None])[:, :, None] * self.E[:, None, :nch]    # (nf, C, nch)
+        coef = np.empty((self.pf, C, nch), np.float32)
+        coef[0::2], coef[1::2] = b.real, -b.imag
+        H = np.dot(coef.reshape(self.pf, C * nch).T, self.RcT)                      # (C * nch, c)
+        return H.reshape(C, nch * self.c)[:, :n]

@@ -13,24 +13,28 @@ def test_full_block_fitter_matches_float64_least_squares():
     # a second comb 0.09 Hz above the tracked one (close pairs) and a tone
     fixed = [(60.09, [1, 2, 3]), 333.3]
     w = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
-    fr = fullblock.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3)
+    # a chunk length that does not divide the block (the last chunk is padded)
+    fr = fullblock.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3, chunk=3000)
     i0, centre, f0, rate, curv = 3 * 16000, 4 * 16000, 59.99, 0.002, -0.0003
-    Mb = fit.block_basis(i0, L, centre, sr, f0, rate, curv, ks, [], nuisance=False).astype(float)
-    R = fr.R.astype(float)
-    F = np.hstack([Mb, R])
+    # the general basis: tracked comb in the block's reference, fixed lines in absolute time
+    F = fit.block_basis(i0, L, centre, sr, f0, rate, curv, ks, fixed, nuisance=True).astype(float)
     Y = rng.standard_normal((L, 2)) + F[:, :6] @ rng.standard_normal((6, 2))
-    got = fr.fit(i0, centre, f0, rate, curv, Y)
-    assert got is not None
-    theta, cols = got
+    # the block handed over in two pieces, as the fit pass does
+    theta = fr.fit(i0, centre, f0, rate, curv, [Y[: L // 2], Y[L // 2:]])
+    assert theta is not None
     sw = np.sqrt(w)[:, None]
     ref = np.linalg.lstsq(F * sw, Y * sw, rcond=None)[0]
-    pm, pf = fr.pm, fr.pf
-    # the solver reports the fixed lines in absolute time: turn the reference the same way
-    z = (ref[pm:pm + pf:2] - 1j * ref[pm + 1:pm + pf:2]) * np.exp(-1j * fr._alpha(i0))[:, None]
-    ref_abs = ref[:pm + pf].copy()
-    ref_abs[pm::2], ref_abs[pm + 1::2] = z.real, -z.imag
-    np.testing.assert_allclose(theta[:pm + pf], ref_abs, atol=2e-5 * np.abs(ref_abs).max())
-    np.testing.assert_allclose(cols, Mb, atol=1e-5)
+    p = fr.pm + fr.pf
+    np.testing.assert_allclose(theta[:p], ref[:p], atol=2e-5 * np.abs(ref[:p]).max())
+    # synthesis from the kept powers and the chunk table equals the basis times the coefficients
+    z = theta[0::2] - 1j * theta[1::2]
+    K = len(ks)
+    hum = fr.tracked_hum(z[:K], L) + fr.fixed_hum(i0, L, z[K:])
+    np.testing.assert_allclose(hum.T, F[:, :p] @ theta[:p], atol=1e-5 * np.abs(Y).max())
+    # a stretch cut short (the last block of a signal)
+    n = 20000
+    np.testing.assert_allclose(fr.fixed_hum(i0, n, z[K:]).T, F[:n, 2 * K:p] @ theta[2 * K:p],
+                               atol=1e-5 * np.abs(Y).max())
 
 
 def test_full_block_fitter_declines_harmonics_near_nyquist():
