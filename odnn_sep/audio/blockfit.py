@@ -68,8 +68,9 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
         zq = None
         if n and nl:
             theta = Fm = None
-            if n == L and solver == "exact":
-                theta = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts)
+            if solver == "exact":
+                # blocks cut by the signal's ends too: fitted under a Hann over their visible part
+                theta = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n)
             w = w_full if n == L else np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
             if theta is None:
                 # fit weights: the block's window, or a Hann over the visible part of a block cut

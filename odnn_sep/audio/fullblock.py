@@ -6,6 +6,7 @@ import numpy as np
 from scipy import linalg
 
 from odnn_sep.audio import fit as _fit
+from odnn_sep.audio import gram as _gram
 
 NEAR_BINS = 64.0   # lines closer than this many window bins are coupled in the Gram matrix
 CHUNK = 4096       # samples per chunk of the fixed-line table (its products stay in cache)
@@ -39,20 +40,16 @@ class FullBlockFitter:
     def __init__(self, L: int, sr: int, ks, fixed_lines, w: np.ndarray, gram_step: int, chunk: int = CHUNK):
         self.L, self.sr, self.ks = L, sr, list(ks)
         self.fixed = list(fixed_lines)
-        self.w = np.asarray(w, float)
         self.pm = 2 * len(self.ks)
         pairs = [(fc, k) for fc, kk in _fit._as_combs(self.fixed) for k in kk]
         self.fc = np.array([p[0] for p in pairs], float)
         self.kf = np.array([p[1] for p in pairs], float)
         self.nf = len(pairs)
         self.pf = 2 * self.nf
-        p = self.pm + self.pf + 2
-        self.q = gram_step if gram_step > 1 and L // gram_step >= 8 * p else 1
-        R_sub = _fit.block_basis(0, L, 0, sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, step=self.q,
-                                 dtype=np.float32)
-        self.G_rr = _fit._weighted_gram(R_sub, self.w[:: self.q], float(self.q)).astype(np.float64)
-        self.w32 = self.w.astype(np.float32)
-        self.wsum = float(self.w.sum())
+        self.gram_step = gram_step
+        w = np.asarray(w, float)
+        self._win = {L: (w, w.astype(np.float32), float(w.sum()))}
+        self._grr, self._near = {}, {}
         self.tau_cache = {"min_n": L}
         # chunk table: fixed columns over one chunk (as block_basis from sample 0), then 1 and u
         c = int(max(1, min(chunk, L)))
@@ -63,28 +60,44 @@ class FullBlockFitter:
         self.RcT = np.ascontiguousarray(Rc[:, : self.pf].T)             # (pf, c)
         # chunk phasors exp(i theta_l(j c)) relative to the block start (the same for every block)
         self.E = np.exp(2j * np.pi * self.kf[:, None] * np.mod(np.outer(self.fc, np.arange(self.nch) * c) / sr, 1.0))
-        # trend column (-1 + 2 t / (L - 1)) per chunk: offset part and slope part
-        self.tr0 = -1.0 + 2.0 * c * np.arange(self.nch) / max(L - 1, 1)
-        self.tr1 = 2.0 / max(L - 1, 1)
-        # midpoint grid for the tracked-comb Gram entries (see _near_gram): spacing s samples,
-        # fine enough for every difference frequency kept (< NEAR_BINS window bins)
-        rate_d = 12 * NEAR_BINS * sr / L
-        Jd = int(min(L, np.ceil(L * rate_d / sr)))
-        self.s_d = L / Jd
-        self.t_d = -0.5 + self.s_d * (np.arange(Jd) + 0.5)
-        self.w_d = np.sin(np.pi * (self.t_d + 0.5) / L) ** 2
-        self.E_fix = np.exp(-2j * np.pi * np.mod(np.outer(self.kf * self.fc, self.t_d) / sr, 1.0))   # (nf, Jd)
         self.Z = np.empty((len(self.ks), L), np.complex64) if self.pm else None
         self._Yw = None
 
-    def weighted(self, parts, w32=None, n=None) -> np.ndarray:
-        """The samples times the window, channels as rows, float32 (C, nch * c), zero past the
-        block's end; ``parts``: consecutive (m, C) pieces of the block."""
+    def window(self, n: int):
+        """``(w, w float32, sum w)``: the sin^2 fit window over ``n`` samples (the block's own for
+        a full block, a Hann over the visible part of a block cut by the signal's ends)."""
+        got = self._win.get(n)
+        if got is None:
+            w = np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
+            got = self._win[n] = (w, w.astype(np.float32), float(w.sum()))
+        return got
+
+    def gram_fixed(self, n: int) -> np.ndarray:
+        """Gram block of the fixed and nuisance columns (block-start phase reference) under the
+        window over ``n`` samples: closed form (gram.py) when every line is well inside the
+        band, else summed on a sub-sampled basis."""
+        G = self._grr.get(n)
+        if G is None:
+            margin = NEAR_BINS * self.sr / n
+            f = self.kf * self.fc
+            if not len(f) or (f.min() >= margin and f.max() <= self.sr / 2 - margin):
+                G = _gram.fixed_gram(2 * np.pi * f / self.sr, n)
+            else:
+                p = self.pm + self.pf + 2
+                q = self.gram_step if self.gram_step > 1 and n // self.gram_step >= 8 * p else 1
+                R_sub = _fit.block_basis(0, n, 0, self.sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, step=q,
+                                         dtype=np.float32)
+                G = _fit._weighted_gram(R_sub, self.window(n)[0][::q], float(q)).astype(np.float64)
+            self._grr[n] = G
+        return G
+
+    def weighted(self, parts, w32) -> np.ndarray:
+        """The samples times the window ``w32``, channels as rows, float32 (C, nch * c), zero past
+        the block's end; ``parts``: consecutive (m, C) pieces of the block."""
         C = parts[0].shape[1]
         if self._Yw is None or self._Yw.shape[0] != C:
             self._Yw = np.zeros((C, self.nch * self.c), np.float32)
         Yw = self._Yw
-        w32 = self.w32 if w32 is None else w32
         a = 0
         for y in parts:
             b = a + y.shape[0]
@@ -93,31 +106,39 @@ class FullBlockFitter:
         Yw[:, a:] = 0.0
         return Yw
 
-    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts):
-        """``theta (2 * lines, C)`` for the full block starting at ``i0`` (``parts``: its samples,
-        consecutive (m, C) pieces), or None when the block's basis is not well conditioned in
-        float32 or a harmonic lies within NEAR_BINS window bins of 0 Hz or Nyquist (the caller
-        then uses :func:`fit.solve_block`). The tracked comb's powers are kept for
-        :meth:`tracked_hum` until the next call."""
-        L, sr = self.L, self.sr
+    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts, n: int | None = None):
+        """``theta (2 * lines, C)`` for the block whose samples ``i0 .. i0 + n`` are ``parts``
+        (consecutive (m, C) pieces; ``n`` defaults to the full block, a shorter one is weighted
+        by a Hann over its ``n`` samples), or None when the closed-form Gram does not hold (a
+        tracked harmonic within NEAR_BINS window bins of 0 Hz, of Nyquist or of another one) or
+        the basis is not well conditioned in float32: the caller then uses
+        :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`tracked_hum`
+        until the next call."""
+        n = self.L if n is None else int(n)
+        sr = self.sr
         pm = self.pm
+        if n < 16 or n > self.L:
+            return None
+        w, w32, wsum = self.window(n)
+        G_rr = self.gram_fixed(n)
         if pm:
-            fk = np.asarray(self.ks, float) * f0
-            margin = NEAR_BINS * sr / L
-            if fk.min() < margin or fk.max() > sr / 2 - margin:
+            kk = np.asarray(self.ks, float)
+            fk = kk * f0
+            margin = NEAR_BINS * sr / n
+            if fk.min() < margin or fk.max() > sr / 2 - margin or (len(kk) > 1 and np.diff(fk).min() < margin):
                 return None
-            G = np.zeros((pm + self.G_rr.shape[0],) * 2)
-            G[:pm, :pm] = np.diag(np.full(pm, 0.5 * self.wsum))
-            G[pm:, pm:] = self.G_rr
+            G = np.zeros((pm + G_rr.shape[0],) * 2)
+            G[:pm, :pm] = np.diag(np.full(pm, 0.5 * wsum))
+            G[pm:, pm:] = G_rr
             # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
             # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
             # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
-            near = np.abs(np.asarray(self.ks, float)[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
+            near = np.abs(kk[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
             if near.any():
-                G[:pm, pm: pm + self.pf] = self._near_gram(i0, centre, f0, rate, curv, near)
+                G[:pm, pm: pm + self.pf] = self._near_gram(i0, n, centre, f0, rate, curv, near)
                 G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
         else:
-            G = self.G_rr
+            G = G_rr
         d = np.sqrt(np.maximum(np.diag(G), 1e-300))
         try:
             c, low = linalg.cho_factor(G / np.outer(d, d), check_finite=False)
@@ -126,11 +147,11 @@ class FullBlockFitter:
             return None
         if rc ** 2 < 1e-3:
             return None
-        Yw = self.weighted(parts)
-        rhs_r = self.fixed_sums(Yw)
+        Yw = self.weighted(parts, w32)
+        rhs_r = self.fixed_sums(Yw, n)
         if pm:
-            self._powers(i0, L, centre, f0, rate, curv)
-            rhs = np.vstack([self.tracked_sums(Yw, L), rhs_r])
+            self._powers(i0, n, centre, f0, rate, curv)
+            rhs = np.vstack([self.tracked_sums(Yw, n), rhs_r])
         else:
             rhs = rhs_r
         theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
@@ -143,9 +164,10 @@ class FullBlockFitter:
             th_f[0::2], th_f[1::2] = z.real, -z.imag
         return np.vstack([th_m, th_f])
 
-    def fixed_sums(self, Yw) -> np.ndarray:
-        """Sums of the weighted samples ``Yw`` (C, nch * c) against the fixed columns (block-start
-        phase reference) and the two nuisance columns: (pf + 2, C), float64."""
+    def fixed_sums(self, Yw, n: int) -> np.ndarray:
+        """Sums of the weighted samples ``Yw`` (C, nch * c; zero past ``n``) against the fixed
+        columns (block-start phase reference) and the two nuisance columns (constant, trend
+        ``-1 + 2 t / (n - 1)``): (pf + 2, C), float64."""
         C = Yw.shape[0]
         S = np.dot(Yw.reshape(C * self.nch, self.c), self.Rc).astype(np.float64)
         S = S.reshape(C, self.nch, self.pf + 2)
@@ -155,7 +177,9 @@ class FullBlockFitter:
             Z = np.einsum("lj,cjl->lc", self.E, X)
             out[0: self.pf: 2], out[1: self.pf: 2] = Z.real, Z.imag
         out[self.pf] = S[:, :, self.pf].sum(axis=1)
-        out[self.pf + 1] = np.dot(S[:, :, self.pf], self.tr0) + self.tr1 * S[:, :, self.pf + 1].sum(axis=1)
+        slope = 2.0 / max(n - 1, 1)
+        tr0 = -1.0 + slope * self.c * np.arange(self.nch)
+        out[self.pf + 1] = np.dot(S[:, :, self.pf], tr0) + slope * S[:, :, self.pf + 1].sum(axis=1)
         return out
 
     def _powers(self, i0, n, centre, f0, rate, curv):
@@ -202,7 +226,7 @@ class FullBlockFitter:
         the last fitted block's first ``n`` samples, unwindowed, float32 (C, n)."""
         return np.dot(z.T.astype(np.complex64), self.Z[:, :n]).real
 
-    def _near_gram(self, i0, centre, f0, rate, curv, near) -> np.ndarray:
+    def _near_gram(self, i0, n, centre, f0, rate, curv, near) -> np.ndarray:
         """Gram entries between the tracked columns and the fixed columns (pm, pf).
 
         With B = sum_t w e^{i (k phi - theta_l)} (difference frequency, slow) and the sum-frequency
@@ -211,13 +235,24 @@ class FullBlockFitter:
         summand that vanishes with its slope at both ends of the block, so the midpoint rule on a
         grid well above its bandwidth gives it to ~1e-9.
         """
-        tau = (i0 + self.t_d - centre) / self.sr
+        got = self._near.get(n)
+        if got is None:
+            # midpoint grid: spacing s samples, fine enough for every difference frequency kept
+            # (< NEAR_BINS window bins)
+            Jd = int(min(n, np.ceil(12 * NEAR_BINS)))
+            s_d = n / Jd
+            t_d = -0.5 + s_d * (np.arange(Jd) + 0.5)
+            w_d = np.sin(np.pi * (t_d + 0.5) / n) ** 2
+            E_fix = np.exp(-2j * np.pi * np.mod(np.outer(self.kf * self.fc, t_d) / self.sr, 1.0))   # (nf, Jd)
+            got = self._near[n] = (s_d, t_d, w_d, E_fix)
+        s_d, t_d, w_d, E_fix = got
+        tau = (i0 + t_d - centre) / self.sr
         phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
         kk = np.asarray(self.ks, float)
         rows = np.flatnonzero(near.any(axis=1))
-        E_m = np.exp(1j * np.outer(kk[rows], phi)) * self.w_d[None, :]
+        E_m = np.exp(1j * np.outer(kk[rows], phi)) * w_d[None, :]
         B = np.zeros(near.shape, complex)
-        B[rows] = self.s_d * np.dot(E_m, self.E_fix.T)
+        B[rows] = s_d * np.dot(E_m, E_fix.T)
         B[~near] = 0.0
         G = np.zeros((2 * len(kk), self.pf))
         G[0::2, 0::2] = 0.5 * B.real

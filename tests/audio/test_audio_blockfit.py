@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from odnn_sep.audio import fit, fullblock
+from odnn_sep.audio import fit, fullblock, gram
 
 
 def test_full_block_fitter_matches_float64_least_squares():
@@ -44,3 +44,35 @@ def test_full_block_fitter_declines_harmonics_near_nyquist():
     # harmonic 9 of 55.3 Hz is 497.7 Hz, 2.3 Hz under Nyquist: the sum-frequency terms are not
     # negligible there, so the caller must take the general path
     assert fr.fit(0, 8000, 55.3, 0.0, 0.0, np.zeros((L, 1))) is None
+
+
+def test_closed_form_fixed_gram_matches_direct_sum():
+    sr = 8000
+    fixed = [(59.95, [2, 3, 7]), (60.002, [1, 5]), 1234.5]
+    om = np.array([2 * np.pi * k * fc / sr for fc, kk in fit._as_combs(fixed) for k in kk])
+    for n in (64000, 5001):
+        t = np.arange(n)
+        cols = [f(np.mod(o * t, 2 * np.pi)) for o in om for f in (np.cos, np.sin)]
+        F = np.stack(cols + [np.ones(n), -1 + 2 * t / (n - 1)], axis=1)
+        w = np.sin(np.pi * (t + 0.5) / n) ** 2
+        G = (F * w[:, None]).T @ F
+        scale = np.sqrt(np.outer(np.diag(G), np.diag(G)))
+        assert np.abs((gram.fixed_gram(om, n) - G) / scale).max() < 1e-11
+
+
+def test_block_cut_by_the_signal_end_matches_float64_least_squares():
+    rng = np.random.default_rng(6)
+    sr, L, n = 4000, 32000, 21000
+    ks = [1, 2, 3, 5]
+    fixed = [(60.09, [1, 2, 3]), 333.3]
+    w = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
+    fr = fullblock.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3)
+    i0, centre, f0, rate, curv = 16000, 16000, 60.02, -0.001, 0.0002
+    F = fit.block_basis(i0, n, centre, sr, f0, rate, curv, ks, fixed, nuisance=True).astype(float)
+    Y = 0.1 * rng.standard_normal((n, 1)) + F[:, :8] @ rng.standard_normal((8, 1))
+    theta = fr.fit(i0, centre, f0, rate, curv, [Y], n=n)
+    assert theta is not None
+    sw = np.sqrt(np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2)[:, None]
+    ref = np.linalg.lstsq(F * sw, Y * sw, rcond=None)[0]
+    p = fr.pm + fr.pf
+    np.testing.assert_allclose(theta[:p], ref[:p], atol=2e-5 * np.abs(ref[:p]).max())
