@@ -103,7 +103,7 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
         if s_int < 1 or abs(s_c - s_int) < 1e-3:
             continue
         q3 = np.log(s_int / size)
-        q, g = nm(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]), min(iterations, 40))
+        q, g = nm(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]), min(iterations, 25))
         if best_int is None or g < best_int[1]:
             best_int = (np.r_[q, q3], g)
     if best_int is not None and best_int[1] < f:
