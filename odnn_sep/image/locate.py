@@ -56,6 +56,18 @@ def _centre(xx, yy, t, f):
     return (xx - PAD + (t.shape[1] - 1) / 2) / f, (yy - PAD + (t.shape[0] - 1) / 2) / f
 
 
+def _subpixel(r, yy, xx) -> tuple[float, float]:
+    """Parabolic interpolation of a correlation peak (a level pixel is several image pixels: the
+    blend-fit screening that follows needs the placement to about a pixel)."""
+    def off(a, b, c):
+        den = a - 2.0 * b + c
+        return float(np.clip(0.5 * (a - c) / den, -0.5, 0.5)) if den < 0 else 0.0
+
+    dy = off(r[yy - 1, xx], r[yy, xx], r[yy + 1, xx]) if 0 < yy < r.shape[0] - 1 else 0.0
+    dx = off(r[yy, xx - 1], r[yy, xx], r[yy, xx + 1]) if 0 < xx < r.shape[1] - 1 else 0.0
+    return dy, dx
+
+
 def _corner(cx, cy, t, f):
     """Inverse of ``_centre`` (rounded)."""
     return int(round(cx * f - (t.shape[1] - 1) / 2)) + PAD, int(round(cy * f - (t.shape[0] - 1) / 2)) + PAD
@@ -195,7 +207,8 @@ def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=((0.05, 1.8, 2), (0.02, 0.
                 yy, xx = divmod(i, r.shape[1])
                 v = float(r[yy, xx])
                 if best is None or v > best[0]:
-                    best = (v, float(s), float(a), *_centre(xa + xx, ya + yy, T, f))
+                    dy, dx = _subpixel(r, yy, xx)
+                    best = (v, float(s), float(a), *_centre(xa + xx + dx, ya + yy + dy, T, f))
         if best is None:
             return None
         _, s0, a0, cx0, cy0 = best

@@ -1,0 +1,177 @@
+"""Text mode of ``unwatermark``: search the rendered text, screen and register the hypotheses,
+decide on detection, find repeated copies, and (for large images) do all that on a reduced copy with
+only the found marks registered at full resolution."""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.errors import InputError, NotIdentifiableError
+
+# Images larger than this (longest side, px) are searched on a reduced copy; only the found marks
+# are refined at full resolution.
+WORK_MAX_PX = 1024
+
+
+def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state):
+    """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view)."""
+    return _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state)
+
+
+def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
+    from odnn_sep.image.estimate import detection_score, fit_blend
+    from odnn_sep.image.locate import Match, repeats, search
+    from odnn_sep.image.register import refine, render_at
+    from odnn_sep.image.render import default_fonts, resolve_font
+
+    H, W = y.shape[:2]
+    if max(H, W) > WORK_MAX_PX:
+        return _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state)
+    fonts = [resolve_font(font)] if font is not None else default_fonts()
+    off = (0, 0)
+    ys = y
+    if region is not None:  # search only where the user says the mark is
+        rr, cc = np.nonzero(region)
+        pad = 16
+        off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
+        ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
+    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2)
+    # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
+    # then refine the best three: correlation alone ranks small spurious templates too high
+    screened = []
+    for c in cands:
+        m, box = render_at(text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]), (H, W))
+        if m.size == 0:
+            continue
+        try:
+            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0, xatol=2e-3,
+                          random_state=random_state)
+        except NotIdentifiableError:
+            continue
+        screened.append((f.explained, c))
+    # Refine the three that screen best and the two that correlate best: the screening fit needs
+    # the placement to about a pixel, which the correlation grid does not always give (a faint mark
+    # then screens below a chance alignment while still leading the correlation).
+    by_corr = sorted(screened, key=lambda t: -t[1].score)[:2]
+    screened.sort(key=lambda t: -t[0])
+    order = screened[:3] + [t for t in by_corr if all(t[1] is not u[1] for u in screened[:3])]
+    best, best_nc = None, None
+    for sc0, c in order:
+        if best is not None and best.fit.explained >= 0.5 and sc0 < 0.8 * screened[0][0]:
+            continue  # a clear detection: no need to refine clearly weaker hypotheses (another font
+            # at the same place screens about as well, and is refined)
+        try:
+            # on a reduced copy the placement is only a start for the full-resolution registration
+            p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
+                       iterations=30 if reduced else 60, whole_sizes=not reduced, random_state=random_state)
+        except NotIdentifiableError:
+            continue
+        if best is None or p.fit.explained > best.fit.explained:
+            best, best_nc = p, c
+    score = 0.0
+    if best is not None:
+        x0, y0, x1, y1 = best.box
+        score = detection_score(y[y0:y1, x0:x1], best.coverage, random_state=random_state)
+    if best is None or score < min_score:
+        raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
+                         f"{min_score:g}); check --text/--font or give --mask")
+    placed = [best]
+    if max_marks > 1:
+        ref = Match(best.font, best.size, best.angle, (best.center[0] - off[0], best.center[1] - off[1]),
+                    best_nc.score)
+        for r in repeats(ys, text, ref, max_marks=max_marks)[1:]:
+            rc = (r.center[0] + off[0], r.center[1] + off[1])
+            m, box = render_at(text, best.font, best.size, best.angle, rc, (H, W))
+            if m.size == 0:
+                continue
+            try:
+                if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
+                    continue
+                p = refine(y, text, best.font, best.size, best.angle, (r.center[0] + off[0], r.center[1] + off[1]),
+                           iterations=30, whole_sizes=not reduced, random_state=random_state)
+            except NotIdentifiableError:
+                continue
+            x0, y0, x1, y1 = p.box
+            if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
+                placed.append(p)
+    return _assemble(y, text, placed, score, min_score, random_state)
+
+
+def _assemble(y, text, placed, score, min_score, random_state):
+    """Coverage of all placed copies, one opacity and colour for them, and the report fields."""
+    from odnn_sep.image.estimate import fit_blend
+
+    H, W = y.shape[:2]
+    best = placed[0]
+    M = np.zeros((H, W), np.float32)
+    for p in placed:
+        x0, y0, x1, y1 = p.box
+        M[y0:y1, x0:x1] = np.maximum(M[y0:y1, x0:x1], p.coverage)
+    if len(placed) > 1:  # one opacity and colour for all copies
+        nz = np.nonzero(M > 0)
+        b = (nz[1].min(), nz[0].min(), nz[1].max() + 1, nz[0].max() + 1)
+        fit = fit_blend(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], random_state=random_state)
+    else:
+        fit = best.fit
+    nz = np.nonzero(M > 0.05)
+    info = {
+        "text": text, "font": str(best.font), "font_size_px": round(best.size, 3), "angle_deg": round(best.angle, 3),
+        "center": [round(best.center[0], 2), round(best.center[1], 2)],
+        "bbox": [int(nz[1].min()), int(nz[0].min()), int(nz[1].max()) + 1, int(nz[0].max()) + 1],
+        "match_score": round(float(score), 4), "match_score_threshold": min_score,
+        "alpha_stderr": round(float(fit.alpha_stderr), 6), "patches": int(fit.n_patches),
+        "marks": [{"center": [round(p.center[0], 2), round(p.center[1], 2)], "angle_deg": round(p.angle, 3),
+                   "font_size_px": round(p.size, 3), "score": round(float(p.fit.explained), 4)} for p in placed],
+    }
+    return M, fit.alpha, fit.color, info
+
+
+def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state):
+    """Large images: find the mark(s) on a copy reduced to ``WORK_MAX_PX``, then refine each placement
+    on the full-resolution crop around it only.
+
+    The correlation search works on a pyramid capped at 768 px anyway, so the reduced copy loses no
+    detections; what it saves is the full-resolution patch fits and registrations of every
+    hypothesis (a 12-megapixel photo spent most of its time there).
+    """
+    import cv2
+
+    from odnn_sep.image.estimate import detection_score
+    from odnn_sep.image.register import refine
+
+    H, W = y.shape[:2]
+    f = WORK_MAX_PX / max(H, W)
+    w, h = max(1, round(W * f)), max(1, round(H * f))
+    if hasattr(y, "reduced"):
+        small = y.reduced(w, h)
+    else:
+        small = cv2.resize(np.asarray(y, dtype=np.float32), (w, h), interpolation=cv2.INTER_AREA)
+        small = (small if small.ndim == 3 else small[:, :, None]).astype(np.float64)
+    reg = None
+    if region is not None:
+        reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
+        if not reg.any():
+            reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_AREA) > 0
+    _, _, _, info = _text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
+                               reduced=True)
+    fx, fy = W / w, H / h
+    placed, scores = [], []
+    for k, mk in enumerate(info["marks"]):
+        # pixel centres: x_full = (x_small + 0.5) * W / w - 0.5
+        c = ((mk["center"][0] + 0.5) * fx - 0.5, (mk["center"][1] + 0.5) * fy - 0.5)
+        try:
+            p = refine(y, text, info["font"], mk["font_size_px"] / f, mk["angle_deg"], c,
+                       iterations=40 if k == 0 else 20, random_state=random_state)
+        except NotIdentifiableError:
+            continue
+        x0, y0, x1, y1 = p.box
+        sc = detection_score(y[y0:y1, x0:x1], p.coverage, random_state=random_state)
+        if sc >= min_score:
+            placed.append(p)
+            scores.append(sc)
+    if not placed:
+        raise InputError(f"text {text!r} not found in the image (best match score {info['match_score']:.3f} on a "
+                         f"reduced copy, not confirmed at full resolution, needs >= {min_score:g}); check "
+                         f"--text/--font or give --mask")
+    order = np.argsort(-np.asarray(scores), kind="stable")
+    placed = [placed[i] for i in order]
+    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state)
