@@ -16,6 +16,7 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import fft as sp_fft
 
 log = logging.getLogger(__name__)
 
@@ -75,18 +76,48 @@ def _energy(A, tau, ks, grid):
     """E(delta) for each delta in grid; A = win_j * D_jck * w_ck^(1/2) (J, C, K)."""
     grid = np.asarray(grid, float)
     kt = tau[:, None] * ks[None, :]                                   # (J, K)
-    if len(grid) > 6 and np.allclose(np.diff(grid), grid[1] - grid[0]):
-        # uniform grid: rotate by one grid step per iteration instead of G*J*K complex exps
-        B = A * np.exp(-2j * np.pi * grid[0] * kt)[:, None, :]
-        r = np.exp(-2j * np.pi * (grid[1] - grid[0]) * kt)[:, None, :]
-        E = np.empty(len(grid))
-        for g in range(len(grid)):
-            E[g] = float((np.abs(B.sum(axis=0)) ** 2).sum())
-            B *= r
-        return E
+    dt = np.diff(tau)
+    dg = np.diff(grid)
+    if len(grid) > 6 and np.ptp(dg) <= 1e-9 * abs(dg[0]) and len(tau) > 1 and np.ptp(dt) <= 1e-9 * abs(dt[0]):
+        # uniform grid and chunk times: for each harmonic the sums over j at the G offsets are
+        # a chirp-z transform of the baseband turned to the first offset (Bluestein: three FFTs
+        # for every line at once instead of G passes over the baseband); the phase factor a
+        # common time shift adds has modulus one
+        J, C, K = A.shape
+        G = len(grid)
+        n = sp_fft.next_fast_len(J + G - 1)
+        th = 2 * np.pi * dg[0] * dt[0]                       # chirp rate per unit harmonic number
+        t2 = np.zeros(n)
+        t2[:G] = np.arange(G, dtype=float) ** 2
+        t2[n - J + 1:] = np.arange(-(J - 1), 0, dtype=float) ** 2
+        q1 = -2 * np.pi * grid[0] * tau - 0.5 * th * np.arange(J, dtype=float) ** 2
+        if np.all(ks == np.round(ks)) and ks.min() >= 1:
+            # integer harmonics: powers of the fundamental's phasors (no exponential per line)
+            q, h = _int_powers(np.exp(1j * q1), ks), _int_powers(np.exp(0.5j * th * t2), ks)
+        else:
+            q, h = np.exp(1j * np.outer(ks, q1)), np.exp(0.5j * th * np.outer(ks, t2))
+        y = np.zeros((C, K, n), complex)
+        np.multiply(A.transpose(1, 2, 0), q[None], out=y[:, :, :J])
+        Y = sp_fft.fft(y, axis=2, overwrite_x=True)
+        Y *= sp_fft.fft(h, axis=1)[None]
+        X = sp_fft.ifft(Y, axis=2, overwrite_x=True)[:, :, :G]
+        return (X.real ** 2 + X.imag ** 2).sum(axis=(0, 1))
     ph = np.exp(-2j * np.pi * grid[:, None, None] * kt[None, :, :])   # (G, J, K)
     X = np.einsum("jck,gjk->gck", A, ph)
     return (np.abs(X) ** 2).sum(axis=(1, 2))
+
+
+def _int_powers(z: np.ndarray, ks) -> np.ndarray:
+    """``z ** k`` for the (positive integer) ``ks`` by repeated multiplication: (len(ks), len(z))."""
+    out = np.empty((len(ks), len(z)), complex)
+    order = np.argsort(ks, kind="stable")
+    zk, kp = np.ones_like(z), 0
+    for i in order:
+        for _ in range(int(ks[i]) - kp):
+            zk = zk * z
+        kp = max(kp, int(ks[i]))
+        out[i] = zk
+    return out
 
 
 def _energy_rel(A, tau, ks, centre: float, offsets, cache: dict) -> np.ndarray:
