@@ -125,14 +125,14 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     top = _select(sorted(cands, key=lambda c: -c[0]), w100, max_hypotheses, per_size_bin)
     def one_hypothesis(c):
         _, s0, a0, cx0, cy0 = c
-        # several fonts: a quick 3x3 (size, angle) look ranks them and the best two are refined (the
+        # several fonts: a quick look (position only) ranks them and the best two are refined (the
         # blend fit that screens the hypotheses afterwards tells similar fonts apart far better)
         picks = [(fonts[0], s0)]
         if len(fonts) > 1:
             quick = []
             for fo in fonts:
                 sf = s0 * w100 / _ink(text, fo)[0]  # match the coarse text width with this font
-                m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=((0.05, 2.5, 1),))
+                m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=((0.05, 2.5, 0),))
                 if m is not None:
                     quick.append((m.score, fo, sf))
             picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2]]
