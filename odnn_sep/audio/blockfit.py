@@ -25,7 +25,9 @@ STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line co
 
 def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str, random_state, gram_step: int,
              fixed_psd=None, main_psd=None, smooth_blocks: int = 4, tick=None):
-    """Fit every block, subtract, write through ``sink(clean, removed)``.
+    """Fit every block, subtract, write through ``sink(piece, removed)`` (the sink writes
+    ``piece - removed``; ``piece`` is what ``source.read`` returned for those samples, so an
+    in-memory source's own array can take the result in place).
 
     ``fixed_psd`` (fixed lines, C), ``main_psd`` (harmonics, C): local noise floor PSD at each line
     (per Hz, one-sided), for the pooling weights; None disables pooling of those lines.
@@ -100,14 +102,11 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
             amps[b] = np.abs(z).T
             phs[b] = np.angle(z).T
             # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply
-            hum = fitter.fixed_hum(i0, n, z[len(ks):]) if nfix else np.zeros((C, n), np.float32)
-            if pm:
-                if Fm is None:
-                    hum += fitter.tracked_hum(z[: len(ks)], n)
-                else:
-                    th = np.empty((C, pm), Fm.dtype)
-                    th[:, 0::2], th[:, 1::2] = z[: len(ks)].real.T, -z[: len(ks)].imag.T
-                    hum += np.dot(th, Fm.T)
+            hum = fitter.block_hum(i0, n, z, tracked=Fm is None, slot=b % 2)
+            if pm and Fm is not None:
+                th = np.empty((C, pm), Fm.dtype)
+                th[:, 0::2], th[:, 1::2] = z[: len(ks)].real.T, -z[: len(ks)].imag.T
+                hum += np.dot(th, Fm.T)
             hum *= w32_full if n == L else w.astype(np.float32)
         if M and zq is None:
             zs.append(None)
@@ -115,7 +114,7 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
         npv = prev_piece.shape[0]
         if npv:
             removed = (prev_tail + hum[:, :npv] if hum is not None else prev_tail).T
-            sink(prev_piece - removed, removed)
+            sink(prev_piece, removed)
         prev_tail = hum[:, npv:] if hum is not None else np.zeros((C, n - npv), np.float32)
         prev_piece = piece
         if tick is not None:

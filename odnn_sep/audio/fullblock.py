@@ -62,6 +62,7 @@ class FullBlockFitter:
         self.E = np.exp(2j * np.pi * self.kf[:, None] * np.mod(np.outer(self.fc, np.arange(self.nch) * c) / sr, 1.0))
         self.Z = np.empty((len(self.ks), L), np.complex64) if self.pm else None
         self._Yw = None
+        self._bufs = {}
 
     def window(self, n: int):
         """``(w, w float32, sum w)``: the sin^2 fit window over ``n`` samples (the block's own for
@@ -112,7 +113,7 @@ class FullBlockFitter:
         by a Hann over its ``n`` samples), or None when the closed-form Gram does not hold (a
         tracked harmonic within NEAR_BINS window bins of 0 Hz, of Nyquist or of another one) or
         the basis is not well conditioned in float32: the caller then uses
-        :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`tracked_hum`
+        :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`block_hum`
         until the next call."""
         n = self.L if n is None else int(n)
         sr = self.sr
@@ -213,18 +214,49 @@ class FullBlockFitter:
                 np.multiply(Z[i], z, out=Z[i])
             kprev, src = k, Z[i]
 
+    def _buffer(self, name: str, C: int, dtype, size: int) -> np.ndarray:
+        """A flat work array kept across blocks (no page faults on a fresh 1-2 MB per block)."""
+        buf = self._bufs.get(name)
+        if buf is None or buf.size < size or buf.dtype != dtype:
+            buf = self._bufs[name] = np.zeros(size, dtype)
+        return buf
+
     def tracked_sums(self, Yw, n) -> np.ndarray:
         """Sums of ``Yw`` against the tracked columns (cos, sin per harmonic): (pm, C), float64."""
-        Yc = Yw[:, :n].astype(np.complex64)
+        C = Yw.shape[0]
+        # complex copy of the weighted samples (imaginary part stays zero) for one cgemm
+        Yc = self._buffer("yc", C, np.complex64, C * self.L)[: C * n].reshape(C, n)
+        Yc.real = Yw[:, :n]
         X = np.dot(self.Z[:, :n], Yc.T)                                              # (K, C)
-        out = np.empty((self.pm, Yw.shape[0]))
+        out = np.empty((self.pm, C))
         out[0::2], out[1::2] = X.real, X.imag
         return out
 
-    def tracked_hum(self, z: np.ndarray, n: int) -> np.ndarray:
-        """The tracked comb with complex amplitudes ``z`` (K, C; ``a - i b``, block reference) over
-        the last fitted block's first ``n`` samples, unwindowed, float32 (C, n)."""
-        return np.dot(z.T.astype(np.complex64), self.Z[:, :n]).real
+    def block_hum(self, i0: int, n: int, z: np.ndarray, tracked: bool, slot: int) -> np.ndarray:
+        """The fitted hum over samples ``i0 .. i0 + n`` (n <= L), unwindowed, float32 (C, n):
+        the fixed lines with complex amplitudes ``z[K:]`` (``a - i b``, absolute time) plus, when
+        ``tracked``, the tracked comb with ``z[:K]`` (block reference) from the powers kept by the
+        last :meth:`fit`. ``slot`` (0/1) picks one of two buffers: the result stays valid while
+        the next block's hum is built in the other one."""
+        C = z.shape[1]
+        K = len(self.ks)
+        nch = -(-n // self.c)
+        flat = self._buffer(f"hum{slot}", C, np.float32, C * self.nch * self.c)
+        H = flat[: C * nch * self.c].reshape(C * nch, self.c)
+        if self.pf:
+            # per chunk: amplitude turned to the chunk's start, as (cos, -sin) coefficients
+            b = (z[K:] * np.exp(1j * self._alpha(i0))[:, None])[:, :, None] * self.E[:, None, :nch]   # (nf, C, nch)
+            coef = np.empty((self.pf, C, nch), np.float32)
+            coef[0::2], coef[1::2] = b.real, -b.imag
+            np.dot(coef.reshape(self.pf, C * nch).T, self.RcT, out=H)
+        else:
+            H[:] = 0.0
+        hum = H.reshape(C, nch * self.c)[:, :n]
+        if tracked and K:
+            T = self._buffer("synth", C, np.complex64, C * self.L)[: C * n].reshape(C, n)
+            np.dot(z[:K].T.astype(np.complex64), self.Z[:, :n], out=T)
+            hum += T.real
+        return hum
 
     def _near_gram(self, i0, n, centre, f0, rate, curv, near) -> np.ndarray:
         """Gram entries between the tracked columns and the fixed columns (pm, pf).
@@ -263,15 +295,3 @@ class FullBlockFitter:
 
     def _alpha(self, i0: int) -> np.ndarray:
         return 2 * np.pi * self.kf * np.mod(i0 * self.fc / self.sr, 1.0)
-
-    def fixed_hum(self, i0: int, n: int, z: np.ndarray) -> np.ndarray:
-        """The fixed lines over samples ``i0 .. i0 + n`` (n <= L) with complex amplitudes ``z``
-        (lines, C; ``a - i b`` in absolute time), unwindowed, float32 (C, n)."""
-        C = z.shape[1]
-        nch = -(-n // self.c)
-        # per chunk: amplitude turned to the chunk's start, as (cos, -sin) coefficients
-        b = (z * np.exp(1j * self._alpha(i0))[:, None])[:, :, None] * self.E[:, None, :nch]    # (nf, C, nch)
-        coef = np.empty((self.pf, C, nch), np.float32)
-        coef[0::2], coef[1::2] = b.real, -b.imag
-        H = np.dot(coef.reshape(self.pf, C * nch).T, self.RcT)                      # (C * nch, c)
-        return H.reshape(C, nch * self.c)[:, :n]

@@ -237,9 +237,10 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
     hum = np.empty_like(src.data)
     pos = [0]
 
-    def sink(block, removed):
-        n = block.shape[0]
-        out[pos[0]: pos[0] + n] = block
+    def sink(piece, removed):
+        # piece is out[pos: pos + n] itself (a view of the private copy): subtract in place
+        n = piece.shape[0]
+        np.subtract(piece, removed, out=out[pos[0]: pos[0] + n])
         hum[pos[0]: pos[0] + n] = removed
         pos[0] += n
 
@@ -280,8 +281,8 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
             kw = {"endian": src.endian} if fmt == src.format else {}
             with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,
                               **kw) as fo:
-                def sink(block, removed):
-                    fo.write(clip(block))
+                def sink(piece, removed):
+                    fo.write(clip(piece - removed))
 
                 res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s,
                            solver=solver, alpha=alpha, max_hz=max_hz, progress=progress,

@@ -29,11 +29,11 @@ def test_full_block_fitter_matches_float64_least_squares():
     # synthesis from the kept powers and the chunk table equals the basis times the coefficients
     z = theta[0::2] - 1j * theta[1::2]
     K = len(ks)
-    hum = fr.tracked_hum(z[:K], L) + fr.fixed_hum(i0, L, z[K:])
+    hum = fr.block_hum(i0, L, z, tracked=True, slot=0)
     np.testing.assert_allclose(hum.T, F[:, :p] @ theta[:p], atol=1e-5 * np.abs(Y).max())
     # a stretch cut short (the last block of a signal)
     n = 20000
-    np.testing.assert_allclose(fr.fixed_hum(i0, n, z[K:]).T, F[:n, 2 * K:p] @ theta[2 * K:p],
+    np.testing.assert_allclose(fr.block_hum(i0, n, z, tracked=False, slot=1).T, F[:n, 2 * K:p] @ theta[2 * K:p],
                                atol=1e-5 * np.abs(Y).max())
 
 
