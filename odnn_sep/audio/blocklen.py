@@ -19,6 +19,7 @@ from __future__ import annotations
 import logging
 
 import numpy as np
+from scipy import fft as sp_fft
 
 from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import track as _track
@@ -68,15 +69,20 @@ class _Welch:
         nseg = int(round(SEG_S * sr / m))
         self.ok = J >= 2 * nseg
         self.f = np.fft.fftfreq(nseg, m / sr)
-        self.win = np.hanning(nseg + 2)[1:-1].astype(np.float32)[None, :, None, None]
+        self.win = np.hanning(nseg + 2)[1:-1].astype(np.float32)
         starts = np.arange(0, max(J - nseg + 1, 1), nseg // 2)
         self.idx = starts[:, None] + np.arange(nseg)[None, :]                 # (S, nseg)
 
     def __call__(self, x) -> np.ndarray:
         if not self.ok:
             return None
-        X = np.fft.fft(x.astype(np.complex64, copy=False)[self.idx] * self.win, axis=1)
-        return (X.real ** 2 + X.imag ** 2).sum(axis=0)
+        # segments along the last axis (contiguous transforms): (C, K, S, nseg)
+        xt = np.ascontiguousarray(x.transpose(1, 2, 0), dtype=np.complex64)
+        seg = xt[:, :, self.idx]
+        seg *= self.win
+        X = sp_fft.fft(seg, axis=-1, overwrite_x=True)
+        P = (X.real ** 2 + X.imag ** 2).sum(axis=2)                          # (C, K, nseg)
+        return P.transpose(2, 0, 1)
 
 
 def _score(u, Pu, welch, sr, n_frames, hop) -> float:
