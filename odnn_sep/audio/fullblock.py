@@ -193,15 +193,17 @@ class FullBlockFitter:
             tau = (i0 + np.arange(n) - centre) / self.sr
             if n >= self.tau_cache["min_n"]:
                 self.tau_cache.update(key=key, tau=tau)
+        # phase in cycles, f0 tau + rate tau^2 / 2 + curv tau^3 / 6, in place; its fraction is
+        # rounded to float32 as it is written
         cyc = np.multiply(tau, curv / 6)
         cyc += rate / 2
         cyc *= tau
         cyc += f0
         cyc *= tau
-        cyc -= np.rint(cyc)
+        r32 = np.empty(n, np.float32)
+        np.subtract(cyc, np.rint(cyc), out=r32, casting="same_kind")
         Z = self.Z[:, :n]
         z = Z[0] if self.ks[0] == 1 else np.empty(n, np.complex64)
-        r32 = cyc.astype(np.float32)
         r32 *= np.float32(2 * np.pi)
         np.cos(r32, out=z.real)
         np.sin(r32, out=z.imag)
