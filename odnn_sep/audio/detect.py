@@ -12,7 +12,7 @@ import logging
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import special, stats
+from scipy import special
 
 from odnn_sep.audio.spectrum import Spectrum, excerpt_spectrum  # noqa: F401  (re-exported)
 
@@ -37,7 +37,9 @@ class Detection:
 
 @functools.lru_cache(maxsize=64)
 def _chi2_median(nu: float) -> float:
-    return float(stats.chi2.median(nu))
+    # chi2.median(nu) is chi2.ppf(0.5, nu) = 2 gammaincinv(nu / 2, 0.5); scipy.special only, so
+    # the command line does not pay for importing scipy.stats
+    return float(2 * special.gammaincinv(nu / 2, 0.5))
 
 
 def _median0(a: np.ndarray) -> np.ndarray:

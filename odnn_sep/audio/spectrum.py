@@ -6,7 +6,6 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
 
 @dataclass
@@ -112,6 +111,12 @@ def _periodograms(x, sr, nper, keep_hz, batch: int = 16):
 
 @functools.lru_cache(maxsize=8)
 def _hann(nper: int) -> np.ndarray:
-    w = signal.get_window("hann", nper).astype(np.float32)
+    # periodic Hann, as scipy.signal.get_window("hann", nper) computes it (same values; avoids
+    # importing scipy.signal on the command line's path)
+    fac = np.linspace(-np.pi, np.pi, nper + 1)
+    w = np.zeros(nper + 1)
+    for k, a in enumerate((0.5, 0.5)):
+        w += a * np.cos(k * fac)
+    w = w[:-1].astype(np.float32)
     w.flags.writeable = False
     return w
