@@ -31,6 +31,7 @@ log = logging.getLogger(__name__)
 
 REF_SIZE = 100.0
 COARSE_H = 10.0    # glyph height (px) at the coarse level
+COARSE_W = 80.0     # px: the coarse template is at most this wide (long texts go one level coarser)
 FINE_H = 24.0      # glyph height (px) at the refinement level
 # Every colour channel counts at the coarse level too: a coloured mark can differ from the photo
 # in hue far more than in brightness (the channel mean lost such marks on development photos).
@@ -86,8 +87,11 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     # pyramid starts at <= 768 px, where text must be at least ~8 px tall (smaller only matches noise)
     s_min = max(4.0, min_height_px / h100 * REF_SIZE * 1.4, 0.8 * COARSE_H / h100 * REF_SIZE / pyr.base)
     s_max = max(1.05 * np.hypot(H, W) / max(w100, 1) * REF_SIZE, s_min * 1.01)
+    # A long text is matched on a coarser level (template at most COARSE_W px wide): it has letters
+    # enough to be found there, and the grid below grows with the square of the template's width.
+    coarse_h = min(COARSE_H, COARSE_W * h100 / max(w100, 1.0))
     # grid steps keep the template's ends within ~1.5 px at the coarse level
-    w_lvl = COARSE_H * w100 / h100
+    w_lvl = coarse_h * w100 / h100
     da = float(np.clip(np.rad2deg(2 * 1.5 / (w_lvl / 2)), 1.5, 5.0))
     ratio = float(np.clip(1 + 2 * 1.5 / (w_lvl / 2), 1.04, 1.1))
     sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(ratio)))
@@ -95,7 +99,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     angles = np.linspace(-angle_range, angle_range, 2 * n_a + 1) if n_a else np.zeros(1)
     # levels first (the pyramid's cache is not thread-safe), then the sizes on a few threads
     # (OpenCV's template matching releases the GIL and runs single-threaded at these sizes)
-    maps = {s: pyr.bandpass(COARSE_H / (h100 * s / REF_SIZE), luma=COARSE_LUMA) for s in sizes}
+    maps = {s: pyr.bandpass(coarse_h / (h100 * s / REF_SIZE), luma=COARSE_LUMA) for s in sizes}
 
     def one_size(s):
         R, E, f = maps[s]
