@@ -32,7 +32,12 @@ def tracked_phase(D, sr: int, f_ref: float, trk) -> np.ndarray:
 def derotate(D, ks, psi) -> np.ndarray:
     """``D * exp(-i k psi)`` in complex128, shape (J, C, K)."""
     ks = np.asarray(ks, float)
-    return D.astype(np.complex128) * np.exp(-1j * psi[:, None] * ks[None, :])[:, None, :]
+    # exp(-i k psi) by its real and imaginary parts (the same values as the complex exponential)
+    th = (-psi)[:, None] * ks[None, :]
+    rot = np.empty(th.shape, np.complex128)
+    rot.real = np.cos(th)
+    rot.imag = np.sin(th)
+    return D.astype(np.complex128) * rot[:, None, :]
 
 
 def baseband_spectrum(u, sr: int, f_centre: float, seg_s: float) -> _detect.Spectrum:

@@ -54,21 +54,36 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
     per = max(1, read_frames // m) * m
     for start in range(0, n, per):
         x = source.read(start, per)
-        nj = -(-x.shape[0] // m)
-        if x.shape[0] < nj * m:
-            x = np.vstack([x, np.zeros((nj * m - x.shape[0], C))])
-        X = np.ascontiguousarray(x.reshape(nj, m, C).transpose(0, 2, 1), dtype=np.float32).reshape(nj * C, m)
-        S = np.dot(X, E).reshape(nj, C, 2 * K)
+        nx = x.shape[0]
+        nj = -(-nx // m)
+        nfull = nx // m
+        # chunks as rows, channel by channel, in float32; a short last chunk is zero-padded here
+        # (no padded copy of the whole read)
+        X = np.empty((nj, C, m), np.float32)
+        X[:nfull] = x[: nfull * m].reshape(nfull, m, C).transpose(0, 2, 1)
+        if nfull < nj:
+            X[nfull] = 0.0
+            X[nfull, :, : nx - nfull * m] = x[nfull * m:].T
+        S = np.dot(X.reshape(nj * C, m), E).reshape(nj, C, 2 * K)
         j = np.arange(start // m, start // m + nj, dtype=float)
         # reference phase at each chunk start, reduced modulo one cycle before scaling (precision)
-        cyc = np.mod(np.outer(j * (m / sr), kf), 1.0)
-        rot = np.exp(-2j * np.pi * cyc).astype(np.complex64)[:, None, :]
+        cyc = np.outer(j * (m / sr), kf)
+        if kf.min() >= 0:
+            cyc -= np.floor(cyc)            # = np.mod(cyc, 1.0) for cyc >= 0, exactly, and faster
+        else:
+            cyc = np.mod(cyc, 1.0)
+        # exp(-2 pi i cyc) rounded to single precision, by its real and imaginary parts
+        th = np.multiply(cyc, -2 * np.pi, out=cyc)
+        rot = np.empty(th.shape, np.complex64)
+        rot.real = np.cos(th)
+        rot.imag = np.sin(th)
+        rot = rot[:, None, :]
         Dj = D[start // m: start // m + nj]
         Dj.real = S[:, :, :K]
         Dj.imag = S[:, :, K:]
         Dj *= rot
         if progress is not None:
-            progress(x.shape[0])
+            progress(nx)
     return D
 
 
