@@ -73,6 +73,11 @@ class Dataset:
         """True nonlinear parameters (empty for linear bases)."""
         return {k: self.theta_true[k] for k in self.basis.phi_names}
 
+    @property
+    def noise_sigma(self) -> float:
+        """Standard deviation of the measurement noise the generator drew (0 without noise)."""
+        return noise_sigma(self.physics, self.snr_db)
+
     def design(self, phi: dict | None = None) -> np.ndarray:
         """Basis columns at the samples, at the true phi unless ``phi`` is given."""
         return self.basis.evaluate(self.x, self.phi_true if phi is None else phi)
@@ -102,14 +107,16 @@ def check_snr(snr_db) -> float:
     return v
 
 
+def noise_sigma(physics: np.ndarray, snr_db: float) -> float:
+    """Standard deviation of the white noise at ``snr_db`` relative to the mean power of ``physics``."""
+    return float(np.sqrt(np.mean(physics**2) / 10 ** (check_snr(snr_db) / 10)))
+
+
 def add_noise(physics: np.ndarray, snr_db: float, rng: np.random.Generator) -> np.ndarray:
     """White Gaussian noise at ``snr_db`` relative to the mean power of ``physics``."""
-    snr_db = check_snr(snr_db)
-    if np.isinf(snr_db):
+    if np.isinf(check_snr(snr_db)):
         return np.zeros_like(physics)
-    power = float(np.mean(physics**2))
-    sigma = np.sqrt(power / 10 ** (snr_db / 10))
-    return sigma * rng.standard_normal(physics.shape)
+    return noise_sigma(physics, snr_db) * rng.standard_normal(physics.shape)
 
 
 def pick(rng: np.random.Generator, theta, name: str, lo: float, hi: float, signed: bool = False) -> float:
