@@ -240,17 +240,3 @@ def line_levels(spec: Spectrum, freqs, *, half_width_hz=None) -> list[dict]:
         out.append({"freq_hz": float(f), "level_db": [float(v) for v in st["level_db"]]})
     return out
 
-
-def cut_db(freqs, before, after, f: float, *, half_width_hz: float = 1.0) -> float:
-    """Deepest cut within +-half_width of ``f``: min over bins of after / min(before, floor), in dB,
-    averaged over channels (the floor is the median 2-10 Hz away). 0 when nothing is dug out."""
-    d = np.abs(freqs - f)
-    w = d <= half_width_hz
-    near = (d >= 2.0) & (d <= 10.0)
-    if not w.any() or near.sum() < 4:
-        return 0.0
-    floor = np.median(before[near], axis=0)
-    ref = np.minimum(before[w], floor)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cut = 10 * np.log10(np.maximum(after[w], 1e-300) / np.maximum(ref, 1e-300)).min(axis=0)
-    return float(np.mean(cut))
