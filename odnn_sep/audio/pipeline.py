@@ -96,7 +96,6 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         del D
     hop = max(1, int(round(block_s * sr / 2)))
     nb = (N - 1) // hop + 2
-    names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
     if not ks and not tl:
         log.warning("no significant mains hum found (tested %s); the output equals the input",
                     "50 and 60 Hz" if mains == "auto" else f"{mains:g} Hz")
@@ -114,20 +113,15 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
         spec_hr = _detect.excerpt_spectrum(source, seg_s=seg_hr, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
         df_hr = spec_hr.df
-        known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + \
-                [(t, 2 * df_hr) for t in tl]
         k_top = max(ks)
-        more = []
         if missing:
             n_first = sum(1 for c in det.candidates if c["harmonic"] is not None)
             more, cands2 = _baseband.second_look(D3, sr, det.mains_hz, missing, trk, alpha=alpha,
                                                  n_tests=n_first + len(missing), seg_s=seg_hr)
             det.candidates += cands2
-        del D3
-        if more:
             ks = sorted(ks + more)
-            known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
-            names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
+        del D3
+        known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
         combs = _combs.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
                                           max_harmonic=k_top, main_f0=f_med)
