@@ -56,17 +56,14 @@ def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
     return np.ascontiguousarray(f)
 
 
-def bandpass_map(img: np.ndarray, levels: int = 255, luma: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def bandpass_map(img: np.ndarray, levels: int = 255) -> tuple[np.ndarray, np.ndarray]:
     """(R, E): high-passed channels (h, w, C) float32 and their energy summed over channels (h, w),
-    floored so that flat or clipped areas (no texture at all) cannot give a near-zero denominator.
-    ``luma``: one channel, the mean of the colour channels."""
+    floored so that flat or clipped areas (no texture at all) cannot give a near-zero denominator."""
     import cv2
 
     img = np.asarray(img, dtype=np.float32)
     if img.ndim == 2:
         img = img[:, :, None]
-    if luma and img.shape[2] > 1:
-        img = img.mean(axis=2, keepdims=True)
     R = np.empty_like(img)
     for c in range(img.shape[2]):
         R[:, :, c] = img[:, :, c] - cv2.GaussianBlur(img[:, :, c], (0, 0), BP_SIGMA)
@@ -129,13 +126,13 @@ class Pyramid:
         e = self.cache[("edge", k, blur)]
         return e, self._image(k).shape[1] / self.W
 
-    def bandpass(self, d: float, luma: bool = False):
+    def bandpass(self, d: float):
         """(R, E, factor) band-pass maps (with a ``PAD`` margin) at full-resolution scale factor ~d."""
         k = self._k(d)
         with self._lock:
-            if ("bp", k, luma) not in self.cache:
-                self.cache[("bp", k, luma)] = bandpass_map(self._image(k), luma=luma)
-            R, E = self.cache[("bp", k, luma)]
+            if ("bp", k) not in self.cache:
+                self.cache[("bp", k)] = bandpass_map(self._image(k))
+            R, E = self.cache[("bp", k)]
         return R, E, self._image(k).shape[1] / self.W
 
 

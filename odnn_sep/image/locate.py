@@ -33,9 +33,6 @@ REF_SIZE = 100.0
 COARSE_H = 10.0    # glyph height (px) at the coarse level
 COARSE_W = 80.0     # px: the coarse template is at most this wide (long texts go one level coarser)
 FINE_H = 24.0      # glyph height (px) at the refinement level
-# Every colour channel counts at the coarse level too: a coloured mark can differ from the photo
-# in hue far more than in brightness (the channel mean lost such marks on development photos).
-COARSE_LUMA = False
 
 
 @dataclasses.dataclass
@@ -98,8 +95,10 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     n_a = int(np.ceil(angle_range / da))
     angles = np.linspace(-angle_range, angle_range, 2 * n_a + 1) if n_a else np.zeros(1)
     # levels first (the pyramid's cache is not thread-safe), then the sizes on a few threads
-    # (OpenCV's template matching releases the GIL and runs single-threaded at these sizes)
-    maps = {s: pyr.bandpass(coarse_h / (h100 * s / REF_SIZE), luma=COARSE_LUMA) for s in sizes}
+    # (OpenCV's template matching releases the GIL and runs single-threaded at these sizes).
+    # Every colour channel counts at the coarse level too: a coloured mark can differ from the photo
+    # in hue far more than in brightness (the channel mean lost such marks on development photos).
+    maps = {s: pyr.bandpass(coarse_h / (h100 * s / REF_SIZE)) for s in sizes}
 
     def one_size(s):
         R, E, f = maps[s]
