@@ -47,7 +47,7 @@ def _run(source, sink, **kw):
 
 
 def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-               after_source_fn, max_combs=3, smooth_blocks=None):
+               after_source_fn, max_combs=3):
     sr, N, C = source.sr, source.frames, source.channels
     mains = _params.parse_mains(mains, sr)
     harmonics = _params.parse_harmonics(harmonics)
@@ -148,7 +148,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
                                           names=names, solver=solver, random_state=random_state,
                                           gram_step=gram_step, fixed_psd=fixed_psd,
                                           main_psd=main_psd if POOL_MAIN else None,
-                                          smooth_blocks=SMOOTH_BLOCKS if smooth_blocks is None else smooth_blocks,
+                                          smooth_blocks=SMOOTH_BLOCKS,
                                           tick=tick)
     if bar is not None:
         bar.close()
@@ -222,8 +222,7 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
                           alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
 
 
-def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-                   max_combs=3):
+def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state):
     src = ArraySource(y, sr)
     # the source holds a private copy of y, read strictly ahead of what is written: the output
     # goes into it in place (one large allocation less)
@@ -240,7 +239,7 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
 
     res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource.wrap(out, sr), max_combs=max_combs)
+               after_source_fn=lambda: ArraySource.wrap(out, sr))
     res.y = out[:, 0] if src.mono else out
     res.hum = hum[:, 0] if src.mono else hum
     return res
