@@ -77,7 +77,7 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
             if theta is None:
                 # fit weights: the block's window, or a Hann over the visible part of a block cut
                 # by the signal's start/end (a one-sided window would leak the content onto the lines)
-                w_fit = w if n == L else np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
+                w_fit = fitter.window(n)[0]
                 blk = np.vstack(parts) if len(parts) > 1 else parts[0]
                 theta, Fm = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step,
                                          basis_cache, sub_cache, col_names, random_state)
