@@ -94,6 +94,15 @@ def take_patches(a: np.ndarray, py: np.ndarray, px: np.ndarray, size: int) -> np
     return np.ascontiguousarray(a[rows, cols], dtype=np.float64)
 
 
+def drop_clipped(Yp: np.ndarray, *arrays: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Leave out the patches of ``Yp`` (n, size*size, C) holding clipped pixels (0 or full scale), which
+    break the blend model, with the matching rows of ``arrays``; all are kept unless enough remain."""
+    ok = ~((Yp <= 0.5 / 65535) | (Yp >= 1 - 0.5 / 65535)).any(axis=(1, 2))
+    if ok.sum() >= max(8, 0.2 * len(ok)):
+        return (Yp[ok], *(a[ok] for a in arrays))
+    return (Yp, *arrays)
+
+
 def _patches(y, M, size, max_patches, rng):
     py, px, size = patch_grid(M, size, max_patches, rng)
     return take_patches(y, py, px, size), take_patches(M, py, px, size)[:, :, 0]
@@ -137,10 +146,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     rng = np.random.default_rng(random_state)
     py, px, patch_px = patch_grid(M, patch, max_patches, rng)
     Yp, Mp = take_patches(y, py, px, patch_px), take_patches(M, py, px, patch_px)[:, :, 0]
-    # clipped pixels (0 or full scale) break the blend model: leave out patches holding them
-    ok = ~((Yp <= 0.5 / 65535) | (Yp >= 1 - 0.5 / 65535)).any(axis=(1, 2))
-    if ok.sum() >= max(8, 0.2 * len(ok)):
-        Yp, Mp, py, px = Yp[ok], Mp[ok], py[ok], px[ok]
+    Yp, Mp, py, px = drop_clipped(Yp, Mp, py, px)
     if len(Mp) == 0:
         from odnn_sep.errors import NotIdentifiableError
 

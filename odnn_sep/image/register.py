@@ -17,6 +17,7 @@ from odnn_sep.image.estimate import (
     BlendFit,
     _design,
     _Profile,
+    drop_clipped,
     fit_blend,
     patch_grid,
     stroke_width,
@@ -73,10 +74,7 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
     py, px, ps = patch_grid(M, fit0.patch, 400, rng)
     if len(py) == 0:
         return Placed(Path(font), size, angle, center, bx, M, fit0)
-    Yp = take_patches(crop, py, px, ps)
-    ok = ~((Yp <= 0.5 / 65535) | (Yp >= 1 - 0.5 / 65535)).any(axis=(1, 2))
-    if ok.sum() >= max(8, 0.2 * len(ok)):
-        Yp, py, px = Yp[ok], py[ok], px[ok]
+    Yp, py, px = drop_clipped(take_patches(crop, py, px, ps), py, px)
     Phi = _design(ps, 1)
     a0 = float(np.clip(fit0.alpha, 0.05, 0.98))
 
