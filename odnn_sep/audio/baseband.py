@@ -64,7 +64,7 @@ def second_look(D, sr: int, f_ref: float, ks, trk, *, alpha: float, n_tests: int
     and their candidate records. ``n_tests``: Bonferroni count over both looks."""
     psi = tracked_phase(D, sr, f_ref, trk)
     u = derotate(D, ks, psi)
-    f_med = float(np.median(trk.f0[trk.confident])) if trk.confident.any() else f_ref
+    f_med = trk.median_f0(f_ref)
     new, cands = [], []
     for i, k in enumerate(ks):
         fk = k * f_med

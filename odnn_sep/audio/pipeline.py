@@ -108,7 +108,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     if look_again:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
-        f_med = float(np.median(trk.f0[trk.confident])) if trk.confident.any() else det.mains_hz
+        f_med = trk.median_f0(det.mains_hz)
         spread = float(np.ptp(trk.f0[trk.confident])) if trk.confident.sum() > 1 else 0.0
         seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
         spec_hr = _detect.excerpt_spectrum(source, seg_s=seg_hr, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
@@ -156,7 +156,8 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     out_src = after_source_fn()
     spec_after = _detect.excerpt_spectrum(out_src)
     out_src.close()
-    f_med = float(np.median(trk.f0[trk.confident])) if ks and trk.confident.any() else det.mains_hz
+    # (without hum the track is all zeros and never confident)
+    f_med = trk.median_f0(det.mains_hz)
     line_f = [k * f_med for k in ks] + list(tl_fit)
     before = _detect.line_levels(spec_before, line_f)
     after = _detect.line_levels(spec_after, line_f)

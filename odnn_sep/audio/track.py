@@ -30,6 +30,10 @@ class Track:
     confident: np.ndarray  # (B,) bool: hum clearly present in the block
     strength: np.ndarray   # (B,) peak harmonic energy over its noise-only value
 
+    def median_f0(self, default: float) -> float:
+        """Median fundamental over the confident blocks, ``default`` when there are none."""
+        return float(np.median(self.f0[self.confident])) if self.confident.any() else default
+
 
 NOISE_OFFSETS = np.array([-0.45, -0.35, -0.25, 0.25, 0.35, 0.45])
 
