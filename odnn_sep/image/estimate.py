@@ -217,6 +217,19 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
 FULL_WEIGHT_PATCHES = 100
 
 
+def inpaint_telea(y: np.ndarray, hole: np.ndarray, radius: int) -> np.ndarray:
+    """``y`` (h, w, C) in [0, 1] with the ``hole`` pixels filled from around them (OpenCV TELEA)."""
+    import cv2
+
+    m8 = hole.astype(np.uint8) * 255
+    out = np.empty_like(y)
+    for c in range(y.shape[2]):
+        # 16-bit, not float: OpenCV's float inpainting assumes a 0-255 range
+        out[:, :, c] = cv2.inpaint(np.round(np.clip(y[:, :, c], 0, 1) * 65535).astype(np.uint16), m8, radius,
+                                   cv2.INPAINT_TELEA) / 65535.0
+    return out
+
+
 def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, levels: int = 255,
            lost_threshold: float = 0.1, inpaint: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Undo the blend: ``I = (y - a M col) / (1 - a M)``; inpaint only pixels whose data are gone.
@@ -226,8 +239,6 @@ def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, lev
     channel clipped at 0 or 1 where the mark is. Returns the restored float image (same channels as
     ``y``) and the boolean lost mask.
     """
-    import cv2
-
     y = np.asarray(y, dtype=np.float64)
     squeeze = y.ndim == 2
     if squeeze:
@@ -244,9 +255,5 @@ def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, lev
     clipped = ((y <= half) | (y >= 1.0 - half)).any(axis=2) & (M > 0.05)
     lost = ((den[:, :, 0] < lost_threshold) & on) | clipped
     if inpaint and lost.any():
-        m8 = lost.astype(np.uint8) * 255
-        for c in range(out.shape[2]):
-            # 16-bit, not float: OpenCV's float inpainting assumes a 0-255 range
-            filled = cv2.inpaint(np.round(out[:, :, c] * 65535).astype(np.uint16), m8, 3, cv2.INPAINT_TELEA)
-            out[:, :, c][lost] = filled[lost] / 65535.0
+        out[lost] = inpaint_telea(out, lost, 3)[lost]
     return (out[:, :, 0] if squeeze else out), lost

@@ -12,17 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.errors import InputError
-
-
-def _inpaint(y: np.ndarray, hole: np.ndarray) -> np.ndarray:
-    import cv2
-
-    m8 = hole.astype(np.uint8) * 255
-    out = np.empty_like(y)
-    for c in range(y.shape[2]):
-        out[:, :, c] = cv2.inpaint(np.round(np.clip(y[:, :, c], 0, 1) * 65535).astype(np.uint16), m8, 5,
-                                       cv2.INPAINT_TELEA) / 65535.0
-    return out
+from odnn_sep.image.estimate import inpaint_telea
 
 
 def _colour(d: np.ndarray, B: np.ndarray, D: np.ndarray, prev) -> np.ndarray:
@@ -63,7 +53,7 @@ def estimate_shape(y: np.ndarray, region: np.ndarray, *, iterations: int = 3) ->
     c = None
     m = np.zeros(R.shape)
     for _ in range(iterations):
-        B = _inpaint(y, D)
+        B = inpaint_telea(y, D, 5)
         d = y - B
         c = _colour(d, B, D, c)
         v = c[None, None, :] - B
