@@ -131,15 +131,23 @@ def _overall(zs, vs, valid, rows, nl: int, C: int):
     out = np.full((C, nl), np.nan)
     if len(idx) < 3:
         return out
-    Z = np.stack([zs[j] for j in idx])
-    W = 1.0 / np.stack([vs[j] for j in idx])
-    zbar = (W * Z).sum(axis=0) / W.sum(axis=0)
     # blocks overlap by half: neighbours share a sixth of their noise, so the scatter about the
     # mean is compared with (n - 1) independent-block units
-    r = (W * np.abs(Z - zbar) ** 2).sum(axis=0) / (len(idx) - 1)
+    zbar, r = _mean_scatter(zs, vs, idx)
     steady = r <= STEADY_SCATTER
     out[:, rows] = np.where(steady, np.abs(zbar), np.nan).T
     return out
+
+
+def _mean_scatter(zs, vs, idx):
+    """Precision-weighted mean of the complex amplitudes ``zs[j]`` (lines, C) over blocks ``idx``
+    (noise variances ``vs[j]``), and the scatter about it over what the noise predicts (~1 for a
+    steady line)."""
+    Z = np.stack([zs[j] for j in idx])              # (nw, lines, C)
+    W = 1.0 / np.stack([vs[j] for j in idx])
+    zbar = (W * Z).sum(axis=0) / W.sum(axis=0)
+    r = (W * np.abs(Z - zbar) ** 2).sum(axis=0) / (len(idx) - 1)
+    return zbar, r
 
 
 def _block_phase(trk, hop: int, sr: int) -> np.ndarray:
@@ -161,11 +169,7 @@ def _pooled(zs, vs, f: int, M: int) -> np.ndarray:
     z_f = zs[f]
     if len(idx) < 3:
         return z_f.copy()
-    Z = np.stack([zs[j] for j in idx])              # (nw, lines, C)
-    W = 1.0 / np.stack([vs[j] for j in idx])
-    zbar = (W * Z).sum(axis=0) / W.sum(axis=0)
-    # scatter over what the noise predicts: ~1 for a steady line
-    r = (W * np.abs(Z - zbar) ** 2).sum(axis=0) / (len(idx) - 1)
+    zbar, r = _mean_scatter(zs, vs, idx)
     lam = np.clip(1.0 - 1.0 / np.maximum(r, 1e-12), 0.0, 1.0)
     return zbar + lam * (z_f - zbar)
 
