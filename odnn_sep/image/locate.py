@@ -112,17 +112,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
                 found.append((v, s, float(a), *_centre(xx, yy, T, f)))
         return found
 
-    cands: list[tuple[float, float, float, float, float]] = []  # (score, size, angle, cx, cy)
-    workers = max(1, min(4, os.cpu_count() or 1))
-    if workers > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(workers) as ex:
-            for found in ex.map(one_size, sizes):
-                cands += found
-    else:
-        for s in sizes:
-            cands += one_size(s)
+    cands = [c for found in _map(one_size, sizes) for c in found]  # (score, size, angle, cx, cy)
     if not cands:
         return []
     top = _select(sorted(cands, key=lambda c: -c[0]), w100, max_hypotheses, per_size_bin)
@@ -141,13 +131,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
             picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2]]
         return [_refine(pyr, text, str(font), s1, a0, cx0, cy0) for font, s1 in picks]
 
-    if workers > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(workers) as ex:
-            refined = list(ex.map(one_hypothesis, top))
-    else:
-        refined = [one_hypothesis(c) for c in top]
+    refined = _map(one_hypothesis, top)
     out: list[Match] = []
     for best in (m for ms in refined for m in ms):
         if best is not None and not any(
@@ -156,6 +140,17 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
             out.append(best)
     out.sort(key=lambda m: -m.score)
     return out
+
+
+def _map(fn, items) -> list:
+    """``[fn(x) for x in items]``, on a few threads where there are cores for them."""
+    workers = max(1, min(4, os.cpu_count() or 1))
+    if workers == 1:
+        return [fn(x) for x in items]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(workers) as ex:
+        return list(ex.map(fn, items))
 
 
 def _select(cands, w100, max_hypotheses, per_size_bin):
