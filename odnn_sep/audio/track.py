@@ -94,7 +94,6 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
 def _energy(A, tau, ks, grid):
     """E(delta) for each delta in grid; A = win_j * D_jck * w_ck^(1/2) (J, C, K)."""
     grid = np.asarray(grid, float)
-    kt = tau[:, None] * ks[None, :]                                   # (J, K)
     dt = np.diff(tau)
     dg = np.diff(grid)
     if len(grid) > 6 and np.ptp(dg) <= 1e-9 * abs(dg[0]) and len(tau) > 1 and np.ptp(dt) <= 1e-9 * abs(dt[0]):
@@ -121,6 +120,7 @@ def _energy(A, tau, ks, grid):
         Y *= sp_fft.fft(h, axis=1)[None]
         X = sp_fft.ifft(Y, axis=2, overwrite_x=True)[:, :, :G]
         return (X.real ** 2 + X.imag ** 2).sum(axis=(0, 1))
+    kt = tau[:, None] * ks[None, :]                                   # (J, K)
     ph = np.exp(-2j * np.pi * grid[:, None, None] * kt[None, :, :])   # (G, J, K)
     X = np.einsum("jck,gjk->gck", A, ph)
     return (np.abs(X) ** 2).sum(axis=(1, 2))
