@@ -62,11 +62,6 @@ class Planes:
     levels: int
     grey: bool
 
-    @property
-    def color(self) -> np.ndarray:
-        """All colour planes as float64 (converts the whole image)."""
-        return self.view.full()
-
 
 def split(image) -> Planes:
     """Validate an image array and split it into a float view of its colour planes and a pass-through
@@ -116,12 +111,6 @@ def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarra
     else:
         out[y0:y1, x0:x1, :3] = c
     return out
-
-
-def merge(planes: Planes, color: np.ndarray) -> np.ndarray:
-    """Put restored colour planes (whole image, float) back into the input's format."""
-    H, W = planes.view.shape[:2]
-    return paste(planes, color, (0, 0, W, H))
 
 
 def read_image(path) -> np.ndarray:

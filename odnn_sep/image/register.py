@@ -20,7 +20,6 @@ from odnn_sep.image.estimate import (
     drop_clipped,
     fit_blend,
     patch_grid,
-    stroke_width,
     take_patches,
 )
 from odnn_sep.image.render import place, render_text
@@ -37,10 +36,9 @@ class Placed:
     fit: BlendFit
 
 
-def render_at(text, font, size, angle, center, shape, margin: int = 3):
+def render_at(text, font, size, angle, center, shape):
     """Coverage of the text placed on an image of ``shape`` = (H, W); returns (M crop, box)."""
-    m, (x0, y0, x1, y1) = place(render_text(text, font, size), shape, center, angle)
-    return m, (x0, y0, x1, y1)
+    return place(render_text(text, font, size), shape, center, angle)
 
 
 def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *, iterations: int = 60,
@@ -112,4 +110,4 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
                   (float(center[0] + p[0]), float(center[1] + p[1])), bx, M, fit)
 
 
-__all__ = ["refine", "Placed", "render_at", "stroke_width"]
+__all__ = ["refine", "Placed", "render_at"]
