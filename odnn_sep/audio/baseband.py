@@ -70,11 +70,10 @@ def second_look(D, sr: int, f_ref: float, ks, trk, *, alpha: float, n_tests: int
         fk = k * f_med
         spec = baseband_spectrum(u[:, :, i], sr, fk, seg_s)
         bw = 1.5 * spec.df
-        st = _detect.line_level(spec, fk, bw)
+        st = _detect.line_test(spec, fk, bw)
         if not np.isfinite(st["floor"]).all():
             continue
-        p = max(st["p_value"], _detect.persistence_p_value(spec, fk, bw, st["floor"]))
-        p_adj = min(1.0, p * n_tests)
+        p_adj = min(1.0, st["p_value"] * n_tests)
         cands.append({"family_hz": f_med, "harmonic": int(k), "freq_hz": fk,
                       "level_db": [float(v) for v in st["level_db"]], "p_value_bonferroni": p_adj,
                       "significant": bool(p_adj < alpha), "look": "tracked baseband"})

@@ -82,11 +82,10 @@ def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: li
             # centre-to-centre distance, less only the drift part of a known line's width
             if min((abs(fk - f) - max(b - 2 * df, 0.0) for f, b in known), default=np.inf) < max(min_sep_hz, 2 * df):
                 continue
-            st = _detect.line_level(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
+            st = _detect.line_test(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
             if not np.isfinite(st["floor"]).all():
                 continue
-            p = max(st["p_value"], _detect.persistence_p_value(spec, fk, bw, st["floor"]))
-            p_adj = min(1.0, p * n_tests)
+            p_adj = min(1.0, st["p_value"] * n_tests)
             cands.append({"family_hz": fc, "harmonic": k, "freq_hz": fk, "level_db": [float(v) for v in
                                                                                      st["level_db"]],
                           "p_value_bonferroni": p_adj, "significant": bool(p_adj < alpha)})

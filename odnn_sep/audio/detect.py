@@ -122,6 +122,15 @@ def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
                 "p_value": p, "floor": floor}
 
 
+def line_test(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
+    """:func:`line_level`, its p-value raised to that of :func:`persistence_p_value` where the
+    local floor is known (a line must stand out on average and in most segments)."""
+    st = line_level(spec, f, bw, exclude)
+    if np.isfinite(st["floor"]).all():
+        st["p_value"] = max(st["p_value"], persistence_p_value(spec, f, bw, st["floor"]))
+    return st
+
+
 def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float = 0.01) -> float:
     """Fundamental maximising the floor-normalised power summed over harmonics (SNR weighting)."""
     pooled = spec.psd.sum(axis=1)
@@ -175,9 +184,7 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
         ev, sig = 0.0, []
         for k in ks:
             bw = band_halfwidth(spec, k)
-            st = line_level(spec, k * f0, bw, [e for e in excl if abs(e[0] - k * f0) > 1e-9])
-            if np.isfinite(st["floor"]).all():
-                st["p_value"] = max(st["p_value"], persistence_p_value(spec, k * f0, bw, st["floor"]))
+            st = line_test(spec, k * f0, bw, [e for e in excl if abs(e[0] - k * f0) > 1e-9])
             p_adj = min(1.0, st["p_value"] * n_tests)
             significant = p_adj < alpha
             if significant:
