@@ -51,13 +51,9 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
         if cache is not None and n >= cache.get("min_n", 0):
             cache.update(key=key, F=F, tau=tau)
     if ks:
-        # phase in cycles, f0 tau + rate tau^2 / 2 + curv tau^3 / 6, evaluated in place and
-        # reduced to its fraction in float64 (fewer passes over a long block than radians)
-        cyc = np.multiply(tau, curv / 6)
-        cyc += rate / 2
-        cyc *= tau
-        cyc += f0
-        cyc *= tau
+        # phase in cycles reduced to its fraction in float64 (fewer passes over a long block
+        # than radians)
+        cyc = tracked_cycles(tau, f0, rate, curv)
         cyc -= np.rint(cyc)
         _put_harmonics(F, 0, _unit_cycles(cyc), ks)
     col = 2 * len(ks)
@@ -67,6 +63,17 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
         ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(0, n, step) * (fc / sr))
         col = _put_harmonics(F, col, _unit(ph), kk)
     return F
+
+
+def tracked_cycles(tau: np.ndarray, f0: float, rate: float, curv: float) -> np.ndarray:
+    """Phase of the tracked fundamental in cycles, ``f0 tau + rate tau^2 / 2 + curv tau^3 / 6``
+    (a new float64 array, evaluated in place by Horner's rule; not reduced)."""
+    cyc = np.multiply(tau, curv / 6)
+    cyc += rate / 2
+    cyc *= tau
+    cyc += f0
+    cyc *= tau
+    return cyc
 
 
 def _put_harmonics(F, col, z, ks):

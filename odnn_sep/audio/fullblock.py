@@ -193,13 +193,8 @@ class FullBlockFitter:
             tau = (i0 + np.arange(n) - centre) / self.sr
             if n >= self.tau_cache["min_n"]:
                 self.tau_cache.update(key=key, tau=tau)
-        # phase in cycles, f0 tau + rate tau^2 / 2 + curv tau^3 / 6, in place; its fraction is
-        # rounded to float32 as it is written
-        cyc = np.multiply(tau, curv / 6)
-        cyc += rate / 2
-        cyc *= tau
-        cyc += f0
-        cyc *= tau
+        # phase in cycles; its fraction is rounded to float32 as it is written
+        cyc = _fit.tracked_cycles(tau, f0, rate, curv)
         r32 = np.empty(n, np.float32)
         np.subtract(cyc, np.rint(cyc), out=r32, casting="same_kind")
         Z = self.Z[:, :n]
