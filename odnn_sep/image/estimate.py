@@ -26,10 +26,7 @@ import logging
 
 import numpy as np
 
-from odnn_sep.image.profile import DataProfile, PhotoProfile
-from odnn_sep.image.profile import design as _design
-
-_Profile = DataProfile  # image-domain RSS profile (registration objective)
+from odnn_sep.image.profile import DataProfile, PhotoProfile, design
 
 log = logging.getLogger(__name__)
 
@@ -151,7 +148,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
         from odnn_sep.errors import NotIdentifiableError
 
         raise NotIdentifiableError("the mark has no sharp edges inside the image; opacity cannot be estimated")
-    Phi = _design(int(np.sqrt(Mp.shape[1])), degree)
+    Phi = design(int(np.sqrt(Mp.shape[1])), degree)
     prof = PhotoProfile(Yp, Mp, Phi)
     a_hi = min(alpha_max, 0.995)  # the photo-domain likelihood needs 1 - a M > 0
     grid = np.linspace(0.0, a_hi, 17)[1:]

@@ -13,15 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from odnn_sep.image.estimate import (
-    BlendFit,
-    _design,
-    _Profile,
-    drop_clipped,
-    fit_blend,
-    patch_grid,
-    take_patches,
-)
+from odnn_sep.image.estimate import BlendFit, drop_clipped, fit_blend, patch_grid, take_patches
+from odnn_sep.image.profile import DataProfile, design
 from odnn_sep.image.render import place, render_text
 
 
@@ -73,11 +66,11 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
     if len(py) == 0:
         return Placed(Path(font), size, angle, center, bx, M, fit0)
     Yp, py, px = drop_clipped(take_patches(crop, py, px, ps), py, px)
-    Phi = _design(ps, 1)
+    Phi = design(ps, 1)
     a0 = float(np.clip(fit0.alpha, 0.05, 0.98))
 
     def obj(p):
-        prof = _Profile(Yp, take_patches(cov(p), py, px, ps)[:, :, 0], Phi)
+        prof = DataProfile(Yp, take_patches(cov(p), py, px, ps)[:, :, 0], Phi)
         return prof(a0)
 
     def nm(fun, x0, step, maxiter=iterations):

@@ -2,7 +2,8 @@
 import numpy as np
 
 from odnn_sep.core import Basis, Separator, Subspace
-from odnn_sep.image.estimate import _design, _patches, _Profile
+from odnn_sep.image.estimate import _patches
+from odnn_sep.image.profile import DataProfile, design
 from odnn_sep.image.synth import make_watermark_demo
 
 
@@ -10,9 +11,9 @@ def test_profile_matches_core_subspace_separator():
     y, clean, truth = make_watermark_demo(random_state=1)
     M = truth["mask"]
     Yp, Mp = _patches(y / 255.0, M, 12, 25, np.random.default_rng(0))
-    Phi = _design(12, 1)
+    Phi = design(12, 1)
     alpha = 0.3
-    beta, rss_p = _Profile(Yp, Mp, Phi).parts(alpha)
+    beta, rss_p = DataProfile(Yp, Mp, Phi).parts(alpha)
     # the same model for the core: physics column M (stacked patches), disturbance in the span of
     # the block-diagonal per-patch polynomials scaled by (1 - alpha M)
     n, k = Mp.shape[1], Phi.shape[1]
@@ -35,7 +36,7 @@ def test_photo_profile_matches_core_subspace_separator():
 
     y, clean, truth = make_watermark_demo(random_state=9)  # colour (164, 183, 234): inside the bounds
     Yp, Mp = _patches(y / 255.0, truth["mask"], 8, 20, np.random.default_rng(0))
-    Phi = _design(8, 1)
+    Phi = design(8, 1)
     alpha = truth["alpha"]
     beta, rss_p, u = PhotoProfile(Yp, Mp, Phi).parts(alpha)
     n, k = Mp.shape[1], Phi.shape[1]
