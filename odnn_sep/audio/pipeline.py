@@ -104,15 +104,17 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         z = np.zeros(nb)
         trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
 
-    combs, f_med, spec_hr = [], det.mains_hz, None
+    # the finest spectrum at hand: the high-resolution one when the comb is looked at again
+    combs, f_med, spec_fine = [], det.mains_hz, spec_before
     if look_again:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
         f_med = trk.median_f0(det.mains_hz)
         spread = float(np.ptp(trk.f0[trk.confident])) if trk.confident.sum() > 1 else 0.0
         seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
-        spec_hr = _detect.excerpt_spectrum(source, seg_s=seg_hr, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
-        df_hr = spec_hr.df
+        spec_fine = _detect.excerpt_spectrum(source, seg_s=seg_hr,
+                                             keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
+        df_hr = spec_fine.df
         k_top = max(ks)
         if missing:
             n_first = sum(1 for c in det.candidates if c["harmonic"] is not None)
@@ -122,10 +124,10 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
             ks = sorted(ks + more)
         del D3
         known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
-        combs = _combs.detect_extra_combs(spec_hr, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
+        combs = _combs.detect_extra_combs(spec_fine, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
                                           max_harmonic=k_top, main_f0=f_med)
-    tl = _combs.refine_combs(source, sr, combs, f_med, spec_hr if spec_hr is not None else spec_before, tones=tl)
+    tl = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=tl)
     names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
     comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
     names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
@@ -137,10 +139,9 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     # local noise floor at every line (for pooling amplitudes across blocks)
     main_psd = fixed_psd = None
     if ks or tl_fit:
-        spec_fl = spec_hr if spec_hr is not None else spec_before
         all_f = [k * f_med for k in ks] + tl_fit
-        fl_all = [(f, 2 * spec_fl.df) for f in all_f]
-        psd = np.stack([_detect.line_level(spec_fl, f, 2 * spec_fl.df,
+        fl_all = [(f, 2 * spec_fine.df) for f in all_f]
+        psd = np.stack([_detect.line_level(spec_fine, f, 2 * spec_fine.df,
                                            [e for e in fl_all if abs(e[0] - f) > 1e-9])["floor"] for f in all_f])
         if np.isfinite(psd).all():
             main_psd, fixed_psd = (psd[: len(ks)] if ks else None), (psd[len(ks):] if tl_fit else None)
