@@ -12,12 +12,10 @@ from odnn_sep.errors import InputError, NotIdentifiableError
 WORK_MAX_PX = 1024
 
 
-def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state):
-    """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view)."""
-    return _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state)
+def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
+    """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view).
 
-
-def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
+    ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes)."""
     from odnn_sep.image.estimate import detection_score, fit_blend
     from odnn_sep.image.locate import Match, repeats, search
     from odnn_sep.image.register import refine, render_at
@@ -86,8 +84,8 @@ def _text_mode(y, text, font, region, min_score, angle_range, max_marks, random_
             try:
                 if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
                     continue
-                p = refine(y, text, best.font, best.size, best.angle, (r.center[0] + off[0], r.center[1] + off[1]),
-                           iterations=30, whole_sizes=not reduced, random_state=random_state)
+                p = refine(y, text, best.font, best.size, best.angle, rc, iterations=30, whole_sizes=not reduced,
+                           random_state=random_state)
             except NotIdentifiableError:
                 continue
             x0, y0, x1, y1 = p.box
@@ -151,8 +149,8 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
         reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
         if not reg.any():
             reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_AREA) > 0
-    _, _, _, info = _text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
-                               reduced=True)
+    _, _, _, info = text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
+                              reduced=True)
     fx, fy = W / w, H / h
     placed, scores = [], []
     for k, mk in enumerate(info["marks"]):
