@@ -184,7 +184,7 @@ def _fit_generic(i0, n, centre, sr, trk, b, ks, fixed_lines, blk, w_fit, solver,
                          cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
     if solver == "exact":
         F_sub = None
-        if gram_step > 1 and n // gram_step >= 8 * F.shape[1]:
+        if _fit.sub_gram(n, F.shape[1], gram_step):
             F_sub = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
                                      fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
         theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)

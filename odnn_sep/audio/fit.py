@@ -142,7 +142,7 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
     """
     n, p = F.shape
     dt = F.dtype
-    sub = gram_step > 1 and n // gram_step >= 8 * p
+    sub = sub_gram(n, p, gram_step)
     if sub:
         # F_sub: the same basis evaluated every gram_step-th sample (built directly; gathering
         # rows of a large F costs more than the product)
@@ -174,6 +174,12 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
     if rank < F.shape[1]:
         log.debug("block basis rank %d < %d columns (short block); minimum-norm solution", rank, F.shape[1])
     return theta.reshape(F.shape[1], -1)
+
+
+def sub_gram(n: int, p: int, gram_step: int) -> bool:
+    """Whether the Gram matrix of an (n, p) basis is summed over every ``gram_step``-th row only
+    (see :func:`solve_block`): when that still leaves at least 8 rows per column."""
+    return gram_step > 1 and n // gram_step >= 8 * p
 
 
 def _weighted_gram(F, w, scale):

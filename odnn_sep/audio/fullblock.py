@@ -85,7 +85,7 @@ class FullBlockFitter:
                 G = _gram.fixed_gram(2 * np.pi * f / self.sr, n)
             else:
                 p = self.pm + self.pf + 2
-                q = self.gram_step if self.gram_step > 1 and n // self.gram_step >= 8 * p else 1
+                q = self.gram_step if _fit.sub_gram(n, p, self.gram_step) else 1
                 R_sub = _fit.block_basis(0, n, 0, self.sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, step=q,
                                          dtype=np.float32)
                 G = _fit._weighted_gram(R_sub, self.window(n)[0][::q], float(q)).astype(np.float64)
