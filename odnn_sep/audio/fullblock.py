@@ -211,7 +211,7 @@ class FullBlockFitter:
                 np.multiply(Z[i], z, out=Z[i])
             kprev, src = k, Z[i]
 
-    def _buffer(self, name: str, C: int, dtype, size: int) -> np.ndarray:
+    def _buffer(self, name: str, dtype, size: int) -> np.ndarray:
         """A flat work array kept across blocks (no page faults on a fresh 1-2 MB per block)."""
         buf = self._bufs.get(name)
         if buf is None or buf.size < size or buf.dtype != dtype:
@@ -222,7 +222,7 @@ class FullBlockFitter:
         """Sums of ``Yw`` against the tracked columns (cos, sin per harmonic): (pm, C), float64."""
         C = Yw.shape[0]
         # complex copy of the weighted samples (imaginary part stays zero) for one cgemm
-        Yc = self._buffer("yc", C, np.complex64, C * self.L)[: C * n].reshape(C, n)
+        Yc = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
         Yc.real = Yw[:, :n]
         X = np.dot(self.Z[:, :n], Yc.T)                                              # (K, C)
         out = np.empty((self.pm, C))
@@ -238,7 +238,7 @@ class FullBlockFitter:
         C = z.shape[1]
         K = len(self.ks)
         nch = -(-n // self.c)
-        flat = self._buffer(f"hum{slot}", C, np.float32, C * self.nch * self.c)
+        flat = self._buffer(f"hum{slot}", np.float32, C * self.nch * self.c)
         H = flat[: C * nch * self.c].reshape(C * nch, self.c)
         if self.pf:
             # per chunk: amplitude turned to the chunk's start, as (cos, -sin) coefficients
@@ -250,7 +250,7 @@ class FullBlockFitter:
             H[:] = 0.0
         hum = H.reshape(C, nch * self.c)[:, :n]
         if tracked and K:
-            T = self._buffer("synth", C, np.complex64, C * self.L)[: C * n].reshape(C, n)
+            T = self._buffer("synth", np.complex64, C * self.L)[: C * n].reshape(C, n)
             np.dot(z[:K].T.astype(np.complex64), self.Z[:, :n], out=T)
             hum += T.real
         return hum
