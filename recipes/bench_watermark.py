@@ -29,7 +29,7 @@ FONTS = ["DejaVuSans-Bold", "DejaVuSans", "DejaVuSerif-Bold", "DejaVuSerif", "De
 
 
 def photos(quick: bool):
-    import cv2
+    from odnn_sep.image.io import read_image
 
     files = sorted((DATA / "photos_clean_skimage").glob("*.png"))
     extra = DATA / "watermark_examples_braindotai" / "original-image.png"
@@ -39,9 +39,9 @@ def photos(quick: bool):
         return []
     out = []
     for f in files[:1] if quick else files:
-        img = cv2.imread(str(f), cv2.IMREAD_UNCHANGED)
+        img = read_image(f)
         if img.ndim == 3:
-            img = cv2.cvtColor(img[:, :, :3], cv2.COLOR_BGR2RGB)
+            img = np.ascontiguousarray(img[:, :, :3])  # RGB; an alpha channel is not part of the photo
         if quick:
             img = img[: 256, : 320]
         out.append((f.name, img))
