@@ -68,10 +68,7 @@ def run(args) -> int:
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
     img = read_image(inp)
-    mask = read_image(args.mask) if args.mask else None
-    if mask is not None and mask.shape[:2] != img.shape[:2]:
-        raise InputError(f"mask size {mask.shape[1]}x{mask.shape[0]} differs from the image size "
-                         f"{img.shape[1]}x{img.shape[0]}; pass a mask of the same size as the image")
+    mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=MIN_SCORE if args.min_score is None else args.min_score,
                       inpaint_lost=not args.no_inpaint)
