@@ -113,17 +113,15 @@ class Pyramid:
 
     def level(self, d: float, blur: float) -> tuple[np.ndarray, float]:
         """Edge map (with a ``PAD`` margin) at full-resolution scale factor ~d, and the exact factor."""
+        import cv2
+
         k = self._k(d)
         with self._lock:
-            return self._edge_level(k, blur)
-
-    def _edge_level(self, k: int, blur: float):
-        if ("edge", k, blur) not in self.cache:
-            import cv2
-
-            e = edge_map(self._image(k), blur)
-            self.cache[("edge", k, blur)] = cv2.copyMakeBorder(e, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=0)
-        e = self.cache[("edge", k, blur)]
+            if ("edge", k, blur) not in self.cache:
+                e = edge_map(self._image(k), blur)
+                self.cache[("edge", k, blur)] = cv2.copyMakeBorder(e, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT,
+                                                                   value=0)
+            e = self.cache[("edge", k, blur)]
         return e, self._image(k).shape[1] / self.W
 
     def bandpass(self, d: float):
