@@ -32,6 +32,7 @@ log = logging.getLogger(__name__)
 REF_SIZE = 100.0
 COARSE_H = 10.0    # glyph height (px) at the coarse level
 COARSE_W = 80.0     # px: the coarse template is at most this wide (long texts go one level coarser)
+MIN_COARSE_H = 8.0  # px: glyphs smaller than this at the coarse level only match noise
 FINE_H = 24.0      # glyph height (px) at the refinement level
 
 
@@ -82,11 +83,12 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     h100 = max(h100, 1.0)
     # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal; the
     # pyramid starts at <= 768 px, where text must be at least ~8 px tall (smaller only matches noise)
-    s_min = max(4.0, min_height_px / h100 * REF_SIZE * 1.4, 0.8 * COARSE_H / h100 * REF_SIZE / pyr.base)
+    s_min = max(4.0, min_height_px / h100 * REF_SIZE * 1.4, MIN_COARSE_H / h100 * REF_SIZE / pyr.base)
     s_max = max(1.05 * np.hypot(H, W) / max(w100, 1) * REF_SIZE, s_min * 1.01)
     # A long text is matched on a coarser level (template at most COARSE_W px wide): it has letters
-    # enough to be found there, and the grid below grows with the square of the template's width.
-    coarse_h = min(COARSE_H, COARSE_W * h100 / max(w100, 1.0))
+    # enough to be found there, and the grid below grows with the square of the template's width;
+    # never below MIN_COARSE_H, or the letters blur into the photo's texture.
+    coarse_h = max(MIN_COARSE_H, min(COARSE_H, COARSE_W * h100 / max(w100, 1.0)))
     # grid steps keep the template's ends within ~1.5 px at the coarse level
     w_lvl = coarse_h * w100 / h100
     da = float(np.clip(np.rad2deg(2 * 1.5 / (w_lvl / 2)), 1.5, 5.0))
