@@ -328,8 +328,10 @@ def main(argv=None):
         "blocks, chosen by emulating the block fit on the demodulated lines), gaps in the comb tested again on the "
         "tracked baseband, further hum combs within 0.3 % of the main one removed when significant, line amplitudes "
         "pooled across neighbouring blocks where the scatter between blocks is what the local floor predicts "
-        "(positive-part James-Stein weight). The amplitude reported per line is the pooled whole-input estimate "
-        "for steady lines, the median over blocks otherwise.\n",
+        "(positive-part James-Stein weight). The amplitude reported per line is the whole-input estimate for steady "
+        "lines (harmonics: generalised least squares with every instant weighted by the inverse of the content's "
+        "local power near the line, `odnn_sep.audio.amplitude`; further lines: the pooled mean), the median over "
+        "blocks otherwise.\n",
         "### 1. Synthetic mix (known truth)\n",
         "40 s at 16 kHz: plucked harmonic notes with vibrato, formant noise bursts, sustained partials 3, 2.5 and "
         "4 Hz from hum harmonics 2, 3 and 5, white noise at -30 dB; 50 Hz hum with 8 harmonics (amplitudes "

@@ -18,6 +18,7 @@ import logging
 
 import numpy as np
 
+from odnn_sep.audio import amplitude as _amplitude
 from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import blockfit as _blockfit
 from odnn_sep.audio import blocklen as _blocklen
@@ -93,8 +94,12 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         else:
             trk = _track.track_fundamental(D, sr, N, det.mains_hz, ks, weights,
                                            hop=max(1, int(round(block_s * sr / 2))))
-        del D
     hop = max(1, int(round(block_s * sr / 2)))
+    # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
+    h_amp = {}
+    if ks:
+        h_amp = dict(zip(ks, _amplitude.steady_amplitudes(D, sr, det.mains_hz, ks, trk, hop, N).T, strict=True))
+        del D
     nb = (N - 1) // hop + 2
     if not ks and not tl:
         log.warning("no significant mains hum found (tested %s); the output equals the input",
@@ -121,6 +126,10 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
             more, cands2 = _baseband.second_look(D3, sr, det.mains_hz, missing, trk, alpha=alpha,
                                                  n_tests=n_first + len(missing), seg_s=seg_hr)
             det.candidates += cands2
+            if more:
+                cols = [missing.index(k) for k in more]
+                h_amp.update(zip(more, _amplitude.steady_amplitudes(D3[:, :, cols], sr, det.mains_hz, more, trk,
+                                                                   hop, N).T, strict=True))
             ks = sorted(ks + more)
         del D3
         known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
@@ -153,6 +162,11 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
                                           tick=tick)
     if bar is not None:
         bar.close()
+    if h_amp:
+        # harmonics: the generalised least-squares amplitudes (amplitude.py) replace the pooled ones
+        if overall is None:
+            overall = np.full((C, len(names)), np.nan)
+        overall[:, : len(ks)] = np.stack([h_amp[k] for k in ks], axis=1)
 
     out_src = after_source_fn()
     spec_after = _detect.excerpt_spectrum(out_src)

@@ -31,9 +31,11 @@ class DenoiseResult:
         Peak amplitude (sample units) and phase (rad) of each line per block; phases are at the
         block centre for harmonics and at t = 0 for tones (cosine convention).
     amplitude_overall : ndarray or None, shape (channels, n_lines)
-        Whole-input amplitude of each steady line: modulus of the precision-weighted mean of the
-        blocks' complex amplitudes in a common phase reference (NaN where the line changes more
-        than the noise allows).
+        Whole-input amplitude of each steady line (NaN where the line changes more than the noise
+        allows): for the harmonics, the generalised least-squares estimate of ``amplitude.py``
+        (instants weighted by the inverse of the content's local power near the line); for tones and
+        further combs, the modulus of the precision-weighted mean of the blocks' complex amplitudes
+        in a common phase reference.
     line_names : list of str
         ``h<k>`` for the tracked comb, ``tone_<f>Hz`` for tones, ``c<i>_h<k>`` for further combs.
     line_freqs : list of float

@@ -1,0 +1,127 @@
+"""Whole-input amplitude of each tracked harmonic: generalised least squares on the demodulated chunks.
+
+Music and speech are not stationary: the content under a hum line comes and goes with the notes
+and syllables. An amplitude fitted with the same weight everywhere takes the loud moments at full
+weight; weighting every instant by the inverse of the local content power near the line (the
+generalised least-squares estimate for noise of time-varying power) takes them at their worth.
+
+Per line and channel, from pass 1's 10 ms chunk sums ``D`` (:func:`track.demodulate`):
+
+1. the local content power ``p(t)`` near the line: the chunk sums with the line's slow part
+   (1 s moving mean) removed, short-time power at 1.5-6 Hz from the line (1 s Hann windows);
+2. per fit block: the chunks turned by the block's own tracked phase (the same cubic phase model
+   as the block fit, so the line is a steady phasor within the block), averaged with weights
+   ``w(t) / p(t)`` (``w`` the block's sin^2 window); the variance of that mean follows from ``p``;
+3. over the full blocks: the precision-weighted mean of the blocks' moduli. Moduli, not complex amplitudes: the
+   phase reference carried from block to block by the track is not accurate enough for a coherent
+   mean over minutes at the higher harmonics.
+
+A line counts as steady when its block moduli scatter no more than ``STEADY_SCATTER`` times what
+the noise predicts; otherwise no whole-input value is given (the report falls back to the median
+over blocks).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.audio import track as _track
+
+WINDOW_S = 1.0               # time resolution of the local power (s)
+OFFSET_BAND_HZ = (1.5, 6.0)  # offsets from the line where its local content power is measured
+POWER_FLOOR = 0.05           # weights capped at 1 / (this x the median power): a few quiet chunks
+                             # must not carry a whole block
+STEADY_SCATTER = 2.0
+
+
+def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
+    """Expected ``|u_j - line|^2`` per chunk from the content near the line, two ways: the mean
+    and the median (over ln 2, the median of an exponential variable) over the offsets.
+
+    ``u`` (J,) complex chunk sums of one line and channel (any fixed demodulation within a few Hz
+    of the line). Returns two (J,) float64 arrays, each floored at ``POWER_FLOOR`` x its median.
+    The mean includes a partial of the content a few Hz away, the median does not.
+    """
+    J = u.shape[0]
+    n = int(min(J, max(8, round(WINDOW_S * fs))))
+    kern = np.full(n, 1.0 / n)
+    # the line (and its slow drift) is the slow part; the content a few Hz away is what remains
+    r = u - (np.convolve(u.real, kern, "same") + 1j * np.convolve(u.imag, kern, "same"))
+    win = np.hanning(n + 2)[1:-1]
+    f = np.abs(np.fft.fftfreq(n, 1.0 / fs))
+    band = (f >= OFFSET_BAND_HZ[0]) & (f <= OFFSET_BAND_HZ[1])
+    if not band.any():
+        band = f > 0
+    hop = max(1, n // 4)
+    starts = np.arange(0, J - n + 1, hop)
+    seg = r[starts[:, None] + np.arange(n)[None, :]] * win
+    # per-bin power of a windowed segment of white content of variance s^2 is s^2 sum(win^2)
+    P = np.abs(np.fft.fft(seg, axis=1)[:, band]) ** 2 / np.sum(win ** 2)
+    out = []
+    for p in (P.mean(axis=1), np.median(P, axis=1) / np.log(2.0)):
+        pj = np.interp(np.arange(J), starts + (n - 1) / 2, p)
+        med = float(np.median(pj))
+        out.append(np.maximum(pj, POWER_FLOOR * med) if med > 0 else np.maximum(pj, 1e-300))
+    return out[0], out[1]
+
+
+def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n_frames: int) -> np.ndarray:
+    """Peak amplitude (C, K) of harmonics ``ks`` (the columns of ``D``, demodulated at ``k f_ref``)
+    over the whole input where steady, NaN elsewhere. ``trk``: the fundamental track of blocks
+    centred at ``b hop`` samples, ``2 hop`` long; only blocks inside the signal count."""
+    J, C, K = D.shape
+    out = np.full((C, K), np.nan)
+    m = _track.chunk_length(sr)
+    fs = sr / m
+    L = 2 * hop
+    tj = np.arange(J) * m + (m - 1) / 2                          # chunk centres (samples)
+    full = [b for b in range(len(trk.f0)) if b * hop - hop >= 0 and b * hop + hop <= n_frames]
+    if len(full) < 3 or J < 8:
+        return out
+    spans = []
+    for b in full:
+        c = b * hop
+        j0 = int(np.searchsorted(tj, c - hop))
+        j1 = int(np.searchsorted(tj, c + hop))
+        tau = (tj[j0:j1] - c) / sr
+        # the block fit's phase model, relative to the demodulation frequency
+        cyc = tau * ((trk.f0[b] - f_ref) + tau * (trk.rate[b] / 2 + tau * (trk.curv[b] / 6)))
+        win = np.sin(np.pi * (tj[j0:j1] - (c - hop) + 0.5) / L) ** 2
+        spans.append((j0, j1, cyc, win))
+    for i, k in enumerate(ks):
+        for ch in range(C):
+            u = D[:, ch, i].astype(np.complex128)
+            # weights from the mean power: they vary as slowly as the content near the line
+            # does, and weights that follow every note would modulate a partial a few Hz away
+            # onto the line; the variance of the block mean from the median, the power of the
+            # content that does stay under the line
+            p_mean, p_med = local_power(u, fs)
+            z2, var = np.empty(len(full)), np.empty(len(full))
+            for q, (j0, j1, cyc, win) in enumerate(spans):
+                w = win / p_mean[j0:j1]
+                sw = w.sum()
+                z = np.dot(w, u[j0:j1] * np.exp(-2j * np.pi * k * cyc)) / sw
+                var[q] = np.dot(w * w, p_med[j0:j1]) / sw ** 2
+                z2[q] = abs(z) ** 2
+            # amplitude of a chunk sum: m A / 2
+            out[ch, i] = _combine(z2, var, m)
+    return out
+
+
+def _combine(z2: np.ndarray, var: np.ndarray, m: int) -> float:
+    """Peak amplitude from the blocks' squared moduli ``z2`` and the variances ``var`` their weights
+    imply, NaN when the moduli scatter more than those explain (the line is not steady).
+
+    ``var`` comes from the content a few Hz from the line, which is what sets the weights; the
+    content at the line itself, which is what the block mean keeps, is usually weaker (a partial
+    a few Hz away averages out over a block). So ``var`` sets the relative precision of the blocks
+    and a generous steadiness test, but is not subtracted as a noise bias: the moduli are averaged
+    as they are (their own noise bias is second order in the small relative error of each block).
+    """
+    prec = 1.0 / np.maximum(var, 1e-300)
+    mod = np.sqrt(np.maximum(z2, 0.0))
+    mbar = float(np.sum(prec * mod) / prec.sum())
+    # the modulus of a complex mean of variance v has variance ~v / 2
+    scatter = float(np.sum(prec * (mod - mbar) ** 2) / (len(z2) - 1) * 2.0)
+    if scatter > STEADY_SCATTER or mbar <= 0:
+        return float("nan")
+    return 2.0 * mbar / m
