@@ -30,8 +30,9 @@ def register(subparsers) -> None:
                    help="output audio file (format from its extension); never the input")
     p.add_argument("--mains", default="auto", metavar="auto|50|60|HZ",
                    help="hum fundamental: auto-detect 50/60 Hz (default) or a frequency in Hz, refined within +-1%%")
-    p.add_argument("--harmonics", default="auto", metavar="auto|N",
-                   help="auto: remove only harmonics that are present (default); N: remove harmonics 1..N")
+    p.add_argument("--harmonics", default="auto", metavar="auto|N|K,K,...",
+                   help="auto: remove only harmonics that are present (default); N: remove harmonics 1..N; "
+                        "a comma-separated list: remove exactly those (e.g. 1,3,5)")
     p.add_argument("--tone", action="extend", nargs="+", type=float, default=[], metavar="HZ",
                    help="extra fixed tone(s) to remove, in Hz (repeatable)")
     p.add_argument("--report", metavar="R.json", help="write a JSON report (track, amplitudes, phases, levels)")

@@ -26,17 +26,23 @@ def parse_mains(mains, sr):
 def parse_harmonics(harmonics):
     if isinstance(harmonics, str) and harmonics.strip().lower() == "auto":
         return "auto"
+    if isinstance(harmonics, str) and "," in harmonics:  # the CLI's "1,3,5"
+        harmonics = [h for h in harmonics.split(",") if h.strip()]
     if isinstance(harmonics, (list, tuple)):
-        # an explicit set of harmonic numbers (internal use: re-running on an excerpt)
+        # an explicit set of harmonic numbers
+        if not harmonics:
+            raise InputError("harmonics must be 'auto', a positive integer or a non-empty list of them; got []")
         return sorted({parse_harmonics(h) for h in harmonics})
     try:
         v = int(harmonics)
         if v != float(harmonics):
             raise ValueError
     except (TypeError, ValueError):
-        raise InputError(f"harmonics must be 'auto' or a positive integer; got {harmonics!r}") from None
+        raise InputError(f"harmonics must be 'auto', a positive integer or a list of them (1,3,5); "
+                         f"got {harmonics!r}") from None
     if v < 1:
-        raise InputError(f"harmonics must be 'auto' or a positive integer; got {harmonics!r}")
+        raise InputError(f"harmonics must be 'auto', a positive integer or a list of them (1,3,5); "
+                         f"got {harmonics!r}")
     return v
 
 

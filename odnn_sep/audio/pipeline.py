@@ -80,7 +80,8 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     bar = _params.progress_bar(progress, (2 if ks else 1) * N, "denoise")
     tick = (lambda k: bar.update(k)) if bar is not None else None
     trk, D3 = None, None
-    look_again = bool(ks) and not isinstance(harmonics, int) and max_combs > 1
+    # only when the harmonics are the data's choice: a given count or list is removed as given
+    look_again = bool(ks) and harmonics == "auto" and max_combs > 1
     # gaps in the comb, for a second look once the track is known (isolated lines above the
     # highest harmonic found are more likely tonal content than hum, as for further combs)
     missing = [k for k in range(1, max(ks)) if k not in ks] if look_again else []
@@ -203,8 +204,9 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
     mains : 'auto', 50, 60 or float
         Hum fundamental. ``'auto'`` decides between the 50 and 60 Hz families from the data; a
         number is refined within +-1 % (sound-card clock offsets), e.g. 60.055 Hz.
-    harmonics : 'auto' or int
-        ``'auto'`` removes only harmonics that pass the line test; an integer N removes 1..N.
+    harmonics : 'auto', int or sequence of int
+        ``'auto'`` removes only harmonics that pass the line test; an integer N removes 1..N; a
+        sequence removes exactly those harmonic numbers (e.g. ``[1, 3, 5]`` for odd-only hum).
     tones : sequence of float
         Extra fixed tones (Hz) to remove (refined within +-0.5 Hz).
     block_s : 'auto' or float

@@ -118,7 +118,9 @@ def test_no_offline_distortion(res50, mix50):
 @pytest.mark.parametrize("kw, msg", [
     ({"mains": 5000}, r"mains=5000 Hz is at or above the Nyquist frequency \(4000 Hz for sr=8000\)"),
     ({"mains": "abc"}, r"mains must be 'auto', 50, 60 or a frequency in Hz; got 'abc'"),
-    ({"harmonics": 0}, r"harmonics must be 'auto' or a positive integer; got 0"),
+    ({"harmonics": 0}, r"harmonics must be 'auto', a positive integer or a list of them \(1,3,5\); got 0"),
+    ({"harmonics": "1,x"}, r"harmonics must be 'auto', a positive integer or a list of them \(1,3,5\); got 'x'"),
+    ({"harmonics": []}, r"harmonics must be 'auto', a positive integer or a non-empty list of them; got \[\]"),
     ({"tones": [4500]}, r"tone=4500 Hz must be between 0 and the Nyquist frequency \(4000 Hz\)"),
     ({"solver": "magic"}, r"solver must be 'exact' or 'network'; got 'magic'"),
     ({"block_s": 0.01}, r"block_s must be between 0.1 and 60 s; got 0.01"),
@@ -186,3 +188,13 @@ def test_silence_and_perfect_sine(recwarn):
     assert r.harmonics == [1] and abs(r.mains_hz - 60.02) < 1e-3
     assert np.abs(r.y).max() < 1e-4
     assert not [w for w in recwarn if issubclass(w.category, RuntimeWarning)]
+
+
+def test_explicit_harmonic_list_is_removed_as_given():
+    # odd-only removal: the even harmonics are present but must be left alone, and the second
+    # look at gaps in the comb must not add them back
+    y, sr, _ = make_hum_mix(60, 8000, random_state=1)
+    for h in ([1, 3, 5], "1,3,5"):
+        r = denoise(y, sr, harmonics=h)
+        assert r.harmonics == [1, 3, 5], h
+    assert {2, 4} <= set(denoise(y, sr).harmonics)
