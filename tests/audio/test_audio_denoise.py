@@ -198,3 +198,18 @@ def test_explicit_harmonic_list_is_removed_as_given():
         r = denoise(y, sr, harmonics=h)
         assert r.harmonics == [1, 3, 5], h
     assert {2, 4} <= set(denoise(y, sr).harmonics)
+
+
+def test_beside_line_cut_tells_a_notch_from_a_clean_removal():
+    from scipy import signal
+
+    from odnn_sep.audio.metrics import beside_line_cut_db
+
+    rng = np.random.default_rng(6)
+    sr = 2000
+    t = np.arange(128 * sr) / sr
+    noise = rng.standard_normal(t.size)
+    x = noise + np.sin(2 * np.pi * 60.0 * t)
+    assert abs(beside_line_cut_db(x, noise, sr, [60.0], [60.0])[0]) < 0.1
+    b, a = signal.iirnotch(60.0, 30.0, fs=sr)      # -3 dB width 2 Hz: digs into the content beside the line
+    assert beside_line_cut_db(x, signal.filtfilt(b, a, x), sr, [60.0], [60.0])[0] < -10.0
