@@ -5,8 +5,8 @@
 importing the subcommand module (for ``odnn-sep --help``) stays light.
 """
 _EXPORTS = {
-    "denoise": "odnn_sep.audio.pipeline",
-    "denoise_file": "odnn_sep.audio.pipeline",
+    "denoise": "odnn_sep.audio.api",
+    "denoise_file": "odnn_sep.audio.api",
     "DenoiseResult": "odnn_sep.audio.result",
     "make_hum_demo": "odnn_sep.audio.synth",
     "make_hum_mix": "odnn_sep.audio.synth",

@@ -52,7 +52,7 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from odnn_sep.audio.pipeline import denoise_file
+    from odnn_sep.audio.api import denoise_file
     from odnn_sep.errors import InputError
     from odnn_sep.io_utils import check_input_path, check_output_path, write_json
 

@@ -1,11 +1,13 @@
-"""``denoise``: remove mains hum (tracked fundamental + harmonics) and named tones from audio.
+"""The passes of ``denoise`` (api.py): remove mains hum (tracked fundamental + harmonics) and named
+tones from audio.
 
 Pipeline (all passes stream in blocks, so memory does not grow with the file length):
 
 1. detection on a Welch spectrum: fundamental (50/60 Hz or given), harmonics present, tones;
 2. pass 1: demodulated 10 ms chunk sums -> block length (blocklen.py) and per-block fundamental
    track (track.py); gaps in the comb looked at again on the tracked baseband (baseband.py);
-   further steady combs near the main one (combs.py);
+   further steady combs near the main one (combs.py); whole-input amplitudes of the harmonics by
+   generalised least squares on the same chunk sums (amplitude.py);
 3. pass 2 (blockfit.py): per 50 %-overlapping block, weighted least squares of the samples on the
    tracked harmonic basis plus the fixed lines (fit.py, fullblock.py), amplitudes pooled across
    blocks where the lines are steady, fitted hum windowed by sin^2 (the windows sum to one, so
@@ -26,7 +28,6 @@ from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import params as _params
 from odnn_sep.audio import track as _track
-from odnn_sep.audio.io import ArraySource, ClipCounter, FileSource, is_integer_subtype, output_subtype
 from odnn_sep.audio.result import DenoiseResult
 from odnn_sep.errors import InputError
 
@@ -36,7 +37,10 @@ SMOOTH_BLOCKS = 4   # line amplitudes pooled over up to this many blocks on each
 POOL_MAIN = True    # pool the tracked comb too (in the track's common phase reference), not only fixed lines
 
 
-def _run(source, sink, **kw):
+def run(source, sink, **kw):
+    """All passes over ``source`` (an ArraySource or FileSource); the cleaned samples go through
+    ``sink(piece, removed)``. Options as in :func:`api.denoise`, plus ``after_source_fn`` (the
+    written output as a source, for the line levels after). Returns the DenoiseResult."""
     # Many small matrix products: BLAS threads only add spin-wait overhead here (and collapse
     # when the machine is busy), so run them single-threaded.
     try:
@@ -188,128 +192,3 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         info={"solver": solver, "block_s": 2 * hop / sr, "channels": C, "frames": N, "duration_s": N / sr},
         spectra={"freqs": spec_before.freqs, "before": spec_before.psd, "after": spec_after.psd},
     )
-
-
-def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", solver: str = "exact",
-            alpha: float = 1e-3, max_hz: float | None = None, progress: bool = False,
-            random_state=0) -> DenoiseResult:
-    """Remove mains hum (drift-tracked fundamental and harmonics) and named tones from audio.
-
-    Parameters
-    ----------
-    y : (n,) or (n, channels) array
-        Samples (any units); not modified.
-    sr : int
-        Sample rate (Hz).
-    mains : 'auto', 50, 60 or float
-        Hum fundamental. ``'auto'`` decides between the 50 and 60 Hz families from the data; a
-        number is refined within +-1 % (sound-card clock offsets), e.g. 60.055 Hz.
-    harmonics : 'auto', int or sequence of int
-        ``'auto'`` removes only harmonics that pass the line test; an integer N removes 1..N; a
-        sequence removes exactly those harmonic numbers (e.g. ``[1, 3, 5]`` for odd-only hum).
-    tones : sequence of float
-        Extra fixed tones (Hz) to remove (refined within +-0.5 Hz).
-    block_s : 'auto' or float
-        Fit block length (s); blocks overlap by half. ``'auto'`` picks 8 or 16 s: the one whose
-        processed lines sit closest to their local floor on a central excerpt (16 s suits
-        steady hum, 8 s follows faster drift); inputs shorter than 48 s use 8 s.
-    solver : {'exact', 'network'}
-        ``'network'`` fits every block with the torch ODNN solver (slow; same answer within noise).
-    alpha : float
-        Family-wise significance level of the line tests (Bonferroni over all lines tested).
-    max_hz : float, optional
-        Highest harmonic frequency considered (default: 0.95 x Nyquist, at most 40 harmonics).
-    progress : bool
-        Show a progress bar on stderr (only when it is a terminal).
-    random_state : int
-        Seed for the network solver.
-
-    Returns
-    -------
-    DenoiseResult
-
-    Examples
-    --------
-    >>> from odnn_sep.audio.synth import make_hum_demo
-    >>> y, sr, truth = make_hum_demo(duration_s=4.0, sr=8000)
-    >>> r = denoise(y, sr)
-    >>> r.nominal_hz, r.harmonics[:2]
-    (50.0, [1, 2])
-    """
-    return _denoise_array(y, sr, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
-                          alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
-
-
-def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state):
-    src = ArraySource(y, sr)
-    # the source holds a private copy of y, read strictly ahead of what is written: the output
-    # goes into it in place (one large allocation less)
-    out = src.data
-    hum = np.empty_like(src.data)
-    pos = [0]
-
-    def sink(piece, removed):
-        # piece is out[pos: pos + n] itself (a view of the private copy): subtract in place
-        n = piece.shape[0]
-        np.subtract(piece, removed, out=out[pos[0]: pos[0] + n])
-        hum[pos[0]: pos[0] + n] = removed
-        pos[0] += n
-
-    res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
-               alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource.wrap(out, sr))
-    res.y = out[:, 0] if src.mono else out
-    res.hum = hum[:, 0] if src.mono else hum
-    return res
-
-
-def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto", harmonics="auto", tones=(),
-                 block_s="auto", solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
-                 progress: bool = False, random_state=0) -> DenoiseResult:
-    """Stream ``path_in`` through :func:`denoise` into ``path_out`` (atomic; same rate, channels and
-    subtype unless ``subtype`` is given). Options as in :func:`denoise`.
-
-    Examples
-    --------
-    >>> import tempfile, os, soundfile as sf
-    >>> from odnn_sep.audio.synth import make_hum_demo
-    >>> d = tempfile.mkdtemp(); y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
-    >>> sf.write(os.path.join(d, "in.wav"), y, sr, subtype="PCM_16")
-    >>> r = denoise_file(os.path.join(d, "in.wav"), os.path.join(d, "out.wav"))
-    >>> sf.info(os.path.join(d, "out.wav")).subtype
-    'PCM_16'
-    """
-    import soundfile as sf
-
-    from odnn_sep.io_utils import atomic_output, check_output_path
-
-    src = FileSource(path_in)
-    try:
-        out = check_output_path(path_out, src.path)
-        fmt, st = output_subtype(src, out, subtype)
-        clip = ClipCounter(is_integer_subtype(st))
-        with atomic_output(out) as tmp:
-            kw = {"endian": src.endian} if fmt == src.format else {}
-            with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,
-                              **kw) as fo:
-                def sink(piece, removed):
-                    fo.write(clip(piece - removed))
-
-                res = _run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s,
-                           solver=solver, alpha=alpha, max_hz=max_hz, progress=progress,
-                           random_state=random_state, after_source_fn=lambda: _flushed(fo, tmp))
-    finally:
-        src.close()
-    res.clip_message = clip.message()
-    if res.clip_message:
-        log.warning(res.clip_message)
-    res.info.update({"input": str(src.path), "output": str(out), "format": fmt, "subtype": st,
-                     "input_subtype": src.subtype})
-    return res
-
-
-def _flushed(fo, tmp):
-    # finish the file (FLAC/OGG cannot be read back while open for writing); the surrounding
-    # ``with`` closing it again is a no-op
-    fo.close()
-    return FileSource(tmp)
