@@ -67,7 +67,10 @@ def draw_trial(img, rng):
               float(rng.uniform(cov.shape[0] / 2 + 1, H - cov.shape[0] / 2 - 1)))
     y, M = add_text_watermark(img, text, font=font, size=size, angle=angle, center=center, alpha=alpha,
                               color=color)
-    return y, M, dict(text=text, font=font, size=size, angle=angle, alpha=alpha, color=color)
+    # the ink-box centre as unwatermark reports it (the pasted box starts at a whole pixel)
+    h, w = cov.shape
+    true_center = (round(center[0] - w / 2) + (w - 1) / 2, round(center[1] - h / 2) + (h - 1) / 2)
+    return y, M, dict(text=text, font=font, size=size, angle=angle, alpha=alpha, color=color, center=true_center)
 
 
 def jpeg(img, q=90):
@@ -193,7 +196,8 @@ def calibrate(seed: int, per_photo: int = 3):
     return (f"\n**False alarms on clean photos** (no mark): {len(s)} random texts searched with every default "
             f"font give best match scores median {np.median(s):.3f}, max {s.max():.3f}; "
             f"{int(np.sum(s >= MIN_SCORE))}/{len(s)} reach the detection threshold {MIN_SCORE} (share of "
-            f"edge-patch variance explained by the mark, capped at 1.5x its weaker half).\n")
+            f"edge-patch variance explained by the mark out of sample: on each half of it with the opacity and colour "
+            f"fitted on the other half).\n")
 
 
 def summarize(rows):

@@ -34,6 +34,11 @@ COARSE_H = 10.0    # glyph height (px) at the coarse level
 COARSE_W = 80.0     # px: the coarse template is at most this wide (long texts go one level coarser)
 MIN_COARSE_H = 8.0  # px: glyphs smaller than this at the coarse level only match noise
 FINE_H = 24.0      # glyph height (px) at the refinement level
+# refinement grids at that level: (size step, angle step in deg, half-width in steps, wide position
+# window: the placement is only known to a coarse pixel)
+QUICK = (0.05, 2.5, 0, True)    # position only
+MEDIUM = (0.05, 1.8, 1, True)   # covers half a coarse grid step in size and angle
+FINE = (0.02, 0.7, 1, False)
 
 
 @dataclasses.dataclass
@@ -74,8 +79,12 @@ def _corner(cx, cy, t, f):
 
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
            min_height_px: float = 8.0, max_hypotheses: int = 8, per_size_bin: int = 1,
-           peaks_per_map: int = 2) -> list[Match]:
-    """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first."""
+           peaks_per_map: int = 2, coarse_factor: int = 4) -> list[Match]:
+    """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first.
+
+    ``coarse_factor`` x ``max_hypotheses`` coarse places get one step of the finer grid; the best
+    ``max_hypotheses`` (per font kept, at most two) get the last step.
+    """
     H, W = img.shape[:2]
     pyr = Pyramid(img)
     f0 = str(fonts[0])
@@ -117,30 +126,43 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     cands = [c for found in _map(one_size, sizes) for c in found]  # (score, size, angle, cx, cy)
     if not cands:
         return []
-    top = _select(sorted(cands, key=lambda c: -c[0]), w100, max_hypotheses, per_size_bin)
+    # Many more coarse places than are finally kept: at the coarse level (glyphs ~10 px) a faint
+    # mark on a textured photo scores below dozens of chance matches (development photos: coarse
+    # rank up to ~40 of the distinct places), while one step of the finer grid ranks it first.
+    top = _select(sorted(cands, key=lambda c: -c[0]), w100, coarse_factor * max_hypotheses, per_size_bin)
+
     def one_hypothesis(c):
         _, s0, a0, cx0, cy0 = c
-        # several fonts: a quick look (position only) ranks them and the best two are refined (the
-        # blend fit that screens the hypotheses afterwards tells similar fonts apart far better)
+        # several fonts: a quick look (position only) ranks them and the best two go on (the blend
+        # fit that screens the hypotheses afterwards tells similar fonts apart far better)
         picks = [(fonts[0], s0)]
         if len(fonts) > 1:
             quick = []
             for fo in fonts:
                 sf = s0 * w100 / _ink(text, fo)[0]  # match the coarse text width with this font
-                m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=((0.05, 2.5, 0),))
+                m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=(QUICK,))
                 if m is not None:
                     quick.append((m.score, fo, sf))
             picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2]]
-        return [_refine(pyr, text, str(font), s1, a0, cx0, cy0) for font, s1 in picks]
+        return [_refine(pyr, text, str(font), s1, a0, cx0, cy0, stages=(MEDIUM,)) for font, s1 in picks]
 
-    refined = _map(one_hypothesis, top)
-    out: list[Match] = []
-    for best in (m for ms in refined for m in ms):
-        if best is not None and not any(
-                best.font == o.font and abs(np.log(best.size / o.size)) < 0.04 and abs(best.angle - o.angle) < 2.0
-                and np.hypot(best.center[0] - o.center[0], best.center[1] - o.center[1]) < 3.0 for o in out):
-            out.append(best)
+    medium = sorted((m for ms in _map(one_hypothesis, top) for m in ms if m is not None), key=lambda m: -m.score)
+    keep = _distinct(medium, max_hypotheses * min(2, len(fonts)))
+    out = _distinct([m for m in _map(lambda m: _refine(pyr, text, str(m.font), m.size, m.angle, *m.center,
+                                                        stages=(FINE,)), keep) if m is not None], len(keep))
     out.sort(key=lambda m: -m.score)
+    return out
+
+
+def _distinct(matches, n) -> list[Match]:
+    """The first ``n`` of ``matches`` that are not the same placement as an earlier one."""
+    out: list[Match] = []
+    for m in matches:
+        if len(out) >= n:
+            break
+        if not any(m.font == o.font and abs(np.log(m.size / o.size)) < 0.04 and abs(m.angle - o.angle) < 2.0
+                   and np.hypot(m.center[0] - o.center[0], m.center[1] - o.center[1]) < 3.0 for o in out):
+            out.append(m)
     return out
 
 
@@ -183,18 +205,18 @@ def _select(cands, w100, max_hypotheses, per_size_bin):
     return top
 
 
-def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=((0.05, 1.8, 2), (0.02, 0.7, 1))) -> Match | None:
+def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=(MEDIUM, FINE)) -> Match | None:
     """Finer (size, angle, position) grids (``stages``: size step, angle step, half-width) at a level
     where the glyphs are ~FINE_H px tall."""
     h100 = max(_ink(text, font)[1], 1.0)
     R, E, f = pyr.bandpass(FINE_H / (h100 * s0 / REF_SIZE))
     best = None
-    for stage, (ds, da, n) in enumerate(stages):
+    for ds, da, n, wide in stages:
         for s in s0 * np.exp(np.arange(-n, n + 1) * ds):
             for a in a0 + np.arange(-n, n + 1) * da:
                 T, band = bp_template(text, font, round(s * f, 2), round(float(a), 3))
                 # search a window around the current centre
-                rad = max(6, int(0.1 * T.shape[1])) if stage == 0 else 3
+                rad = max(6, int(0.1 * T.shape[1])) if wide else 3
                 x0, y0 = _corner(cx0, cy0, T, f)
                 x0, y0 = x0 - rad, y0 - rad
                 xa, ya = max(0, x0), max(0, y0)

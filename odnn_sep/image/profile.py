@@ -41,7 +41,8 @@ class DataProfile:
         self.mm = np.sum(Mp * Mp, axis=1)
         self.yy = np.sum(Yp * Yp, axis=1)
 
-    def parts(self, alpha: float):
+    def stats(self, alpha: float):
+        """Per-patch (sxx (p,), sxy (p, C), syy (p,)) of M and y with the plane part removed."""
         # Gram-matrix form of the per-patch projections (3-6 columns): much faster than a batched QR.
         u = 1.0 - alpha * self.Mp                                   # (p, n)
         Phi, Yp, Mp = self.Phi, self.Yp, self.Mp
@@ -56,11 +57,17 @@ class DataProfile:
         sxx_p = self.mm - np.sum(am * gm[:, :, 0], axis=1)
         sxy_p = (Mp[:, None, :] @ Yp)[:, 0, :] - np.sum(am[:, :, None] * gy, axis=1)
         syy_p = self.yy - np.sum(ay * gy, axis=1)
+        return sxx_p, sxy_p, syy_p
+
+    def parts(self, alpha: float, beta=None):
+        """(beta (C,), per-patch RSS (p,)); ``beta`` given: the RSS of that colour, not the best one."""
+        sxx_p, sxy_p, syy_p = self.stats(alpha)
         w = self.w
-        Sxx = float(np.sum(w * sxx_p))
-        # the colour must be a colour: b = alpha * col with col in [0, 1]. Channels are independent
-        # given alpha, so clipping each 1-D quadratic's minimiser is the constrained optimum.
-        beta = np.clip((w @ sxy_p) / max(Sxx, 1e-300), 0.0, alpha)
+        if beta is None:
+            Sxx = float(np.sum(w * sxx_p))
+            # the colour must be a colour: b = alpha * col with col in [0, 1]. Channels are independent
+            # given alpha, so clipping each 1-D quadratic's minimiser is the constrained optimum.
+            beta = np.clip((w @ sxy_p) / max(Sxx, 1e-300), 0.0, alpha)
         rss_p = np.sum(syy_p - 2 * beta[None] * sxy_p + (beta[None] ** 2) * sxx_p[:, None], axis=1)
         return beta, np.maximum(rss_p, 0.0)
 
