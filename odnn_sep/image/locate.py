@@ -2,8 +2,9 @@
 
 The search is coarse-to-fine on band-pass correlation (``features.match_bandpass``): every (size,
 angle) on a log/linear grid at a pyramid level where the glyphs are about 10 px tall, the best
-places of each, then a finer (size, angle, position) grid at a level where they are about 24 px
-tall around the best hypotheses (without a pinned font: for the two fonts that look best there).
+places of each, then one step of a finer (size, angle, position) grid at a level where they are
+about 24 px tall around many of them (without a pinned font: for the two fonts that look best
+there), and a last, finer step for the best of those.
 The caller screens the hypotheses with the blend fit, and the final sub-pixel fit minimises the
 blend model's residual (see ``register``).
 """
