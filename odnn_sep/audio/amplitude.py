@@ -43,9 +43,11 @@ def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
     """
     J = u.shape[0]
     n = int(min(J, max(8, round(WINDOW_S * fs))))
-    kern = np.full(n, 1.0 / n)
-    # the line (and its slow drift) is the slow part; the content a few Hz away is what remains
-    r = u - (np.convolve(u.real, kern, "same") + 1j * np.convolve(u.imag, kern, "same"))
+    # the line (and its slow drift) is the slow part: a centred n-chunk moving mean (zeros beyond
+    # the ends, as np.convolve's "same"), by cumulative sums; the content a few Hz away remains
+    lo, hi = n - 1 - (n - 1) // 2, (n - 1) // 2
+    cs = np.concatenate([np.zeros(lo + 1, u.dtype), np.cumsum(u), np.full(hi, np.sum(u))])
+    r = u - (cs[n:n + J] - cs[:J]) / n
     win = np.hanning(n + 2)[1:-1]
     f = np.abs(np.fft.fftfreq(n, 1.0 / fs))
     band = (f >= OFFSET_BAND_HZ[0]) & (f <= OFFSET_BAND_HZ[1])
@@ -77,17 +79,19 @@ def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n
     full = [b for b in range(len(trk.f0)) if b * hop - hop >= 0 and b * hop + hop <= n_frames]
     if len(full) < 3 or J < 8:
         return out
-    spans = []
-    for b in full:
-        c = b * hop
-        j0 = int(np.searchsorted(tj, c - hop))
-        j1 = int(np.searchsorted(tj, c + hop))
-        tau = (tj[j0:j1] - c) / sr
-        # the block fit's phase model, relative to the demodulation frequency
-        cyc = tau * ((trk.f0[b] - f_ref) + tau * (trk.rate[b] / 2 + tau * (trk.curv[b] / 6)))
-        win = np.sin(np.pi * (tj[j0:j1] - (c - hop) + 0.5) / L) ** 2
-        spans.append((j0, j1, cyc, win))
+    # full blocks as rows of chunk indices (all the same length: a block boundary between two
+    # chunk centres may drop one end chunk, where the window is ~0 anyway)
+    j0 = np.searchsorted(tj, np.array(full) * hop - hop)
+    nb = int(min(np.searchsorted(tj, np.array(full) * hop + hop) - j0))
+    idx = j0[:, None] + np.arange(nb)[None, :]                      # (B, nb)
+    c = (np.array(full) * hop)[:, None]
+    tau = (tj[idx] - c) / sr
+    # the block fit's phase model, relative to the demodulation frequency
+    b = np.array(full)
+    cyc = tau * ((trk.f0[b] - f_ref)[:, None] + tau * ((trk.rate[b] / 2)[:, None] + tau * (trk.curv[b] / 6)[:, None]))
+    win = np.sin(np.pi * (tj[idx] - (c - hop) + 0.5) / L) ** 2
     for i, k in enumerate(ks):
+        rot = np.exp(-2j * np.pi * k * cyc)
         for ch in range(C):
             u = D[:, ch, i].astype(np.complex128)
             # weights from the mean power: they vary as slowly as the content near the line
@@ -95,15 +99,12 @@ def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n
             # onto the line; the variance of the block mean from the median, the power of the
             # content that does stay under the line
             p_mean, p_med = local_power(u, fs)
-            z2, var = np.empty(len(full)), np.empty(len(full))
-            for q, (j0, j1, cyc, win) in enumerate(spans):
-                w = win / p_mean[j0:j1]
-                sw = w.sum()
-                z = np.dot(w, u[j0:j1] * np.exp(-2j * np.pi * k * cyc)) / sw
-                var[q] = np.dot(w * w, p_med[j0:j1]) / sw ** 2
-                z2[q] = abs(z) ** 2
+            w = win / p_mean[idx]
+            sw = w.sum(axis=1)
+            z = np.sum(w * u[idx] * rot, axis=1) / sw
+            var = np.sum(w * w * p_med[idx], axis=1) / sw ** 2
             # amplitude of a chunk sum: m A / 2
-            out[ch, i] = _combine(z2, var, m)
+            out[ch, i] = _combine(np.abs(z) ** 2, var, m)
     return out
 
 
