@@ -40,8 +40,8 @@ class BlendFit:
     n_patches: int
     patch: int
     explained: float = float("nan")   # 1 - RSS(mark) / RSS(photo only) over the edge patches
-    held_out: float = float("nan")  # the share on each half of the mark (along its length) with opacity
-    # and colour fitted on the other half; the smaller of the two
+    held_out: float = float("nan")  # the same share out of sample: each half of the mark (along its
+    # length) predicted with the opacity and colour fitted on the other half
 
     @property
     def color(self) -> np.ndarray:
@@ -180,20 +180,21 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     # out-of-sample share: each half of the mark along its principal axis, fitted on the other half
     ww = np.maximum(M, 0.0)
     yy, xx = np.nonzero(ww > 0.5)
-    held = []
+    held = explained
     if held_out and len(yy) >= 2 and len(Mp) >= 4:
         d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
         pos = (px + patch_px / 2) * d[0] + (py + patch_px / 2) * d[1]
         low = pos <= np.median(pos)
         if low.sum() >= 2 and (~low).sum() >= 2:
-            held = [_held_out(Yp, Mp, Phi, fit_on, rss0_p, a_hi) for fit_on in (low, ~low)]
+            rss_out = sum(_held_out_rss(Yp, Mp, Phi, fit_on, a_hi) for fit_on in (low, ~low))
+            held = max(0.0, 1.0 - rss_out / max(float(np.sum(rss0_p)), 1e-300))
     return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(Mp),
-                    patch=patch, explained=explained, held_out=max(0.0, min(held)) if held else explained)
+                    patch=patch, explained=explained, held_out=held)
 
 
-def _held_out(Yp, Mp, Phi, fit_on, rss0_p, a_hi) -> float:
-    """Share of the photo-only residual of the patches outside ``fit_on`` that the mark explains with
-    the opacity and colour fitted on the patches in ``fit_on``.
+def _held_out_rss(Yp, Mp, Phi, fit_on, a_hi) -> float:
+    """Residual of the patches outside ``fit_on`` under the blend with the opacity and colour fitted
+    on the patches in ``fit_on``.
 
     Out of sample, so free of the fit's own optimism: a chance alignment with photo texture needs a
     different opacity and colour in each part of the mark (the texture's contrast changes sign and
@@ -208,20 +209,18 @@ def _held_out(Yp, Mp, Phi, fit_on, rss0_p, a_hi) -> float:
     a = float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": 1e-3}).x)
     beta = prof.parts(a)[0]
     test = ~fit_on
-    rss1 = float(np.sum(DataProfile(Yp[test], Mp[test], Phi).parts(a, beta)[1]))
-    return 1.0 - rss1 / max(float(np.sum(rss0_p[test])), 1e-300)
+    return float(np.sum(DataProfile(Yp[test], Mp[test], Phi).parts(a, beta)[1]))
 
 
 def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     """Share of the photo-only residual that the mark explains out of sample, on stroke-scaled patches.
 
     Larger patches than the opacity fit uses: with more pixels per plane, a wrong template placed
-    on texture explains little. The share is measured on each half of the mark (along its length)
-    with the opacity and colour fitted on the other half, and the smaller one is kept
-    (``BlendFit.held_out``): a real mark has one opacity and colour along its whole length, while a
-    chance alignment with photo texture (a star field, a few edges) needs different ones in each
-    part, and the fit's own optimism (it picks the opacity and colour that explain most) does not
-    enter. A share measured on few patches varies more by chance (its spread goes as 1/sqrt(n)),
+    on texture explains little. The share is measured out of sample (``BlendFit.held_out``): each
+    half of the mark (along its length) is predicted with the opacity and colour fitted on the other
+    half. A real mark has one opacity and colour along its whole length, while a chance alignment
+    with photo texture (a star field, a few edges) needs different ones in each part, and the fit's
+    own optimism (it picks the opacity and colour that explain most) does not enter. A share measured on few patches varies more by chance (its spread goes as 1/sqrt(n)),
     and the search picks the best of many placements, so small marks with fewer than
     ``FULL_WEIGHT_PATCHES`` edge patches are discounted by sqrt(n / 100): one threshold then holds
     for every size.
