@@ -40,6 +40,7 @@ FINE_H = 24.0      # glyph height (px) at the refinement level
 QUICK = (0.05, 2.5, 0, True)    # position only
 MEDIUM = (0.05, 1.8, 1, True)   # covers half a coarse grid step in size and angle
 FINE = (0.02, 0.7, 1, False)
+FONT_PLACES = 3  # without a pinned font, the best places where every font is tried on the finer grids
 
 
 @dataclasses.dataclass
@@ -152,6 +153,30 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     out = _distinct([m for m in _map(lambda m: _refine(pyr, text, str(m.font), m.size, m.angle, *m.center,
                                                         stages=(FINE,)), keep) if m is not None], len(keep))
     out.sort(key=lambda m: -m.score)
+    if len(fonts) > 1:
+        # The quick look ranks fonts by one template each, which often prefers a similar font to the
+        # right one; the few best places get every other font on the finer grids too.
+        extra = [(m, fo) for m in _places(out, FONT_PLACES) for fo in fonts
+                 if not any(o.font == fo and same_place(o, m) for o in out)]
+        more = _map(lambda t: _refine(pyr, text, str(t[1]), t[0].size * _ink(text, t[0].font)[0] / _ink(text, t[1])[0],
+                                      t[0].angle, *t[0].center), extra)
+        out = sorted(out + [m for m in more if m is not None], key=lambda m: -m.score)
+    return out
+
+
+def same_place(a: Match, b: Match) -> bool:
+    return bool(np.hypot(a.center[0] - b.center[0], a.center[1] - b.center[1]) < 0.5 * max(a.size, b.size)
+                and abs(a.angle - b.angle) < 5.0)
+
+
+def _places(matches, n) -> list[Match]:
+    """The first match at each of the first ``n`` distinct places."""
+    out: list[Match] = []
+    for m in matches:
+        if len(out) >= n:
+            break
+        if not any(same_place(m, o) for o in out):
+            out.append(m)
     return out
 
 

@@ -16,8 +16,9 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view).
 
     ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes)."""
+    from odnn_sep.image.choose import most_likely
     from odnn_sep.image.estimate import detection_score, fit_blend
-    from odnn_sep.image.locate import Match, repeats, search
+    from odnn_sep.image.locate import Match, repeats, same_place, search
     from odnn_sep.image.register import refine, render_at
     from odnn_sep.image.render import default_fonts, resolve_font
 
@@ -52,19 +53,33 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     by_corr = sorted(screened, key=lambda t: -t[1].score)[:2]
     screened.sort(key=lambda t: -t[0])
     order = screened[:3] + [t for t in by_corr if all(t[1] is not u[1] for u in screened[:3])]
+    # and the best of every other font at the place that screens best: the font is chosen below by
+    # the likelihood of the registered renderings, which the quick screening fit cannot stand in for
+    rivals = []
+    for t in screened[1:]:
+        if screened and t[1].font != screened[0][1].font and same_place(t[1], screened[0][1]) and all(
+                t[1].font != u[1].font for u in rivals):
+            rivals.append(t)
+    order += [t for t in rivals if all(t[1] is not u[1] for u in order)]
     best, best_nc = None, None
+    refined = []
     for sc0, c in order:
-        if best is not None and best.fit.explained >= 0.5 and sc0 < 0.8 * screened[0][0]:
-            continue  # a clear detection: no need to refine clearly weaker hypotheses (another font
-            # at the same place screens about as well, and is refined)
+        if (best is not None and best.fit.explained >= 0.5 and sc0 < 0.8 * screened[0][0]
+                and all(c is not u[1] for u in rivals)):
+            continue  # a clear detection: no need to refine clearly weaker hypotheses
         try:
             # on a reduced copy the placement is only a start for the full-resolution registration
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
                        iterations=30 if reduced else 60, whole_sizes=not reduced, random_state=random_state)
         except NotIdentifiableError:
             continue
+        refined.append((p, c))
         if best is None or p.fit.explained > best.fit.explained:
             best, best_nc = p, c
+    if best is not None:
+        # the font (and size) at the chosen place: by the likelihood on the same pixels
+        rivals = [(p, c) for p, c in refined if _overlap(p.box, best.box) > 0.5]
+        best, best_nc = rivals[most_likely(y, [p for p, _ in rivals], random_state=random_state)]
     score = 0.0
     if best is not None:
         x0, y0, x1, y1 = best.box
@@ -92,6 +107,15 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
             if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
                 placed.append(p)
     return _assemble(y, text, placed, score, min_score, random_state)
+
+
+def _overlap(a, b) -> float:
+    """Intersection over the smaller of two boxes (x0, y0, x1, y1)."""
+    w = min(a[2], b[2]) - max(a[0], b[0])
+    h = min(a[3], b[3]) - max(a[1], b[1])
+    if w <= 0 or h <= 0:
+        return 0.0
+    return w * h / min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
 
 
 def _assemble(y, text, placed, score, min_score, random_state):
