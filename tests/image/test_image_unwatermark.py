@@ -82,7 +82,7 @@ def test_errors():
     with pytest.raises(InputError, match=r"mask size 10x10 differs from the image size 150x100"):
         unwatermark(y, mask=np.ones((10, 10)))
     with pytest.raises(InputError, match=r"text 'NOT HERE' not found in the image \(best match score [0-9.]+, "
-                                         r"needs >= 0.2\); check --text/--font or give --mask"):
+                                         r"needs >= 0.28\); check --text/--font or give --mask"):
         unwatermark(y, text="NOT HERE", font="DejaVuSans-Bold")
 
 
