@@ -160,7 +160,8 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
                  if not any(o.font == fo and same_place(o, m) for o in out)]
         more = _map(lambda t: _refine(pyr, text, str(t[1]), t[0].size * _ink(text, t[0].font)[0] / _ink(text, t[1])[0],
                                       t[0].angle, *t[0].center), extra)
-        out = sorted(out + [m for m in more if m is not None], key=lambda m: -m.score)
+        # as many as before: the screening that follows costs a blend fit per hypothesis
+        out = sorted(out + [m for m in more if m is not None], key=lambda m: -m.score)[:len(keep)]
     return out
 
 
