@@ -227,6 +227,56 @@ def calibrate(seed: int, per_photo: int = 3):
             f"and colour fitted on the other half): " + "; ".join(out) + ".\n")
 
 
+def calibrate_decoys(seed: int, out_json: str, per_photo: int = 4, m: int = 4, low: float = 0.10):
+    """Development data for the decoy rule (``odnn_sep.image.decoy``): the best score of the text
+    and of ``m`` decoy texts, on clean photos (null) and on watermarked trials, both ways (font given
+    or not). Decoys are scored only for scores between ``low`` and the global threshold (the only
+    ones the rule looks at). Never run on the evaluation seed."""
+    import json
+
+    from odnn_sep.image.api import MIN_SCORE, MIN_SCORE_ANY_FONT
+    from odnn_sep.image.decoy import decoy_texts
+    from odnn_sep.image.io import split
+    from odnn_sep.image.render import default_fonts, resolve_font
+    from odnn_sep.image.textmode import best_match
+
+    def one(y, text, font, truth=None):
+        yf = split(y).view.full()
+        fonts = [resolve_font(font)] if font else default_fonts()
+        best, _, s, _, _ = best_match(yf, text, fonts, None, 45.0, 0)
+        rec = {"s": s, "decoys": [], "near": None}
+        if truth is not None and best is not None:
+            rec["near"] = bool(np.hypot(best.center[0] - truth["center"][0], best.center[1] - truth["center"][1])
+                               < 0.5 * truth["size"])
+        if low <= s < (MIN_SCORE if font else MIN_SCORE_ANY_FONT):
+            rec["decoys"] = [best_match(yf, t, fonts, None, 45.0, 0)[2] for t in decoy_texts(text, m)]
+        return rec
+
+    if seed == 2026:
+        raise SystemExit("the decoy rule is calibrated on development seeds only")
+    res = []
+    rng = np.random.default_rng(seed + 1)
+    for name, img in photos(False):  # nulls, as in calibrate()
+        for _ in range(per_photo):
+            text, font = str(rng.choice(WORDS)), str(rng.choice(FONTS))
+            for label, f in (("given", font), ("auto", None)):
+                r = {"kind": "null", "photo": name, "text": text, "mode": label, **one(img, text, f)}
+                res.append(r)
+                print(r, flush=True)
+    rng = np.random.default_rng(seed)
+    for name, img in photos(False):  # watermarked trials, as in run_trials()
+        for _ in range(3):
+            y_png, _, truth = draw_trial(img, rng)
+            for fmt in ("png", "jpeg"):
+                y = y_png if fmt == "png" else jpeg(y_png)
+                for label, f in (("given", truth["font"]), ("auto", None)):
+                    r = {"kind": "mark", "photo": name, "fmt": fmt, "alpha": truth["alpha"], "text": truth["text"],
+                         "mode": label, **one(y, truth["text"], f, truth)}
+                    res.append(r)
+                    print(r, flush=True)
+    Path(out_json).write_text(json.dumps(res))
+
+
 def summarize(rows):
     from _bench_md import md_table
 
@@ -276,9 +326,14 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--no-write", action="store_true", help="do not write BENCHMARKS.md")
     ap.add_argument("--calibrate-only", action="store_true", help="only the null scores on clean photos")
+    ap.add_argument("--calibrate-decoys", metavar="OUT.json",
+                    help="only the development data of the decoy rule (text and decoy scores), to OUT.json")
     args = ap.parse_args(argv)
     if not photos(args.quick):
         print(f"no photos under {DATA}; nothing to do")
+        return 0
+    if args.calibrate_decoys:
+        calibrate_decoys(args.seed, args.calibrate_decoys)
         return 0
     if args.calibrate_only:
         print(calibrate(args.seed))

@@ -68,7 +68,10 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     mask : (H, W) array, nonzero over the watermark's area; without ``text`` the mark's shape is
         estimated inside it, with ``text`` the search is restricted to it
     min_score : detection threshold (share of edge variance explained by the mark out of sample);
-        default ``MIN_SCORE``, or ``MIN_SCORE_ANY_FONT`` when text is searched without a font
+        default ``MIN_SCORE``, or ``MIN_SCORE_ANY_FONT`` when text is searched without a font. A
+        best score below it but at least ``decoy.FLOOR`` is still a detection when it beats the best
+        score of decoy texts (the text's characters reordered) on the same image by the factor
+        ``decoy.KAPPA``; ``report["detection"]`` says which rule decided, with the decoy scores
 
     Returns
     -------
