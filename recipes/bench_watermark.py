@@ -124,11 +124,13 @@ def run_trials(quick: bool, trials: int, seed: int):
                     if quick and label == "auto":
                         continue
                     t0 = time.perf_counter()
+                    rule = "none"
                     try:
                         r = unwatermark(y, text=truth["text"], font=font)
-                        out, a_hat, ok = r.image, r.alpha, True
+                        out, a_hat, ok, rule = r.image, r.alpha, True, r.report["detection"]["rule"]
                     except InputError:
                         out, a_hat, ok = y, float("nan"), False
+                    rec[f"ours_{label}_rule"] = rule
                     rec[f"ours_{label}"] = metrics(img, out, region)
                     rec[f"ours_{label}_time"] = time.perf_counter() - t0
                     rec[f"ours_{label}_ok"] = ok
@@ -146,7 +148,7 @@ def run_trials(quick: bool, trials: int, seed: int):
                       f"{truth['angle']:+5.1f}deg | given {rec['ours_given'][0]:5.1f} dB "
                       f"(a err {100 * rec['ours_given_alpha_err']:.2f} %) "
                       + (f"auto {rec['ours_auto'][0]:5.1f} dB " if "ours_auto" in rec else "")
-                      + f"| TELEA {rec['telea'][0]:5.1f} NS {rec['ns'][0]:5.1f} | input {rec['input'][0]:5.1f}",
+                      + f"[{rec['ours_given_rule']}] | TELEA {rec['telea'][0]:5.1f} NS {rec['ns'][0]:5.1f} | input {rec['input'][0]:5.1f}",
                       flush=True)
     return rows
 
@@ -205,23 +207,30 @@ def calibrate(seed: int, per_photo: int = 3):
 
     rng = np.random.default_rng(seed + 1)
     scores: dict[str, list[float]] = {"given": [], "auto": []}
+    by_decoys: dict[str, int] = {"given": 0, "auto": 0}  # false alarms of the decoy comparison
+    n_decoy_runs: dict[str, int] = {"given": 0, "auto": 0}
     for name, img in photos(False):
         for _ in range(per_photo):
             text, font = str(rng.choice(WORDS)), str(rng.choice(FONTS))
             for label, f in (("given", font), ("auto", None)):
+                # the default rule (global threshold, decoys for an ambiguous score), as a user runs it
                 try:
-                    r = unwatermark(img, text=text, font=f, min_score=0.0, max_marks=1)
-                    v = r.report["match_score"]
+                    r = unwatermark(img, text=text, font=f, max_marks=1)
+                    v, rule = r.report["match_score"], r.report["detection"]["rule"]
+                    by_decoys[label] += rule == "decoys"
+                    n_decoy_runs[label] += rule == "decoys"
                 except InputError as exc:
-                    v = float(str(exc).split("best match score ")[1].split(",")[0])
+                    v, rule = float(str(exc).split("best match score ")[1].split(",")[0]), "none"
+                    n_decoy_runs[label] += "decoy" in str(exc)
                 scores[label].append(v)
-                print(f"clean {name:22s} {text!r:22s} {label:5s} best score {v:.3f}", flush=True)
+                print(f"clean {name:22s} {text!r:22s} {label:5s} best score {v:.3f} detected by {rule}", flush=True)
     out = []
     for label, thr, what in (("given", MIN_SCORE, "a random font given"), ("auto", MIN_SCORE_ANY_FONT,
                                                                              "every default font")):
         s = np.array(scores[label])
         out.append(f"with {what}: median {np.median(s):.3f}, max {s.max():.3f}, "
-                   f"{int(np.sum(s >= thr))}/{len(s)} reach the threshold {thr}")
+                   f"{int(np.sum(s >= thr))}/{len(s)} reach the threshold {thr}, {n_decoy_runs[label]} ambiguous "
+                   f"(decoys scored), {by_decoys[label]} detected by the decoy comparison")
     return (f"\n**False alarms on clean photos** (no mark; {len(scores['given'])} random texts; score = share of the "
             f"edge-patch variance explained by the mark out of sample, each half of it predicted with the opacity "
             f"and colour fitted on the other half): " + "; ".join(out) + ".\n")
@@ -308,6 +317,10 @@ def summarize(rows):
         body.append(f"**{fmt.upper()} inputs** ({len(rs)} marks)\n")
         body.append(md_table(["method", "PSNR median (dB)", "PSNR min", "SSIM median", "PSNR in mark",
                               "SSIM in mark", "alpha MAPE (mean / median)", "found", "time median (s)"], tab))
+        dec = [f"{sum(r.get(f'ours_{k}_rule') == 'decoys' for r in rs)} {lab}" for k, lab in
+               (("given", "with the font given"), ("auto", "without"))]
+        body.append(f"\nFound by the decoy comparison (score between the floor and the global threshold): "
+                    f"{', '.join(dec)}; the rest of those found by the global threshold.\n")
         orc = [r["oracle_score"] for r in rs if "oracle_score" in r]
         if orc:
             from odnn_sep.image.api import MIN_SCORE

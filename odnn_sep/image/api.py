@@ -19,7 +19,8 @@ log = logging.getLogger(__name__)
 # scores up to 0.278 with a font given and 0.289 with every default font (textured spots of the
 # coffee and braindotai photos; most stay below 0.15). Without a pinned font the search picks the
 # best of several fonts, which raises the best chance score. Real marks of opacity >= 0.3 usually
-# score 0.3-0.9.
+# score 0.3-0.9. Fainter marks that score between ``decoy.FLOOR`` and these are told from chance
+# alignments per photo, by decoy texts (``odnn_sep.image.decoy``).
 MIN_SCORE = 0.28
 MIN_SCORE_ANY_FONT = 0.29
 
