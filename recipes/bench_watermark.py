@@ -146,9 +146,9 @@ def run_trials(quick: bool, trials: int, seed: int):
                     print(f"  missed with the font given; the true placement scores {rec['oracle_score']:.3f}")
                 print(f"{name:22s} #{k} {fmt:4s} a={truth['alpha']:.2f} {truth['font']:18s} {truth['size']:3d}px "
                       f"{truth['angle']:+5.1f}deg | given {rec['ours_given'][0]:5.1f} dB "
-                      f"(a err {100 * rec['ours_given_alpha_err']:.2f} %) "
+                      f"(a err {100 * rec['ours_given_alpha_err']:.2f} %, {rec['ours_given_rule']}) "
                       + (f"auto {rec['ours_auto'][0]:5.1f} dB " if "ours_auto" in rec else "")
-                      + f"[{rec['ours_given_rule']}] | TELEA {rec['telea'][0]:5.1f} NS {rec['ns'][0]:5.1f} | input {rec['input'][0]:5.1f}",
+                      + f"| TELEA {rec['telea'][0]:5.1f} NS {rec['ns'][0]:5.1f} | input {rec['input'][0]:5.1f}",
                       flush=True)
     return rows
 
