@@ -10,6 +10,9 @@ from odnn_sep.errors import InputError, NotIdentifiableError
 # Images larger than this (longest side, px) are searched on a reduced copy; only the found marks
 # are refined at full resolution.
 WORK_MAX_PX = 1024
+# Without a pinned font, the other fonts at the best place are registered for the likelihood choice
+# unless the mark is clearly detected and they screen below this share of the best screening score.
+RIVAL_SCREEN_RATIO = 0.5
 
 
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
@@ -102,9 +105,11 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False)
     best, best_nc = None, None
     refined = []
     for sc0, c in order:
-        if (best is not None and best.fit.explained >= 0.5 and sc0 < 0.8 * screened[0][0]
-                and all(c is not u[1] for u in rivals)):
-            continue  # a clear detection: no need to refine clearly weaker hypotheses
+        if best is not None and best.fit.explained >= 0.5 and sc0 < (
+                0.8 if all(c is not u[1] for u in rivals) else RIVAL_SCREEN_RATIO) * screened[0][0]:
+            # a clear detection: no need to refine clearly weaker hypotheses, nor fonts that
+            # explain less than half as much at the same place (their likelihood cannot win)
+            continue
         try:
             # on a reduced copy the placement is only a start for the full-resolution registration
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
