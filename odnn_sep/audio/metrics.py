@@ -96,9 +96,7 @@ def band_floor_offset_db(x, sr, lines, exclude_hz, *, seg_s: float = 32.0, exclu
     """
     x = np.asarray(x, float)
     f, P = _psd(x, sr, seg_s, window="blackmanharris")
-    near_line = np.zeros(f.shape, bool)
-    for g in exclude_hz:
-        near_line |= np.abs(f - g) <= exclude_half_width_hz
+    near_line = _near(f, exclude_hz, exclude_half_width_hz)
     out = []
     for fl in lines:
         d = np.abs(f - fl)
@@ -136,11 +134,17 @@ def beside_line_cut_db(x_in, x_out, sr, lines, exclude_hz, *, seg_s: float = 32.
     x_out = np.asarray(x_out, float)
     f, Pi = _psd(x_in, sr, seg_s, window="blackmanharris")
     _, Po = _psd(x_out, sr, seg_s, window="blackmanharris")
-    near_line = np.zeros(f.shape, bool)
-    for g in exclude_hz:
-        near_line |= np.abs(f - g) <= exclude_half_width_hz
+    near_line = _near(f, exclude_hz, exclude_half_width_hz)
     out = []
     for fl in lines:
         w = (np.abs(f - fl) <= width_hz) & ~near_line & (Pi > 0)
         out.append(float(10 * np.log10((Po[w] / Pi[w]).min())) if w.any() else float("nan"))
     return out
+
+
+def _near(f: np.ndarray, lines_hz, half_width_hz: float) -> np.ndarray:
+    """Bins of ``f`` within ``half_width_hz`` of any of ``lines_hz``."""
+    near = np.zeros(f.shape, bool)
+    for g in lines_hz:
+        near |= np.abs(f - g) <= half_width_hz
+    return near
