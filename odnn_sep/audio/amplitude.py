@@ -31,6 +31,7 @@ OFFSET_BAND_HZ = (1.5, 6.0)  # offsets from the line where its local content pow
 POWER_FLOOR = 0.05           # weights capped at 1 / (this x the median power): a few quiet chunks
                              # must not carry a whole block
 STEADY_SCATTER = 2.0
+BATCH_CHUNKS = 1 << 16       # chunks of blocks processed at once
 
 
 def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
@@ -81,17 +82,26 @@ def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n
         return out
     # full blocks as rows of chunk indices (all the same length: a block boundary between two
     # chunk centres may drop one end chunk, where the window is ~0 anyway)
-    j0 = np.searchsorted(tj, np.array(full) * hop - hop)
-    nb = int(min(np.searchsorted(tj, np.array(full) * hop + hop) - j0))
-    idx = j0[:, None] + np.arange(nb)[None, :]                      # (B, nb)
-    c = (np.array(full) * hop)[:, None]
-    tau = (tj[idx] - c) / sr
-    # the block fit's phase model, relative to the demodulation frequency
-    b = np.array(full)
-    cyc = tau * ((trk.f0[b] - f_ref)[:, None] + tau * ((trk.rate[b] / 2)[:, None] + tau * (trk.curv[b] / 6)[:, None]))
-    win = np.sin(np.pi * (tj[idx] - (c - hop) + 0.5) / L) ** 2
+    full = np.array(full)
+    j0 = np.searchsorted(tj, full * hop - hop)
+    nb = int(min(np.searchsorted(tj, full * hop + hop) - j0))
+    # blocks a batch at a time: the per-block arrays then take bounded memory on long inputs
+    batch = max(1, BATCH_CHUNKS // nb)
+    starts = range(0, len(full), batch)
+
+    def geometry(q):
+        """Chunk indices (blocks, nb), phase model in cycles and sin^2 window of the batch at ``q``."""
+        b = full[q:q + batch]
+        idx = j0[q:q + batch, None] + np.arange(nb)[None, :]
+        c = (b * hop)[:, None]
+        tau = (tj[idx] - c) / sr
+        # the block fit's phase model, relative to the demodulation frequency
+        cyc = tau * ((trk.f0[b] - f_ref)[:, None] + tau * ((trk.rate[b] / 2)[:, None] + tau * (trk.curv[b] / 6)[:, None]))
+        return idx, cyc, np.sin(np.pi * (tj[idx] - (c - hop) + 0.5) / L) ** 2
+
+    # one batch (the usual case): computed once for every line and channel
+    single = geometry(0) if len(starts) == 1 else None
     for i, k in enumerate(ks):
-        rot = np.exp(-2j * np.pi * k * cyc)
         for ch in range(C):
             u = D[:, ch, i].astype(np.complex128)
             # weights from the mean power: they vary as slowly as the content near the line
@@ -99,10 +109,13 @@ def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n
             # onto the line; the variance of the block mean from the median, the power of the
             # content that does stay under the line
             p_mean, p_med = local_power(u, fs)
-            w = win / p_mean[idx]
-            sw = w.sum(axis=1)
-            z = np.sum(w * u[idx] * rot, axis=1) / sw
-            var = np.sum(w * w * p_med[idx], axis=1) / sw ** 2
+            z, var = np.empty(len(full), complex), np.empty(len(full))
+            for q in starts:
+                idx, cyc, win = single if single is not None else geometry(q)
+                w = win / p_mean[idx]
+                sw = w.sum(axis=1)
+                z[q:q + batch] = np.sum(w * u[idx] * np.exp(-2j * np.pi * k * cyc), axis=1) / sw
+                var[q:q + batch] = np.sum(w * w * p_med[idx], axis=1) / sw ** 2
             # amplitude of a chunk sum: m A / 2
             out[ch, i] = _combine(np.abs(z) ** 2, var, m)
     return out

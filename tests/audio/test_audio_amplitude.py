@@ -79,3 +79,14 @@ def test_denoise_reports_the_whole_input_amplitudes():
     for k, a in enumerate(amps, start=1):
         assert np.isfinite(r.amplitude_overall[0, k - 1])
         assert abs(r.line_amplitude(f"h{k}")[0] / a - 1) < 0.01, (k, r.line_amplitude(f"h{k}"))
+
+
+def test_batches_of_blocks_give_the_same_amplitudes(monkeypatch):
+    # long inputs are processed a few blocks at a time (bounded memory): same numbers
+    rng = np.random.default_rng(7)
+    n = 96 * SR
+    t = np.arange(n) / SR
+    y = 0.2 * np.cos(2 * np.pi * 50.0 * t) + 0.05 * np.cos(2 * np.pi * 100.0 * t + 1) + 0.3 * _bursty_noise(n, rng)
+    one = _steady(y, [1, 2])
+    monkeypatch.setattr(amplitude, "BATCH_CHUNKS", 1000)      # 1-2 blocks of 800 chunks per batch
+    np.testing.assert_allclose(_steady(y, [1, 2]), one, rtol=1e-12)
