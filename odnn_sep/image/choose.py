@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from odnn_sep.image.estimate import drop_clipped, patch_grid, take_patches
+from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, take_patches
 from odnn_sep.image.profile import PhotoProfile, design
 
 
@@ -19,8 +19,6 @@ def most_likely(y, rivals, *, patch: int = 8, max_patches: int = 800, random_sta
     """Index of the rival placement (``register.Placed``) under which the data are most likely.
 
     ``y``: the whole image as float (H, W, C) in [0, 1] (or a view giving float crops)."""
-    from scipy.optimize import minimize_scalar
-
     if len(rivals) < 2:
         return 0
     X0, Y0 = min(p.box[0] for p in rivals), min(p.box[1] for p in rivals)
@@ -48,14 +46,10 @@ def most_likely(y, rivals, *, patch: int = 8, max_patches: int = 800, random_sta
     py, px = pts_a[:, 0], pts_a[:, 1]
     Yp, keep = drop_clipped(take_patches(crop, py, px, size), np.arange(len(py)))
     Phi = design(size, 1)
-    grid = np.linspace(0.0, 0.995, 17)[1:]
     nll = []
     for c in covs:
         prof = PhotoProfile(Yp, take_patches(c, py, px, size)[keep, :, 0], Phi)
-        vals = [prof(a) for a in grid]
-        k = int(np.argmin(vals))
-        lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
-        nll.append(float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": 1e-4}).fun))
+        nll.append(float(minimise_profile(prof, 0.995, 17, 1e-4).fun))
     return int(np.argmin(nll))
 
 

@@ -153,11 +153,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     Phi = design(int(np.sqrt(Mp.shape[1])), degree)
     prof = PhotoProfile(Yp, Mp, Phi)
     a_hi = min(alpha_max, 0.995)  # the photo-domain likelihood needs 1 - a M > 0
-    grid = np.linspace(0.0, a_hi, 17)[1:]
-    vals = np.array([prof(a) for a in grid])
-    k = int(np.argmin(vals))
-    lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
-    alpha = float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": xatol}).x)
+    alpha = float(minimise_profile(prof, a_hi, 17, xatol).x)
     for _ in range(irls):
         _, rss_p, _ = prof.parts(alpha)
         s = np.median(rss_p) + 1e-30
@@ -192,6 +188,18 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
                     patch=patch, explained=explained, held_out=held)
 
 
+def minimise_profile(prof, a_hi: float, n_grid: int, xatol: float):
+    """Minimum of a one-dimensional opacity profile on (0, ``a_hi``]: the best of ``n_grid - 1``
+    grid points, then a bounded search between its neighbours (the profile can have several local
+    minima, a bounded search alone may stop in the wrong one). Returns scipy's OptimizeResult."""
+    from scipy.optimize import minimize_scalar
+
+    grid = np.linspace(0.0, a_hi, n_grid)[1:]
+    k = int(np.argmin([prof(a) for a in grid]))
+    lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
+    return minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": xatol})
+
+
 def _held_out_rss(Yp, Mp, Phi, fit_on, a_hi) -> float:
     """Residual of the patches outside ``fit_on`` under the blend with the opacity and colour fitted
     on the patches in ``fit_on``.
@@ -200,13 +208,8 @@ def _held_out_rss(Yp, Mp, Phi, fit_on, a_hi) -> float:
     different opacity and colour in each part of the mark (the texture's contrast changes sign and
     size along it), while a real mark has one opacity and one colour everywhere.
     """
-    from scipy.optimize import minimize_scalar
-
     prof = PhotoProfile(Yp[fit_on], Mp[fit_on], Phi)
-    grid = np.linspace(0.0, a_hi, 9)[1:]
-    k = int(np.argmin([prof(a) for a in grid]))
-    lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
-    a = float(minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": 1e-3}).x)
+    a = float(minimise_profile(prof, a_hi, 9, 1e-3).x)
     beta = prof.parts(a)[0]
     test = ~fit_on
     return float(np.sum(DataProfile(Yp[test], Mp[test], Phi).parts(a, beta)[1]))
