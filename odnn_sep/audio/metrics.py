@@ -49,22 +49,18 @@ def line_metrics(x_in, x_out, sr, lines, *, f0=None, seg_s: float = 4.0) -> dict
     lines = [float(v) for v in lines]
     all_lines = lines if f0 is None else list(np.arange(1, int(sr / 2 / f0) + 1) * f0)
     levels, holes, levels_in = [], [], []
+    # other lines' bins are left out of each floor (the line's own are: d >= 2 Hz)
+    other = _near(f, all_lines + lines, 1.0)
     for fl in lines:
         d = np.abs(f - fl)
-        near = (d >= 2.0) & (d <= 10.0)
-        for g in all_lines + lines:
-            if abs(g - fl) > 1e-6:
-                near &= np.abs(f - g) > 1.0
+        near = (d >= 2.0) & (d <= 10.0) & ~other
         floor_o, floor_i = np.median(Po[near]), np.median(Pi[near])
         band = d <= 0.5
         levels.append(float(10 * np.log10(Po[band].mean() / floor_o)))
         levels_in.append(float(10 * np.log10(Pi[band].mean() / floor_i)))
         w = d <= 1.0
         holes.append(float(10 * np.log10((Po[w] / np.minimum(Pi[w], floor_i)).min())))
-    off = np.ones_like(f, bool)
-    for g in all_lines + lines:
-        off &= np.abs(f - g) > 2.0
-    off &= f > 2.0
+    off = ~_near(f, all_lines + lines, 2.0) & (f > 2.0)
     removed = float(10 * np.log10(max(Pr[off].sum(), 1e-300) / max(Pi[off].sum(), 1e-300)))
     return {"lines_hz": lines, "level_in_db": levels_in, "level_db": levels, "hole_db": holes,
             "offline_removed_db": removed}
@@ -101,9 +97,7 @@ def band_floor_offset_db(x, sr, lines, exclude_hz, *, seg_s: float = 32.0, exclu
     for fl in lines:
         d = np.abs(f - fl)
         band = (d <= 0.5) & ~near_line
-        floor = (d >= 2.0) & (d <= 10.0)
-        for g in exclude_hz:
-            floor &= np.abs(f - g) > 1.0
+        floor = (d >= 2.0) & (d <= 10.0) & ~_near(f, exclude_hz, 1.0)
         out.append(float(10 * np.log10(P[band].mean() / np.median(P[floor]))) if band.any() and floor.any()
                    else float("nan"))
     return out

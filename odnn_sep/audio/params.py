@@ -35,12 +35,10 @@ def parse_harmonics(harmonics):
         return sorted({parse_harmonics(h) for h in harmonics})
     try:
         v = int(harmonics)
-        if v != float(harmonics):
-            raise ValueError
+        ok = v == float(harmonics) and v >= 1
     except (TypeError, ValueError):
-        raise InputError(f"harmonics must be 'auto', a positive integer or a list of them (1,3,5); "
-                         f"got {harmonics!r}") from None
-    if v < 1:
+        ok = False
+    if not ok:
         raise InputError(f"harmonics must be 'auto', a positive integer or a list of them (1,3,5); "
                          f"got {harmonics!r}")
     return v
