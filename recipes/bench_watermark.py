@@ -124,13 +124,11 @@ def run_trials(quick: bool, trials: int, seed: int):
                     if quick and label == "auto":
                         continue
                     t0 = time.perf_counter()
-                    rule = "none"
                     try:
                         r = unwatermark(y, text=truth["text"], font=font)
-                        out, a_hat, ok, rule = r.image, r.alpha, True, r.report["detection"]["rule"]
+                        out, a_hat, ok = r.image, r.alpha, True
                     except InputError:
                         out, a_hat, ok = y, float("nan"), False
-                    rec[f"ours_{label}_rule"] = rule
                     rec[f"ours_{label}"] = metrics(img, out, region)
                     rec[f"ours_{label}_time"] = time.perf_counter() - t0
                     rec[f"ours_{label}_ok"] = ok
@@ -146,7 +144,7 @@ def run_trials(quick: bool, trials: int, seed: int):
                     print(f"  missed with the font given; the true placement scores {rec['oracle_score']:.3f}")
                 print(f"{name:22s} #{k} {fmt:4s} a={truth['alpha']:.2f} {truth['font']:18s} {truth['size']:3d}px "
                       f"{truth['angle']:+5.1f}deg | given {rec['ours_given'][0]:5.1f} dB "
-                      f"(a err {100 * rec['ours_given_alpha_err']:.2f} %, {rec['ours_given_rule']}) "
+                      f"(a err {100 * rec['ours_given_alpha_err']:.2f} %) "
                       + (f"auto {rec['ours_auto'][0]:5.1f} dB " if "ours_auto" in rec else "")
                       + f"| TELEA {rec['telea'][0]:5.1f} NS {rec['ns'][0]:5.1f} | input {rec['input'][0]:5.1f}",
                       flush=True)
@@ -157,7 +155,7 @@ def oracle_score(y, truth) -> float:
     """Detection score of the TRUE placement (registered from the true font, size, angle and centre):
     tells a miss of the search (the true placement would pass the threshold) from one of the score."""
     from odnn_sep.errors import NotIdentifiableError
-    from odnn_sep.image.estimate import detection_score
+    from odnn_sep.image.detect import detection_score
     from odnn_sep.image.io import split
     from odnn_sep.image.register import refine
     from odnn_sep.image.render import resolve_font
@@ -200,90 +198,71 @@ def time_12mp(seed: int):
 
 def calibrate(seed: int, per_photo: int = 3):
     """Best match score of random texts on clean photos (no mark), searched with a random font given
-    and with every default font: the null distributions behind the two detection thresholds."""
+    and with every default font: the null distribution behind the detection threshold."""
     from odnn_sep.errors import InputError
     from odnn_sep.image import unwatermark
-    from odnn_sep.image.api import MIN_SCORE, MIN_SCORE_ANY_FONT
+    from odnn_sep.image.api import MIN_SCORE
 
     rng = np.random.default_rng(seed + 1)
     scores: dict[str, list[float]] = {"given": [], "auto": []}
-    by_decoys: dict[str, int] = {"given": 0, "auto": 0}  # false alarms of the decoy comparison
-    n_decoy_runs: dict[str, int] = {"given": 0, "auto": 0}
     for name, img in photos(False):
         for _ in range(per_photo):
             text, font = str(rng.choice(WORDS)), str(rng.choice(FONTS))
             for label, f in (("given", font), ("auto", None)):
-                # the default rule (global threshold, decoys for an ambiguous score), as a user runs it
                 try:
-                    r = unwatermark(img, text=text, font=f, max_marks=1)
-                    v, rule = r.report["match_score"], r.report["detection"]["rule"]
-                    by_decoys[label] += rule == "decoys"
-                    n_decoy_runs[label] += rule == "decoys"
+                    v = unwatermark(img, text=text, font=f, max_marks=1).report["match_score"]
                 except InputError as exc:
-                    v, rule = float(str(exc).split("best match score ")[1].split(",")[0]), "none"
-                    n_decoy_runs[label] += "decoy" in str(exc)
+                    v = float(str(exc).split("best match score ")[1].split(",")[0])
                 scores[label].append(v)
-                print(f"clean {name:22s} {text!r:22s} {label:5s} best score {v:.3f} detected by {rule}", flush=True)
+                print(f"clean {name:22s} {text!r:22s} {label:5s} best score {v:.3f}", flush=True)
     out = []
-    for label, thr, what in (("given", MIN_SCORE, "a random font given"), ("auto", MIN_SCORE_ANY_FONT,
-                                                                             "every default font")):
+    for label, what in (("given", "a random font given"), ("auto", "every default font")):
         s = np.array(scores[label])
         out.append(f"with {what}: median {np.median(s):.3f}, max {s.max():.3f}, "
-                   f"{int(np.sum(s >= thr))}/{len(s)} reach the threshold {thr}, {n_decoy_runs[label]} ambiguous "
-                   f"(decoys scored), {by_decoys[label]} detected by the decoy comparison")
-    return (f"\n**False alarms on clean photos** (no mark; {len(scores['given'])} random texts; score = share of the "
-            f"edge-patch variance explained by the mark out of sample, each half of it predicted with the opacity "
-            f"and colour fitted on the other half): " + "; ".join(out) + ".\n")
+                   f"{int(np.sum(s >= MIN_SCORE))}/{len(s)} reach the threshold {MIN_SCORE}")
+    return (f"\n**False alarms on clean photos** (no mark; {len(scores['given'])} random texts; score = mean over "
+            f"the mark's edge patches of the clipped log-ratio of photo-only residual to the residual under the "
+            f"mark predicted out of sample): " + "; ".join(out) + ".\n")
 
 
-def calibrate_decoys(seed: int, out_json: str, per_photo: int = 4, m: int = 4, low: float = 0.10):
-    """Development data for the decoy rule (``odnn_sep.image.decoy``): the best score of the text
-    and of ``m`` decoy texts, on clean photos (null) and on watermarked trials, both ways (font given
-    or not). Decoys are scored only for scores between ``low`` and the global threshold (the only
-    ones the rule looks at). Never run on the evaluation seed."""
-    import json
-
-    from odnn_sep.image.api import MIN_SCORE, MIN_SCORE_ANY_FONT
-    from odnn_sep.image.decoy import decoy_texts
+def development_scores(seed: int, per_photo: int = 4):
+    """Development data of the detection threshold: the best placement's score on clean photos
+    (as ``calibrate``, ``per_photo`` texts each) and on watermarked PNG trials whose best placement
+    is the true one. Never run on the evaluation seed."""
     from odnn_sep.image.io import split
     from odnn_sep.image.render import default_fonts, resolve_font
     from odnn_sep.image.textmode import best_match
 
-    def one(y, text, font, truth=None):
-        yf = split(y).view.full()
-        fonts = [resolve_font(font)] if font else default_fonts()
-        best, _, s, _, _ = best_match(yf, text, fonts, None, 45.0, 0)
-        rec = {"s": s, "decoys": [], "near": None}
-        if truth is not None and best is not None:
-            rec["near"] = bool(np.hypot(best.center[0] - truth["center"][0], best.center[1] - truth["center"][1])
-                               < 0.5 * truth["size"])
-        if low <= s < (MIN_SCORE if font else MIN_SCORE_ANY_FONT):
-            rec["decoys"] = [best_match(yf, t, fonts, None, 45.0, 0)[2] for t in decoy_texts(text, m)]
-        return rec
-
     if seed == 2026:
-        raise SystemExit("the decoy rule is calibrated on development seeds only")
-    res = []
+        raise SystemExit("the detection threshold is calibrated on development seeds only")
+
+    def best(y, text, font):
+        fonts = [resolve_font(font)] if font else default_fonts()
+        return best_match(split(y).view.full(), text, fonts, None, 45.0, 0)
+
+    null, marks = [], []
     rng = np.random.default_rng(seed + 1)
-    for name, img in photos(False):  # nulls, as in calibrate()
+    for name, img in photos(False):
         for _ in range(per_photo):
             text, font = str(rng.choice(WORDS)), str(rng.choice(FONTS))
-            for label, f in (("given", font), ("auto", None)):
-                r = {"kind": "null", "photo": name, "text": text, "mode": label, **one(img, text, f)}
-                res.append(r)
-                print(r, flush=True)
+            for f in (font, None):
+                null.append(best(img, text, f)[2])
+                print(f"clean {name:22s} {text!r:22s} font {f} score {null[-1]:.3f}", flush=True)
     rng = np.random.default_rng(seed)
-    for name, img in photos(False):  # watermarked trials, as in run_trials()
+    for name, img in photos(False):
         for _ in range(3):
-            y_png, _, truth = draw_trial(img, rng)
-            for fmt in ("png", "jpeg"):
-                y = y_png if fmt == "png" else jpeg(y_png)
-                for label, f in (("given", truth["font"]), ("auto", None)):
-                    r = {"kind": "mark", "photo": name, "fmt": fmt, "alpha": truth["alpha"], "text": truth["text"],
-                         "mode": label, **one(y, truth["text"], f, truth)}
-                    res.append(r)
-                    print(r, flush=True)
-    Path(out_json).write_text(json.dumps(res))
+            y, _, truth = draw_trial(img, rng)
+            for f in (truth["font"], None):
+                p, _, s, _, _ = best(y, truth["text"], f)
+                near = p is not None and np.hypot(p.center[0] - truth["center"][0],
+                                                  p.center[1] - truth["center"][1]) < 0.5 * truth["size"]
+                if near:
+                    marks.append(s)
+                print(f"mark  {name:22s} {truth['text']!r:22s} font {f} a={truth['alpha']:.2f} score {s:.3f}"
+                      f"{'' if near else ' (search missed the mark)'}", flush=True)
+    print(f"seed {seed}: clean photos: {len(null)} searches, best score max {max(null):.3f}; marks whose best "
+          f"placement is the true one: {len(marks)}, scores min {min(marks):.3f}, lowest five "
+          f"{', '.join(f'{v:.3f}' for v in sorted(marks)[:5])}")
 
 
 def summarize(rows):
@@ -317,10 +296,6 @@ def summarize(rows):
         body.append(f"**{fmt.upper()} inputs** ({len(rs)} marks)\n")
         body.append(md_table(["method", "PSNR median (dB)", "PSNR min", "SSIM median", "PSNR in mark",
                               "SSIM in mark", "alpha MAPE (mean / median)", "found", "time median (s)"], tab))
-        dec = [f"{sum(r.get(f'ours_{k}_rule') == 'decoys' for r in rs)} {lab}" for k, lab in
-               (("given", "with the font given"), ("auto", "without"))]
-        body.append(f"\nFound by the decoy comparison (score between the floor and the global threshold): "
-                    f"{', '.join(dec)}; the rest of those found by the global threshold.\n")
         orc = [r["oracle_score"] for r in rs if "oracle_score" in r]
         if orc:
             from odnn_sep.image.api import MIN_SCORE
@@ -339,14 +314,14 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--no-write", action="store_true", help="do not write BENCHMARKS.md")
     ap.add_argument("--calibrate-only", action="store_true", help="only the null scores on clean photos")
-    ap.add_argument("--calibrate-decoys", metavar="OUT.json",
-                    help="only the development data of the decoy rule (text and decoy scores), to OUT.json")
+    ap.add_argument("--development-scores", action="store_true",
+                    help="only the detection scores of clean photos and of found marks (development seeds)")
     args = ap.parse_args(argv)
     if not photos(args.quick):
         print(f"no photos under {DATA}; nothing to do")
         return 0
-    if args.calibrate_decoys:
-        calibrate_decoys(args.seed, args.calibrate_decoys)
+    if args.development_scores:
+        development_scores(args.seed)
         return 0
     if args.calibrate_only:
         print(calibrate(args.seed))

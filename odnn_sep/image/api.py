@@ -8,22 +8,14 @@ import time
 import numpy as np
 
 from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.image.detect import THRESHOLD as MIN_SCORE
 from odnn_sep.image.textmode import WORK_MAX_PX, text_mode
 
 log = logging.getLogger(__name__)
 
-# Detection thresholds on the share of the edge patches' photo-only residual that the mark explains
-# out of sample (``estimate.detection_score``), fixed from clean photos (no mark): random texts on
-# the benchmark photos, drawn with seeds other than the benchmark's (`bench_watermark.py
-# --calibrate-only --seed 7` and `--seed 13`, 30 texts each way), never reached them: best chance
-# scores up to 0.278 with a font given and 0.289 with every default font (textured spots of the
-# coffee and braindotai photos; most stay below 0.15). Without a pinned font the search picks the
-# best of several fonts, which raises the best chance score. Real marks of opacity >= 0.3 usually
-# score 0.3-0.9. Fainter marks that score between ``decoy.FLOOR`` and these are told from chance
-# alignments per photo, by decoy texts (``odnn_sep.image.decoy``).
-MIN_SCORE = 0.28
-MIN_SCORE_ANY_FONT = 0.29
-
+# Mask mode: the blend fit replaces the shape estimate's opacity and colour only when the mark
+# explains at least this share of the edge patches' photo-only residual.
+MASK_MIN_EXPLAINED = 0.28
 
 
 @dataclasses.dataclass
@@ -68,11 +60,9 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     font : font file path or name (e.g. ``"DejaVuSans-Bold"``); default: try the common fonts found
     mask : (H, W) array, nonzero over the watermark's area; without ``text`` the mark's shape is
         estimated inside it, with ``text`` the search is restricted to it
-    min_score : detection threshold (share of edge variance explained by the mark out of sample);
-        default ``MIN_SCORE``, or ``MIN_SCORE_ANY_FONT`` when text is searched without a font. A
-        best score below it but at least ``decoy.FLOOR`` is still a detection when it beats the best
-        score of decoy texts (the text's characters reordered) on the same image by the factor
-        ``decoy.KAPPA``; ``report["detection"]`` says which rule decided, with the decoy scores
+    min_score : detection threshold of text mode (``detect.detection_score``: mean log-ratio of the
+        edge patches' photo-only residual to their residual under the mark, predicted out of
+        sample); default ``MIN_SCORE``, just above the best chance score on clean photos
 
     Returns
     -------
@@ -91,7 +81,7 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
 
     t0 = time.perf_counter()
     if min_score is None:
-        min_score = MIN_SCORE_ANY_FONT if text and font is None else MIN_SCORE
+        min_score = MIN_SCORE
     if (text is None or not str(text).strip()) and mask is None:
         raise InputError("give the watermark's text (text=/--text) or a mask of its area (mask=/--mask); got neither")
     planes = split(image)
@@ -130,7 +120,7 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
         color = col0
         try:
             fit = fit_blend(crop, Mc, random_state=random_state)
-            if 0.02 < fit.alpha <= 1.0 and fit.explained > min_score:
+            if 0.02 < fit.alpha <= 1.0 and fit.explained > MASK_MIN_EXPLAINED:
                 alpha, color = fit.alpha, fit.color
                 Mc = np.clip(m / alpha, 0.0, 1.0)
         except NotIdentifiableError:
@@ -155,4 +145,4 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     return UnwatermarkResult(restored, float(alpha), np.asarray(color), M, lost, report)
 
 
-__all__ = ["unwatermark", "UnwatermarkResult", "MIN_SCORE", "MIN_SCORE_ANY_FONT", "WORK_MAX_PX"]
+__all__ = ["unwatermark", "UnwatermarkResult", "MIN_SCORE", "WORK_MAX_PX"]

@@ -40,8 +40,6 @@ class BlendFit:
     n_patches: int
     patch: int
     explained: float = float("nan")   # 1 - RSS(mark) / RSS(photo only) over the edge patches
-    held_out: float = float("nan")  # the same share out of sample: each half of the mark (along its
-    # length) predicted with the opacity and colour fitted on the other half
 
     @property
     def color(self) -> np.ndarray:
@@ -108,7 +106,7 @@ def _patches(y, M, size, max_patches, rng):
 
 def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree: int = 1,
               max_patches: int = 800, alpha_max: float = 1.0, irls: int = 3, xatol: float = 1e-6,
-              held_out: bool = False, random_state=0) -> BlendFit:
+              random_state=0) -> BlendFit:
     """Estimate opacity ``alpha`` and ``beta = alpha * colour`` of a mark of known coverage ``M``.
 
     Parameters
@@ -118,7 +116,6 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     patch : patch side in px (default 8)
     degree : polynomial degree of the photo inside a patch (0, 1 or 2)
     xatol : tolerance on ``alpha`` (a screening fit that only needs ``explained`` can be coarse)
-    held_out : also compute ``held_out`` (two more opacity fits; the detection statistic needs it)
 
     Examples
     --------
@@ -167,25 +164,14 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     curv = (prof(min(alpha + h, a_hi)) - 2 * prof(alpha) + prof(max(alpha - h, 1e-4))) / h**2
     se = float(1.0 / np.sqrt(curv)) if curv > 0 else float("inf")
     # share of the patches' photo-only residual (image domain) that the mark explains: ~0 for a
-    # wrong template; the detection threshold is calibrated on this statistic
+    # wrong template; it ranks the hypotheses of the search (``detect`` decides on detection)
     Q = prof.Q
     Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
     rss0_p = np.sum(Yt * Yt, axis=(1, 2))
     rss1_p = DataProfile(Yp, Mp, Phi).parts(alpha)[1]
     explained = max(0.0, 1.0 - float(np.sum(rss1_p)) / max(float(np.sum(rss0_p)), 1e-300))
-    # out-of-sample share: each half of the mark along its principal axis, fitted on the other half
-    ww = np.maximum(M, 0.0)
-    yy, xx = np.nonzero(ww > 0.5)
-    held = explained
-    if held_out and len(yy) >= 2 and len(Mp) >= 4:
-        d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
-        pos = (px + patch_px / 2) * d[0] + (py + patch_px / 2) * d[1]
-        low = pos <= np.median(pos)
-        if low.sum() >= 2 and (~low).sum() >= 2:
-            rss_out = sum(_held_out_rss(Yp, Mp, Phi, fit_on, a_hi) for fit_on in (low, ~low))
-            held = max(0.0, 1.0 - rss_out / max(float(np.sum(rss0_p)), 1e-300))
     return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(Mp),
-                    patch=patch, explained=explained, held_out=held)
+                    patch=patch, explained=explained)
 
 
 def minimise_profile(prof, a_hi: float, n_grid: int, xatol: float):
@@ -198,45 +184,6 @@ def minimise_profile(prof, a_hi: float, n_grid: int, xatol: float):
     k = int(np.argmin([prof(a) for a in grid]))
     lo, hi = (grid[k - 1] if k else 1e-4), grid[min(k + 1, len(grid) - 1)]
     return minimize_scalar(prof, bounds=(lo, hi), method="bounded", options={"xatol": xatol})
-
-
-def _held_out_rss(Yp, Mp, Phi, fit_on, a_hi) -> float:
-    """Residual of the patches outside ``fit_on`` under the blend with the opacity and colour fitted
-    on the patches in ``fit_on``.
-
-    Out of sample, so free of the fit's own optimism: a chance alignment with photo texture needs a
-    different opacity and colour in each part of the mark (the texture's contrast changes sign and
-    size along it), while a real mark has one opacity and one colour everywhere.
-    """
-    prof = PhotoProfile(Yp[fit_on], Mp[fit_on], Phi)
-    a = float(minimise_profile(prof, a_hi, 9, 1e-3).x)
-    beta = prof.parts(a)[0]
-    test = ~fit_on
-    return float(np.sum(DataProfile(Yp[test], Mp[test], Phi).parts(a, beta)[1]))
-
-
-def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
-    """Share of the photo-only residual that the mark explains out of sample, on stroke-scaled patches.
-
-    Larger patches than the opacity fit uses: with more pixels per plane, a wrong template placed
-    on texture explains little. The share is measured out of sample (``BlendFit.held_out``): each
-    half of the mark (along its length) is predicted with the opacity and colour fitted on the other
-    half. A real mark has one opacity and colour along its whole length, while a chance alignment
-    with photo texture (a star field, a few edges) needs different ones in each part, and the fit's
-    own optimism (it picks the opacity and colour that explain most) does not enter. A share measured on few patches varies more by chance (its spread goes as 1/sqrt(n)),
-    and the search picks the best of many placements, so small marks with fewer than
-    ``FULL_WEIGHT_PATCHES`` edge patches are discounted by sqrt(n / 100): one threshold then holds
-    for every size.
-    """
-    patch = int(np.clip(round(2.5 * stroke_width(M) + 4), 8, 32))
-    # at most ~150k pixels: large marks have large patches, and plenty of them (never below 100)
-    n = int(np.clip(150_000 // patch**2, FULL_WEIGHT_PATCHES, 600))
-    fit = fit_blend(y, M, patch=patch, irls=1, max_patches=n, held_out=True, random_state=random_state)
-    shrink = min(1.0, float(np.sqrt(fit.n_patches / FULL_WEIGHT_PATCHES)))
-    return float(fit.held_out * shrink)
-
-
-FULL_WEIGHT_PATCHES = 100
 
 
 def inpaint_telea(y: np.ndarray, hole: np.ndarray, radius: int) -> np.ndarray:

@@ -19,8 +19,7 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view).
 
     ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes)."""
-    from odnn_sep.image.decoy import decide
-    from odnn_sep.image.estimate import detection_score
+    from odnn_sep.image.detect import detection_score
     from odnn_sep.image.locate import Match, repeats
     from odnn_sep.image.register import refine, render_at
     from odnn_sep.image.render import default_fonts, resolve_font
@@ -30,13 +29,10 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
         return _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state)
     fonts = [resolve_font(font)] if font is not None else default_fonts()
     best, best_nc, score, off, ys = best_match(y, text, fonts, region, angle_range, random_state, reduced)
-    decision = decide(score, min_score, lambda t: best_match(y, t, fonts, region, angle_range, random_state,
-                                                              reduced)[2], text, random_state)
-    if best is None or not decision.detected:
-        raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, "
-                         f"{decision.compared}); check --text/--font or give --mask")
+    if best is None or score < min_score:
+        raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
+                         f"{min_score:g}); check --text/--font or give --mask")
     # repeats of a faint mark are as faint: they pass the bar the first copy had to pass
-    bar = decision.bar
     placed = [best]
     if max_marks > 1:
         ref = Match(best.font, best.size, best.angle, (best.center[0] - off[0], best.center[1] - off[1]),
@@ -47,22 +43,23 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
             if m.size == 0:
                 continue
             try:
-                if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < bar:
+                if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
                     continue
                 p = refine(y, text, best.font, best.size, best.angle, rc, iterations=30, whole_sizes=not reduced,
                            random_state=random_state)
             except NotIdentifiableError:
                 continue
             x0, y0, x1, y1 = p.box
-            if detection_score(y[y0:y1, x0:x1], p.coverage) >= bar:
+            if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
                 placed.append(p)
-    return _assemble(y, text, placed, score, decision, random_state)
+    return _assemble(y, text, placed, score, min_score, random_state)
 
 
 def best_match(y, text, fonts, region, angle_range, random_state, reduced=False):
     """(best registered placement or None, its search match, its detection score, offset, searched view)."""
     from odnn_sep.image.choose import most_likely
-    from odnn_sep.image.estimate import detection_score, fit_blend
+    from odnn_sep.image.detect import detection_score
+    from odnn_sep.image.estimate import fit_blend
     from odnn_sep.image.locate import same_place, search
     from odnn_sep.image.register import refine, render_at
 
@@ -139,7 +136,7 @@ def _overlap(a, b) -> float:
     return w * h / min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
 
 
-def _assemble(y, text, placed, score, decision, random_state):
+def _assemble(y, text, placed, score, min_score, random_state):
     """Coverage of all placed copies, one opacity and colour for them, and the report fields."""
     from odnn_sep.image.estimate import fit_blend
 
@@ -160,8 +157,7 @@ def _assemble(y, text, placed, score, decision, random_state):
         "text": text, "font": str(best.font), "font_size_px": round(best.size, 3), "angle_deg": round(best.angle, 3),
         "center": [round(best.center[0], 2), round(best.center[1], 2)],
         "bbox": [int(nz[1].min()), int(nz[0].min()), int(nz[1].max()) + 1, int(nz[0].max()) + 1],
-        "match_score": round(float(score), 4), "match_score_threshold": decision.threshold,
-        "detection": decision.as_report(),
+        "match_score": round(float(score), 4), "match_score_threshold": min_score,
         "alpha_stderr": round(float(fit.alpha_stderr), 6), "patches": int(fit.n_patches),
         "marks": [{"center": [round(p.center[0], 2), round(p.center[1], 2)], "angle_deg": round(p.angle, 3),
                    "font_size_px": round(p.size, 3), "score": round(float(p.fit.explained), 4)} for p in placed],
@@ -179,7 +175,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
     """
     import cv2
 
-    from odnn_sep.image.estimate import detection_score
+    from odnn_sep.image.detect import detection_score
     from odnn_sep.image.register import refine
 
     H, W = y.shape[:2]
@@ -198,7 +194,6 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
     _, _, _, info = text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
                               reduced=True)
     fx, fy = W / w, H / h
-    bar = info["detection"]["bar"]
     placed, scores = [], []
     for k, mk in enumerate(info["marks"]):
         # pixel centres: x_full = (x_small + 0.5) * W / w - 0.5
@@ -210,17 +205,13 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
             continue
         x0, y0, x1, y1 = p.box
         sc = detection_score(y[y0:y1, x0:x1], p.coverage, random_state=random_state)
-        if sc >= bar:  # the bar the reduced copy's score had to pass (global threshold or decoys)
+        if sc >= min_score:  # the bar the reduced copy's score had to pass
             placed.append(p)
             scores.append(sc)
     if not placed:
         raise InputError(f"text {text!r} not found in the image (best match score {info['match_score']:.3f} on a "
-                         f"reduced copy, not confirmed at full resolution, needs >= {bar:g}); check "
+                         f"reduced copy, not confirmed at full resolution, needs >= {min_score:g}); check "
                          f"--text/--font or give --mask")
     order = np.argsort(-np.asarray(scores), kind="stable")
     placed = [placed[i] for i in order]
-    from odnn_sep.image.decoy import Decision
-
-    d = info["detection"]
-    decision = Decision(True, d["rule"], d["threshold"], bar, tuple((t["text"], t["score"]) for t in d["decoys"]))
-    return _assemble(y, text, placed, float(scores[order[0]]), decision, random_state)
+    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state)
