@@ -37,7 +37,7 @@ def register(subparsers) -> None:
     p.add_argument("--report", metavar="R.json", help="write a JSON report (alpha, colour, box, angle, font, ...)")
     p.add_argument("--plot", metavar="P.png", help="write a figure: input, found mark, output, difference")
     p.add_argument("--min-score", type=float, default=None, metavar="S",
-                   help="detection threshold on the match score (default 0.18; lower finds fainter marks and risks "
+                   help="detection threshold on the match score (default 0.19; lower finds fainter marks and risks "
                         "false alarms on busy photos)")
     p.add_argument("--no-inpaint", action="store_true", help="leave lost pixels as inverted instead of inpainting")
     p.add_argument("--quiet", action="store_true", help="no summary line")

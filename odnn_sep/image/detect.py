@@ -23,10 +23,11 @@ from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, 
 from odnn_sep.image.profile import DataProfile, PhotoProfile, design
 
 # Fixed from clean photos and watermarked trials of development seeds (`bench_watermark.py
-# --calibrate-only --seed 7/11/13`, never the benchmark's evaluation seed): the best chance score of
+# --development-scores --seed 7/11/13`, never the benchmark's evaluation seed): the best chance score of
 # 120 clean-photo searches (a random text, with a random font given or with every default font) was
-# 0.159; the faintest of 69 found marks scored 0.209, most 0.4-1.5. 0.18 sits between the two.
-THRESHOLD = 0.18
+# 0.159, and 0.169 over 80 more on the JPEG-compressed photos; the faintest of 69 marks whose best
+# placement was the true one scored 0.209, most 0.4-1.5. The threshold sits between the two.
+THRESHOLD = 0.19
 CLIP = 2.0
 # Marks with fewer edge patches than this are discounted by sqrt(n / FULL_WEIGHT_PATCHES): a mean over
 # few patches varies more by chance, and the search picks the best of many placements.
@@ -52,7 +53,7 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     >>> I = 0.5 + 0.02 * rng.standard_normal((60, 90, 1))
     >>> M = np.zeros((60, 90)); M[15:45, 20:25] = 1; M[15:20, 10:80] = 1; M[40:45, 30:70] = 1
     >>> y = (1 - 0.3 * M[..., None]) * I + 0.3 * M[..., None]
-    >>> detection_score(y, M) > 1.0, detection_score(I, M) < 0.18
+    >>> detection_score(y, M) > 1.0, detection_score(I, M) < THRESHOLD
     (True, True)
     """
     y = np.asarray(y, dtype=np.float64)

@@ -83,7 +83,7 @@ def test_errors():
         unwatermark(y, mask=np.ones((10, 10)))
     # the best score and what it was compared with
     with pytest.raises(InputError, match=r"text 'NOT HERE' not found in the image \(best match score [0-9.]+, "
-                                         r"needs >= 0.18\); check --text/--font or give --mask"):
+                                         r"needs >= 0.19\); check --text/--font or give --mask"):
         unwatermark(y, text="NOT HERE", font="DejaVuSans-Bold")
 
 
