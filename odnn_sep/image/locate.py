@@ -81,15 +81,16 @@ def _corner(cx, cy, t, f):
 
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
            min_height_px: float = 8.0, max_hypotheses: int = 8, per_size_bin: int = 1,
-           peaks_per_map: int = 2, coarse_factor: int = 4) -> list[Match]:
+           peaks_per_map: int = 2, coarse_factor: int = 4, coarse_font: Path | None = None) -> list[Match]:
     """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first.
 
     ``coarse_factor`` x ``max_hypotheses`` coarse places get one step of the finer grid; the best
-    ``max_hypotheses`` (per font kept, at most two) get the last step.
+    ``max_hypotheses`` (per font kept, at most two) get the last step. The coarse grid uses the
+    templates of ``coarse_font`` (default: the first font).
     """
     H, W = img.shape[:2]
     pyr = Pyramid(img)
-    f0 = str(fonts[0])
+    f0 = str(coarse_font or fonts[0])
     w100, h100 = _ink(text, f0)
     h100 = max(h100, 1.0)
     # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal; the
@@ -163,6 +164,23 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
         # as many as before: the screening that follows costs a blend fit per hypothesis
         out = sorted(out + [m for m in more if m is not None], key=lambda m: -m.score)[:len(keep)]
     return out
+
+
+def least_alike(text: str, fonts: list[Path]) -> Path:
+    """The font whose rendering of ``text`` correlates least with the first font's (both band-passed
+    and stretched to the same box): the coarse grid's templates of the first font match it worst."""
+    import cv2
+
+    def look(font):
+        m = render_text(text, str(font), 24.0).astype(np.float32)
+        return m - cv2.GaussianBlur(m, (0, 0), 2.0)
+
+    ref = look(fonts[0])
+    corr = []
+    for fo in fonts[1:]:
+        t = cv2.resize(look(fo), (ref.shape[1], ref.shape[0]), interpolation=cv2.INTER_AREA)
+        corr.append(float(np.sum(ref * t) / max(np.sqrt(np.sum(ref * ref) * np.sum(t * t)), 1e-12)))
+    return fonts[1 + int(np.argmin(corr))] if corr else fonts[0]
 
 
 def same_place(a: Match, b: Match) -> bool:

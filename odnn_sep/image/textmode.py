@@ -3,9 +3,13 @@ decide on detection, find repeated copies, and (for large images) do all that on
 only the found marks registered at full resolution."""
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from odnn_sep.errors import InputError, NotIdentifiableError
+
+log = logging.getLogger(__name__)
 
 # Images larger than this (longest side, px) are searched on a reduced copy; only the found marks
 # are refined at full resolution.
@@ -13,6 +17,9 @@ WORK_MAX_PX = 1024
 # Without a pinned font, the other fonts at the best place are registered for the likelihood choice
 # unless the mark is clearly detected and they screen below this share of the best screening score.
 RIVAL_SCREEN_RATIO = 0.5
+# Without a pinned font and nothing found, a second search with another font's coarse templates
+# (``find``); its best placement counts only at this multiple of the detection threshold.
+SECOND_LOOK_FACTOR = 1.3
 
 
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
@@ -28,7 +35,7 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     if max(H, W) > WORK_MAX_PX:
         return _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state)
     fonts = [resolve_font(font)] if font is not None else default_fonts()
-    best, best_nc, score, off, ys = best_match(y, text, fonts, region, angle_range, random_state, reduced)
+    best, best_nc, score, off, ys = find(y, text, fonts, region, angle_range, random_state, min_score, reduced)
     if best is None or score < min_score:
         raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
                          f"{min_score:g}); check --text/--font or give --mask")
@@ -55,8 +62,29 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     return _assemble(y, text, placed, score, min_score, random_state)
 
 
-def best_match(y, text, fonts, region, angle_range, random_state, reduced=False):
-    """(best registered placement or None, its search match, its detection score, offset, searched view)."""
+def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=False):
+    """``best_match``, and without a pinned font a second look when the first finds nothing (a best
+    score below ``min_score``): the coarse grid with the templates of the font least like the first
+    one. A monospaced text's letters sit where a proportional font's do not, so the first font's
+    coarse templates missed monospaced marks that were found at once with the font given.
+
+    Two looks give chance two tries, so the second look's mark must score ``SECOND_LOOK_FACTOR``
+    times ``min_score``."""
+    from odnn_sep.image.locate import least_alike
+
+    first = best_match(y, text, fonts, region, angle_range, random_state, reduced)
+    if (first[0] is not None and first[2] >= min_score) or len(fonts) < 2:
+        return first
+    again = best_match(y, text, fonts, region, angle_range, random_state, reduced,
+                       coarse_font=least_alike(text, fonts))
+    log.debug("second look for %r: best score %.3f (first look %.3f)", text, again[2], first[2])
+    return again if again[0] is not None and again[2] >= SECOND_LOOK_FACTOR * min_score else first
+
+
+def best_match(y, text, fonts, region, angle_range, random_state, reduced=False, coarse_font=None):
+    """(best registered placement or None, its search match, its detection score, offset, searched view).
+
+    ``coarse_font``: the font of the coarse grid's templates (default: the first of ``fonts``)."""
     from odnn_sep.image.choose import most_likely
     from odnn_sep.image.detect import detection_score
     from odnn_sep.image.estimate import fit_blend
@@ -71,7 +99,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False)
         pad = 16
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
-    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2)
+    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2,
+                   coarse_font=coarse_font)
     # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
     # then refine the best three: correlation alone ranks small spurious templates too high
     screened = []
