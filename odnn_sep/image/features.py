@@ -57,23 +57,24 @@ def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
 
 
 def bandpass_map(img: np.ndarray, levels: int = 255) -> tuple[np.ndarray, np.ndarray]:
-    """(R, E): high-passed channels (h, w, C) float32 and their energy summed over channels (h, w),
-    floored so that flat or clipped areas (no texture at all) cannot give a near-zero denominator."""
+    """(R, E): high-passed channels (C, h, w) float32, channel first so that each is one contiguous
+    plane for the correlations, and their energy summed over channels (h, w), floored so that flat or
+    clipped areas (no texture at all) cannot give a near-zero denominator."""
     import cv2
 
     img = np.asarray(img, dtype=np.float32)
     if img.ndim == 2:
         img = img[:, :, None]
-    R = np.empty_like(img)
-    for c in range(img.shape[2]):
-        R[:, :, c] = img[:, :, c] - cv2.GaussianBlur(img[:, :, c], (0, 0), BP_SIGMA)
-    E = np.sum(R * R, axis=2)
-    floor = img.shape[2] / (12.0 * levels**2) + 0.05 * float(np.median(E))
-    # the margin carries no signal and the floor energy, so a template hanging over the image's edge
-    # is scored on the part that is inside
-    R = cv2.copyMakeBorder(R, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=0)
-    if R.ndim == 2:
-        R = R[:, :, None]
+    C = img.shape[2]
+    R = np.empty((C, img.shape[0] + 2 * PAD, img.shape[1] + 2 * PAD), np.float32)
+    E = np.zeros(img.shape[:2], np.float32)
+    for c in range(C):
+        # the margin carries no signal and the floor energy, so a template hanging over the image's
+        # edge is scored on the part that is inside
+        r = img[:, :, c] - cv2.GaussianBlur(img[:, :, c], (0, 0), BP_SIGMA)
+        R[c] = cv2.copyMakeBorder(r, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=0)
+        E += r * r
+    floor = C / (12.0 * levels**2) + 0.05 * float(np.median(E))
     E = cv2.copyMakeBorder(E + floor, PAD, PAD, PAD, PAD, cv2.BORDER_CONSTANT, value=floor)
     return R, np.ascontiguousarray(E)
 
@@ -165,17 +166,24 @@ def match_edges(edges: np.ndarray, tmpl: np.ndarray) -> np.ndarray | None:
 
 
 def match_bandpass(R: np.ndarray, E: np.ndarray, T: np.ndarray, band: np.ndarray) -> np.ndarray | None:
-    """Share of the band-passed energy on the template's edge band that the template explains."""
+    """Share of the band-passed energy on the template's edge band that the template explains
+    (``R`` channel first, (C, h, w), as ``bandpass_map`` gives it, or a window of it)."""
     import cv2
 
-    if T.shape[0] >= R.shape[0] or T.shape[1] >= R.shape[1]:
+    if T.shape[0] >= R.shape[1] or T.shape[1] >= R.shape[2]:
         return None
     num = None
-    for c in range(R.shape[2]):
-        r = cv2.matchTemplate(np.ascontiguousarray(R[:, :, c]), T, cv2.TM_CCORR)
-        num = r * r if num is None else num + r * r
+    for c in range(R.shape[0]):
+        r = cv2.matchTemplate(R[c], T, cv2.TM_CCORR)
+        if num is None:
+            num = r * r
+        else:
+            num += r * r
     den = cv2.matchTemplate(E, band, cv2.TM_CCORR)
-    return np.nan_to_num(num / np.maximum(den, 1e-30), nan=0.0, posinf=0.0, neginf=0.0)
+    # E is floored above zero, so only rounding in the correlation can bring den to ~0
+    np.maximum(den, 1e-30, out=den)
+    num /= den
+    return num
 
 
 def peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float, int, int]]:

@@ -265,9 +265,9 @@ def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=(MEDIUM, FINE)) -> Match |
                 x0, y0 = _corner(cx0, cy0, T, f)
                 x0, y0 = x0 - rad, y0 - rad
                 xa, ya = max(0, x0), max(0, y0)
-                xb = min(R.shape[1], x0 + T.shape[1] + 2 * rad + 1)
-                yb = min(R.shape[0], y0 + T.shape[0] + 2 * rad + 1)
-                r = match_bandpass(R[ya:yb, xa:xb], E[ya:yb, xa:xb], T, band)
+                xb = min(R.shape[2], x0 + T.shape[1] + 2 * rad + 1)
+                yb = min(R.shape[1], y0 + T.shape[0] + 2 * rad + 1)
+                r = match_bandpass(R[:, ya:yb, xa:xb], E[ya:yb, xa:xb], T, band)
                 if r is None:
                     continue
                 i = int(np.argmax(r))
