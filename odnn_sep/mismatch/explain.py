@@ -22,7 +22,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import stats
 
 from odnn_sep.errors import ConvergenceWarning, InputError, as_float_array
 from odnn_sep.mismatch.calibrate import Calibration, calibrate, disturbance_columns
@@ -254,6 +253,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
             if np.all(d == 0):
                 c.cv_p_value = 1.0
             else:
+                from scipy import stats  # on use: the package is imported by every subcommand
+
                 c.cv_p_value = float(stats.wilcoxon(d, alternative="greater").pvalue)
     res.candidates = cands
     for c in cands:

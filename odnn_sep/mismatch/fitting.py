@@ -14,7 +14,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
@@ -96,6 +95,8 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
         return r
 
     if free:
+        from scipy.optimize import least_squares  # on use: the package is imported by every subcommand
+
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             res = least_squares(resid, x0, bounds=(lo, hi), x_scale="jac", max_nfev=max_nfev,

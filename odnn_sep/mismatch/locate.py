@@ -14,7 +14,13 @@ sigma comes from first differences (robust to slow structure) capped by the medi
 from __future__ import annotations
 
 import numpy as np
-from scipy import stats
+
+
+def _chi2():
+    # imported on use: ``odnn-sep`` imports this package for every subcommand (and ``--help``)
+    from scipy import stats
+
+    return stats.chi2
 
 
 def noise_sigma(residual) -> float:
@@ -27,7 +33,7 @@ def noise_sigma(residual) -> float:
     ms = np.array([np.mean(c ** 2) for c in chunks])
     # median of chi2_m/m is a bit below 1; correct with the median of the chi2 for the window size
     m = len(r) / nw
-    s_win = np.sqrt(np.median(ms) / (stats.chi2.median(m) / m))
+    s_win = np.sqrt(np.median(ms) / (_chi2().median(m) / m))
     if not (np.isfinite(s_diff) and s_diff > 0):
         return float(s_win if np.isfinite(s_win) and s_win > 0 else np.std(r) + 1e-300)
     # differences are exact for white noise; fall back to window energies only when structure near
@@ -59,7 +65,7 @@ def locate_time(t, residual, *, sigma=None, n_windows=None, alpha=0.05, dof_frac
         m = b - a
         c = float(np.sum(r[a:b] ** 2) / sigma ** 2)
         dof = max(m * dof_fraction, 1.0)
-        pv.append(float(stats.chi2.sf(c, dof)))
+        pv.append(float(_chi2().sf(c, dof)))
         chi.append(c)
         ratio.append(float(np.sqrt(c / m)))
     keep = _bh(pv, alpha)
@@ -129,7 +135,7 @@ def locate_regions(xy, residual, *, sigma=None, tiles=4, alpha=0.05):
                 continue
             c = float(np.sum(r[sel] ** 2) / sigma ** 2)
             cells.append((a, b, m, c))
-            pv.append(float(stats.chi2.sf(c, m)))
+            pv.append(float(_chi2().sf(c, m)))
     keep = _bh(pv, alpha)
     out = []
     for (a, b, m, c), p, k in zip(cells, pv, keep, strict=True):

@@ -4,7 +4,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from scipy.integrate import odeint
 
 from odnn_sep.errors import InputError
 
@@ -16,6 +15,8 @@ class ModelIntegrationError(InputError):
 
 
 def _integrate(name, rhs, state0, t, p):
+    from scipy.integrate import odeint  # on use: the package is imported by every subcommand
+
     with np.errstate(all="ignore"), warnings.catch_warnings():
         # a failure is reported below as one clear error, not as solver chatter
         warnings.simplefilter("ignore")
