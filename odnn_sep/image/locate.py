@@ -81,12 +81,14 @@ def _corner(cx, cy, t, f):
 
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
            min_height_px: float = 8.0, max_hypotheses: int = 8, per_size_bin: int = 1,
-           peaks_per_map: int = 2, coarse_factor: int = 4, coarse_font: Path | None = None) -> list[Match]:
+           peaks_per_map: int = 2, coarse_factor: int = 4, coarse_font: Path | None = None,
+           coarse_height: float = COARSE_H) -> list[Match]:
     """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first.
 
     ``coarse_factor`` x ``max_hypotheses`` coarse places get one step of the finer grid; the best
     ``max_hypotheses`` (per font kept, at most two) get the last step. The coarse grid uses the
-    templates of ``coarse_font`` (default: the first font).
+    templates of ``coarse_font`` (default: the first font), with glyphs ``coarse_height`` px tall
+    (a finer grid costs more and tells faint marks from texture better).
     """
     H, W = img.shape[:2]
     pyr = Pyramid(img)
@@ -100,7 +102,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     # A long text is matched on a coarser level (template at most COARSE_W px wide): it has letters
     # enough to be found there, and the grid below grows with the square of the template's width;
     # never below MIN_COARSE_H, or the letters blur into the photo's texture.
-    coarse_h = max(MIN_COARSE_H, min(COARSE_H, COARSE_W * h100 / max(w100, 1.0)))
+    coarse_h = max(MIN_COARSE_H, min(coarse_height, COARSE_W * coarse_height / COARSE_H * h100 / max(w100, 1.0)))
     # grid steps keep the template's ends within ~1.5 px at the coarse level
     w_lvl = coarse_h * w100 / h100
     da = float(np.clip(np.rad2deg(2 * 1.5 / (w_lvl / 2)), 1.5, 5.0))

@@ -17,11 +17,13 @@ WORK_MAX_PX = 1024
 # Without a pinned font, the other fonts at the best place are registered for the likelihood choice
 # unless the mark is clearly detected and they screen below this share of the best screening score.
 RIVAL_SCREEN_RATIO = 0.5
-# Without a pinned font and nothing found, a second search with another font's coarse templates
-# (``find``); its best placement counts only at this multiple of the detection threshold. On the
-# development seeds (7, 11, 13, 17: 80 clean-photo searches without a font) second looks scored up to
-# 0.192 by chance, while the 7 marks they found scored 0.40-1.18.
+# When the first search finds nothing, more looks with other coarse grids (``find``); what they find
+# counts only at this multiple of the detection threshold. On the development seeds (7, 11, 13, 17:
+# 160 clean-photo searches) later looks scored up to 0.192 by chance, while the 16 marks they found
+# (of 120 marks, besides the 96 the first look found) scored 0.40-1.18.
 SECOND_LOOK_FACTOR = 1.3
+# Glyph height (px) of the finer coarse grid of the last look (``find``); the first uses 10.
+FINE_LOOK_HEIGHT = 14.0
 
 
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
@@ -65,28 +67,37 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
 
 
 def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=False):
-    """``best_match``, and without a pinned font a second look when the first finds nothing (a best
-    score below ``min_score``): the coarse grid with the templates of the font least like the first
-    one. A monospaced text's letters sit where a proportional font's do not, so the first font's
-    coarse templates missed monospaced marks that were found at once with the font given.
+    """``best_match``, and more looks when the first finds nothing (a best score below ``min_score``).
 
-    Two looks give chance two tries, so the second look's mark must score ``SECOND_LOOK_FACTOR``
+    Without a pinned font, first the coarse grid with the templates of the font least like the
+    first one: a monospaced text's letters sit where a proportional font's do not, so the first
+    font's coarse templates missed monospaced marks that were found at once with the font given.
+    Then a finer coarse grid (glyphs ``FINE_LOOK_HEIGHT`` px tall instead of 10): on a textured photo
+    a faint mark ranks among hundreds of chance matches on the coarse grid, where its letters are a
+    few pixels tall, while on the finer one it often ranks first. Each look costs a search (the
+    finer one about three), but only when nothing was found.
+
+    More looks give chance more tries, so a later look's mark must score ``SECOND_LOOK_FACTOR``
     times ``min_score``."""
     from odnn_sep.image.locate import least_alike
 
     first = best_match(y, text, fonts, region, angle_range, random_state, reduced)
-    if (first[0] is not None and first[2] >= min_score) or len(fonts) < 2:
+    if first[0] is not None and first[2] >= min_score:
         return first
-    again = best_match(y, text, fonts, region, angle_range, random_state, reduced,
-                       coarse_font=least_alike(text, fonts))
-    log.debug("second look for %r: best score %.3f (first look %.3f)", text, again[2], first[2])
-    return again if again[0] is not None and again[2] >= SECOND_LOOK_FACTOR * min_score else first
+    looks = [{"coarse_font": least_alike(text, fonts)}] if len(fonts) > 1 else []
+    looks.append({"coarse_height": FINE_LOOK_HEIGHT})
+    for look in looks:
+        again = best_match(y, text, fonts, region, angle_range, random_state, reduced, **look)
+        log.debug("another look for %r (%s): best score %.3f (first look %.3f)", text, look, again[2], first[2])
+        if again[0] is not None and again[2] >= SECOND_LOOK_FACTOR * min_score:
+            return again
+    return first
 
 
-def best_match(y, text, fonts, region, angle_range, random_state, reduced=False, coarse_font=None):
+def best_match(y, text, fonts, region, angle_range, random_state, reduced=False, **coarse):
     """(best registered placement or None, its search match, its detection score, offset, searched view).
 
-    ``coarse_font``: the font of the coarse grid's templates (default: the first of ``fonts``)."""
+    ``coarse``: ``coarse_font`` and ``coarse_height`` of the search's coarse grid (``locate.search``)."""
     from odnn_sep.image.choose import most_likely
     from odnn_sep.image.detect import detection_score
     from odnn_sep.image.estimate import fit_blend
@@ -101,8 +112,7 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         pad = 16
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
-    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2,
-                   coarse_font=coarse_font)
+    cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2, **coarse)
     # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
     # then refine the best three: correlation alone ranks small spurious templates too high
     screened = []
