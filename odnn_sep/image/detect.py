@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, stroke_width, take_patches
-from odnn_sep.image.profile import DataProfile, PhotoProfile, design
+from odnn_sep.image.profile import DataProfile, PhotoProfile, design, plane_rss
 
 # Fixed from clean photos and watermarked trials of development seeds (`bench_watermark.py
 # --development-scores --seed 7/11/13`, never the benchmark's evaluation seed): the best chance score of
@@ -71,9 +71,7 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     if len(Mp) < 4 or len(yy) < 2:
         return 0.0
     Phi = design(ps, 1)
-    Q = np.linalg.qr(Phi)[0]
-    Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
-    rss0 = np.sum(Yt * Yt, axis=(1, 2))
+    rss0 = plane_rss(Yp, np.linalg.qr(Phi)[0])
     # the two halves along the mark's principal axis
     d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
     pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]

@@ -26,7 +26,7 @@ import logging
 
 import numpy as np
 
-from odnn_sep.image.profile import DataProfile, PhotoProfile, design
+from odnn_sep.image.profile import DataProfile, PhotoProfile, design, plane_rss
 
 log = logging.getLogger(__name__)
 
@@ -165,9 +165,7 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     se = float(1.0 / np.sqrt(curv)) if curv > 0 else float("inf")
     # share of the patches' photo-only residual (image domain) that the mark explains: ~0 for a
     # wrong template; it ranks the hypotheses of the search (``detect`` decides on detection)
-    Q = prof.Q
-    Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
-    rss0_p = np.sum(Yt * Yt, axis=(1, 2))
+    rss0_p = plane_rss(Yp, prof.Q)
     rss1_p = DataProfile(Yp, Mp, Phi).parts(alpha)[1]
     explained = max(0.0, 1.0 - float(np.sum(rss1_p)) / max(float(np.sum(rss0_p)), 1e-300))
     return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(Mp),

@@ -32,6 +32,13 @@ def design(size: int, degree: int) -> np.ndarray:
     return np.stack(cols, axis=1)
 
 
+def plane_rss(Yp: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """(p,) residual sum of squares of the photo-only model: each patch of ``Yp`` (p, n, C) with its
+    plane (the orthonormal columns of ``Q`` (n, k)) projected out of every channel, no mark."""
+    Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
+    return np.sum(Yt * Yt, axis=(1, 2))
+
+
 class DataProfile:
     """RSS(alpha) with the per-patch polynomials and the shared b projected out (image domain)."""
 
