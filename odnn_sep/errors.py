@@ -61,3 +61,44 @@ def as_float_array(name: str, a, *, ndim: tuple[int, ...] = (1,)) -> np.ndarray:
         raise InputError(f"{name} is empty (shape {arr.shape}); pass at least one sample")
     check_finite(name, arr)
     return arr
+
+
+def check_option(name: str, value, allowed) -> None:
+    """Raise InputError unless ``value`` is one of ``allowed`` (MNE's ``_check_option``).
+
+    Examples
+    --------
+    >>> check_option("solver", "exact", ("exact", "network"))
+    >>> check_option("solver", "fast", ("exact", "network"))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: solver must be one of 'exact', 'network'; got 'fast'
+    """
+    allowed = tuple(allowed)
+    try:
+        ok = value in allowed
+    except TypeError:  # unhashable or incomparable value
+        ok = False
+    if not ok:
+        listed = ", ".join(repr(a) for a in allowed)
+        raise InputError(f"{name} must be one of {listed}; got {value!r}")
+
+
+def check_type(name: str, value, types, what: str | None = None) -> None:
+    """Raise InputError unless ``isinstance(value, types)`` (MNE's ``_validate_type``).
+
+    ``what`` describes the allowed types in the message (default: their class names).
+
+    Examples
+    --------
+    >>> check_type("epochs", 3, int)
+    >>> check_type("epochs", "3", int)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: epochs must be int; got str ('3')
+    """
+    if not isinstance(types, tuple):
+        types = (types,)
+    if not isinstance(value, types):
+        what = what or " or ".join(t.__name__ for t in types)
+        raise InputError(f"{name} must be {what}; got {type(value).__name__} ({value!r})")

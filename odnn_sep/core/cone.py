@@ -14,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import optimize
 
+from odnn_sep.core.linalg import Projector, solve
+
 CHI2_1_95 = 3.841458820694124
 
 
@@ -53,13 +55,13 @@ class _ConeLS:
 
     def __init__(self, A: np.ndarray, H: np.ndarray):
         self.A, self.H = A, H
-        self.Q, _ = np.linalg.qr(A)
-        self.Hp = H - self.Q @ (self.Q.T @ H)
+        self.free = Projector(A, method="qr", rtol=None)
+        self.Hp = self.free.project_out(H)
 
     def __call__(self, y: np.ndarray):
-        yp = y - self.Q @ (self.Q.T @ y)
+        yp = self.free.project_out(y)
         d, rnorm = optimize.nnls(self.Hp, yp, maxiter=50 * self.H.shape[1])
-        u, *_ = np.linalg.lstsq(self.A, y - self.H @ d, rcond=None)
+        u = solve(self.A, y - self.H @ d, method="lstsq")
         return u, d, float(rnorm) ** 2
 
 

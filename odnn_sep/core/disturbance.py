@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from odnn_sep.core.projection import BaseProjector, Projector
 from odnn_sep.errors import InputError
 
 
@@ -30,19 +31,7 @@ def _uniform_step(x: np.ndarray, who: str) -> float:
     return dt
 
 
-class Projector:
-    """An orthogonal projector onto a disturbance subspace, applied without forming the n x n matrix."""
-
-    rank: int
-
-    def apply(self, v: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
-        raise NotImplementedError
-
-    def apply_torch(self, v):  # pragma: no cover - interface
-        raise NotImplementedError
-
-
-class _OrbitProjector(Projector):
+class _OrbitProjector(BaseProjector):
     """Average over the orbits of a group of index permutations (reflections)."""
 
     def __init__(self, perms: list[np.ndarray]):
@@ -51,15 +40,15 @@ class _OrbitProjector(Projector):
         # number of orbits = rank of the averaging projector
         self.rank = int(round(sum(float((p == np.arange(n)).sum()) for p in perms) / len(perms)))
 
-    def apply(self, v):
+    def project(self, v):
         return sum(v[p] for p in self.perms) / len(self.perms)
 
-    def apply_torch(self, v):
+    def project_torch(self, v):
         import torch
         return sum(v[torch.as_tensor(p)] for p in self.perms) / len(self.perms)
 
 
-class _LabelProjector(Projector):
+class _LabelProjector(BaseProjector):
     """Mean over samples that share a label (e.g. the same phase of a period)."""
 
     def __init__(self, labels: np.ndarray):
@@ -67,41 +56,23 @@ class _LabelProjector(Projector):
         self.counts = np.bincount(labels).astype(float)
         self.rank = int((self.counts > 0).sum())
 
-    def apply(self, v):
+    def project(self, v):
         v = np.asarray(v)
         if v.ndim == 1:
             return (np.bincount(self.labels, weights=v, minlength=self.counts.size) / np.maximum(self.counts, 1))[self.labels]
         out = np.empty_like(v, dtype=float)
         for k in range(v.shape[1]):
-            out[:, k] = self.apply(v[:, k])
+            out[:, k] = self.project(v[:, k])
         return out
 
-    def apply_torch(self, v):
+    def project_torch(self, v):
         import torch
         lab = torch.as_tensor(self.labels)
         sums = torch.zeros(self.counts.size, dtype=v.dtype).index_add(0, lab, v)
         return (sums / torch.as_tensor(np.maximum(self.counts, 1), dtype=v.dtype))[lab]
 
 
-class _QProjector(Projector):
-    """Projector Q Q^T for an orthonormal basis Q of the subspace."""
-
-    def __init__(self, G: np.ndarray, rcond: float = 1e-10):
-        U, s, _ = np.linalg.svd(G, full_matrices=False)
-        keep = s > rcond * (s[0] if s.size else 0)
-        self.Q = U[:, keep]
-        self.rank = int(keep.sum())
-
-    def apply(self, v):
-        return self.Q @ (self.Q.T @ v)
-
-    def apply_torch(self, v):
-        import torch
-        Q = torch.as_tensor(self.Q, dtype=v.dtype)
-        return Q @ (Q.T @ v)
-
-
-class _FFTProjector(Projector):
+class _FFTProjector(BaseProjector):
     def __init__(self, n: int, mask: np.ndarray):
         self.n = n
         self.mask = mask.astype(float)
@@ -112,12 +83,12 @@ class _FFTProjector(Projector):
             weights[-1] = 1
         self.rank = int((weights * mask).sum())
 
-    def apply(self, v):
+    def project(self, v):
         v = np.asarray(v, dtype=float)
         m = self.mask if v.ndim == 1 else self.mask[:, None]
         return np.fft.irfft(np.fft.rfft(v, axis=0) * m, n=self.n, axis=0)
 
-    def apply_torch(self, v):
+    def project_torch(self, v):
         import torch
         m = torch.as_tensor(self.mask, dtype=v.dtype)
         return torch.fft.irfft(torch.fft.rfft(v) * m, n=self.n)
@@ -234,7 +205,7 @@ class Periodic:
         K = max(0, min(K, (x.size - 2) // 4))
         w = 2 * np.pi * (x - x.min()) / self.period
         cols = [np.ones_like(x)] + [f(k * w) for k in range(1, K + 1) for f in (np.cos, np.sin)]
-        return _QProjector(np.stack(cols, axis=1))
+        return Projector(np.stack(cols, axis=1))
 
 
 @dataclass(frozen=True)
@@ -296,7 +267,7 @@ class Subspace:
             G = G[:, None]
         if G.shape[0] != x.shape[0]:
             raise InputError(f"Subspace matrix has {G.shape[0]} rows but x has {x.shape[0]} samples; they must match")
-        return _QProjector(G)
+        return Projector(G)
 
     def __repr__(self) -> str:
         return "Subspace(G)"

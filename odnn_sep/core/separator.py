@@ -6,18 +6,26 @@ import logging
 import warnings
 
 import numpy as np
-from scipy import optimize, stats
 
 from odnn_sep.core import cone
 from odnn_sep.core.basis import Basis
 from odnn_sep.core.checks import check_basis_matrix, check_outside_class, check_xy
 from odnn_sep.core.disturbance import DISTURBANCES, Orthogonal
-from odnn_sep.core.linear import lstsq
+from odnn_sep.core.linalg import (
+    Z95,
+    intervals,
+    noise_variance,
+    orthonormal_basis,
+    solve,
+    standard_errors,
+    stderr_from_cov,
+    varpro,
+    varpro_residual,
+)
 from odnn_sep.core.result import Result
 from odnn_sep.errors import IdentifiabilityWarning, InputError
 
 log = logging.getLogger(__name__)
-Z95 = float(stats.norm.ppf(0.975))
 
 
 class Separator:
@@ -103,14 +111,14 @@ class Separator:
             if dist.kind == "cone":
                 out["interval"] = exact["interval"]
             else:
-                out["interval"] = np.c_[out["theta"] - Z95 * exact["stderr"], out["theta"] + Z95 * exact["stderr"]]
+                out["interval"] = intervals(out["theta"], exact["stderr"])
         diag = dict(out.get("diagnostics", {}))
         diag.update(phi_info.get("diagnostics", {}))
         g = out["disturbance"]
         g_norm = float(np.linalg.norm(g))
         if g_norm > 0:
             # how much of the estimated disturbance lies in span(F): that part would have gone into theta
-            Q, _ = np.linalg.qr(F)
+            Q = orthonormal_basis(F, method="qr", rtol=None)
             diag["disturbance_in_basis_span"] = float(np.linalg.norm(Q.T @ g)) / g_norm
         self.result_ = Result(
             theta=out["theta"], names=names, stderr=out["stderr"], interval=out["interval"],
@@ -154,23 +162,22 @@ class Separator:
             yp = y - projector.apply(y)
             rank_g = projector.rank
             diag = check_outside_class(F, Fp, names, dist.describe())
-        theta, cov_u, rank = lstsq(Fp, yp, weights)
+        theta, cov_u, rank = solve(Fp, yp, weights=weights, method="qr", return_cov=True)
         r = yp - Fp @ theta
         if dist.kind == "orthogonal":
             # g absorbs everything outside span(F); the noise level comes from the fit residual,
             # which treats g as noise (conservative when g is not exactly orthogonal).
-            w = np.ones(n) if weights is None else weights
             dof = n - rank
-            sigma2 = float((w * r * r).sum() / dof) if dof > 0 else np.nan
+            sigma2 = noise_variance(r, dof, np.ones(n) if weights is None else weights)
             disturbance = y - F @ theta
         else:
             dof = n - rank_g - rank
-            sigma2 = float(r @ r / dof) if dof > 0 else np.nan
+            sigma2 = noise_variance(r, dof)
             disturbance = projector.apply(y - F @ theta)
-        stderr = np.sqrt(np.maximum(np.diag(cov_u), 0) * sigma2)
+        stderr = stderr_from_cov(cov_u, sigma2)
         diag.update({"sigma": float(np.sqrt(sigma2)) if np.isfinite(sigma2) else None, "dof": int(dof),
                      "disturbance_rank": int(rank_g)})
-        return {"theta": theta, "stderr": stderr, "interval": np.c_[theta - Z95 * stderr, theta + Z95 * stderr],
+        return {"theta": theta, "stderr": stderr, "interval": intervals(theta, stderr),
                 "disturbance": disturbance, "diagnostics": diag, "cov": cov_u * sigma2}
 
     # ------------------------------------------------------------------------------------------
@@ -178,21 +185,15 @@ class Separator:
         """Variable projection: residual vector as a function of phi with theta solved exactly inside."""
         basis = self.basis
         keys = basis.phi_names
-        sw = None if weights is None else np.sqrt(weights)
-        yp = y if projector is None else y - projector.apply(y)
-
-        def resid(v):
-            F = basis.evaluate(x, dict(zip(keys, v)))
-            if dist.kind == "cone":
-                c = cone._solve(np.hstack([F, cone.cone_generators(np.sort(x), dist)[0]]),
+        design = lambda v: basis.evaluate(x, dict(zip(keys, v)))  # noqa: E731
+        if dist.kind == "cone":
+            def resid(v):
+                c = cone._solve(np.hstack([design(v), cone.cone_generators(np.sort(x), dist)[0]]),
                                 cone.cone_generators(np.sort(x), dist)[1], y[np.argsort(x)])
                 return np.array([np.sqrt(c[2])])
-            Fp = F if projector is None else F - projector.apply(F)
-            theta, _, _ = lstsq(Fp, yp, weights)
-            r = yp - Fp @ theta
-            return r if sw is None else r * sw
-
-        return resid
+            return resid
+        return varpro_residual(design, y, project_out=None if projector is None else projector.project_out,
+                               weights=weights)
 
     def _fit_phi(self, x, y, weights, dist, projector):
         basis = self.basis
@@ -214,20 +215,8 @@ class Separator:
         elif np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and self.n_starts > 1:
             rng = np.random.default_rng(self.random_state)
             starts += [lo + (hi - lo) * rng.random(len(keys)) for _ in range(self.n_starts - 1)]
-        best = None
-        for s in starts:
-            s = np.clip(s, lo, hi)
-            if dist.kind == "cone":
-                sol = optimize.minimize(cost, s, method="Nelder-Mead" if len(keys) > 1 else "Powell",
-                                        bounds=list(zip(lo, hi)))
-                val, v = sol.fun, sol.x
-            else:
-                sol = optimize.least_squares(resid, s, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12,
-                                             gtol=1e-12, max_nfev=2000)
-                val, v = 2 * sol.cost, sol.x
-            if best is None or val < best[0]:
-                best = (val, v, sol)
-        val, v, sol = best
+        best = varpro(resid, starts, (lo, hi), scalar=dist.kind == "cone")
+        val, v = best.cost, best.phi
         phi = dict(zip(keys, (float(t) for t in v)))
         at_bound = [k for k, t, a, b in zip(keys, v, lo, hi) if np.isclose(t, a) or np.isclose(t, b)]
         if at_bound:
@@ -236,14 +225,12 @@ class Separator:
         stderr = {}
         if dist.kind != "cone":
             # Jacobian of the reduced residual w.r.t. phi; the projected-out theta is accounted for by VarPro.
-            J = getattr(sol, "jac", None)
+            J = best.jac
             r = resid(v)
             dof = r.size - len(keys) - self.basis.n_columns - (projector.rank if projector is not None else 0)
             if J is not None and dof > 0:
-                s2 = float(r @ r / dof)
                 try:
-                    cov = np.linalg.pinv(J.T @ J) * s2
-                    stderr = dict(zip(keys, np.sqrt(np.maximum(np.diag(cov), 0)).tolist()))
+                    stderr = dict(zip(keys, standard_errors(J, r, dof).tolist()))
                 except np.linalg.LinAlgError:
                     stderr = {}
         return phi, {"stderr": stderr, "diagnostics": {"phi_starts": len(starts), "phi_cost": float(val)}}
