@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from odnn_sep.core.disturbance import Convex, Monotone, Orthogonal
-from odnn_sep.errors import InputError
+from odnn_sep.core.base import Disturbance
+from odnn_sep.errors import InputError, check_type
 
 
 def _jacobian(basis, x, theta: np.ndarray, phi: dict) -> np.ndarray:
@@ -38,7 +38,8 @@ def efficiency_bound(basis, disturbance, x, theta, phi: dict | None = None, *, s
     Parameters
     ----------
     basis : Basis or ParametricBasis
-    disturbance : Orthogonal, Even, Periodic, Band or Subspace instance
+    disturbance : Disturbance
+        A point-identifying class: Orthogonal, Even, Periodic, Band, Subspace or a SubspaceDisturbance.
     x : array_like
         Sample points, as passed to ``Separator.fit``.
     theta : array_like, shape (p,)
@@ -64,7 +65,8 @@ def efficiency_bound(basis, disturbance, x, theta, phi: dict | None = None, *, s
     >>> bool(np.sqrt(cov[0, 0]) > 0.1 / np.sqrt(200))   # worse than with no disturbance at all
     True
     """
-    if isinstance(disturbance, (Convex, Monotone)):
+    check_type("disturbance", disturbance, Disturbance, "a Disturbance instance")
+    if disturbance.identification == "set":
         raise InputError(f"efficiency_bound needs a linear disturbance class; {type(disturbance).__name__} only "
                          "set-identifies theta (use the identified interval of Separator.fit instead)")
     if not (np.isfinite(sigma) and sigma > 0):
@@ -72,11 +74,7 @@ def efficiency_bound(basis, disturbance, x, theta, phi: dict | None = None, *, s
     x = np.asarray(x, dtype=float)
     theta = np.asarray(theta, dtype=float).ravel()
     J = _jacobian(basis, x, theta, dict(phi or {}))
-    if isinstance(disturbance, Orthogonal):
-        # The class is the orthogonal complement of the physics columns: nothing of F lies in it.
-        A = J
-    else:
-        A = J - disturbance.prepare(x).apply(J)
+    A = disturbance.project_out(J, x)     # the part of every direction the class cannot imitate
     info = A.T @ A / sigma ** 2
     return np.linalg.pinv(info, hermitian=True)
 

@@ -54,13 +54,23 @@ def check_basis_matrix(F: np.ndarray, names, n_extra: int = 0) -> None:
         )
 
 
+def outside_class_report(F: np.ndarray, Fp: np.ndarray) -> tuple[np.ndarray, float]:
+    """Per-column share of the norm of ``F`` left in ``Fp`` (its part outside the class), and the
+    condition number of the normalised ``Fp`` (inf when a column vanishes)."""
+    frac = np.linalg.norm(Fp, axis=0) / np.linalg.norm(F, axis=0)
+    if not (frac > 0).all():
+        return frac, np.inf
+    U = Fp / np.linalg.norm(Fp, axis=0)
+    s = np.linalg.svd(U, compute_uv=False)
+    return frac, float(s[0] / s[-1]) if s[-1] > 0 else np.inf
+
+
 def check_outside_class(F: np.ndarray, Fp: np.ndarray, names, cls_desc: str) -> dict:
     """How much of each basis column lies outside the disturbance class; fail if (nearly) none.
 
     Returns diagnostics: per-column outside fraction and the condition number of the projected basis.
     """
-    norms = np.linalg.norm(F, axis=0)
-    frac = np.linalg.norm(Fp, axis=0) / norms
+    frac, cond = outside_class_report(F, Fp)
     for j, f in enumerate(frac):
         if f < 1e-8:
             raise NotIdentifiableError(
@@ -68,9 +78,6 @@ def check_outside_class(F: np.ndarray, Fp: np.ndarray, names, cls_desc: str) -> 
                 "norm is outside it, so its coefficient is not identifiable; remove the column or choose a "
                 "disturbance class that excludes it"
             )
-    U = Fp / np.linalg.norm(Fp, axis=0)
-    s = np.linalg.svd(U, compute_uv=False)
-    cond = float(s[0] / s[-1]) if s[-1] > 0 else np.inf
     if cond > 1e10:
         raise NotIdentifiableError(
             f"the basis columns become collinear once the disturbance class ({cls_desc}) is projected out "

@@ -15,6 +15,7 @@ import numpy as np
 from scipy import optimize
 
 from odnn_sep.core.linalg import Projector, solve
+from odnn_sep.errors import check_type
 
 CHI2_1_95 = 3.841458820694124
 
@@ -22,9 +23,12 @@ CHI2_1_95 = 3.841458820694124
 MAX_KNOTS = 400
 
 
-def _knots(inner: np.ndarray) -> np.ndarray:
-    # NNLS cost grows ~ cubically with the knot count; beyond MAX_KNOTS we keep an evenly spread
-    # subset, i.e. an inner approximation of the cone (reported in the diagnostics).
+def thin_knots(inner: np.ndarray) -> np.ndarray:
+    """At most ``MAX_KNOTS`` of the candidate knots ``inner``, evenly spread.
+
+    NNLS cost grows ~ cubically with the knot count; beyond MAX_KNOTS we keep an evenly spread
+    subset, i.e. an inner approximation of the cone (reported in the diagnostics).
+    """
     if inner.size <= MAX_KNOTS:
         return inner
     return inner[np.unique(np.linspace(0, inner.size - 1, MAX_KNOTS).round().astype(int))]
@@ -33,18 +37,13 @@ def _knots(inner: np.ndarray) -> np.ndarray:
 def cone_generators(x: np.ndarray, disturbance) -> tuple[np.ndarray, np.ndarray]:
     """Return (A, H): g = A u + H d with u free and d >= 0 spans the cone on the samples.
 
-    Exact (a generator at every sample) up to ``MAX_KNOTS`` knots. ``x`` must be sorted increasing.
+    ``x`` must be sorted increasing; the class's own ``generators`` (see
+    :class:`~odnn_sep.core.base.ConeDisturbance`).
     """
-    n = x.size
-    one = np.ones((n, 1))
-    if disturbance.kind != "cone":
-        raise ValueError("not a cone class")
-    if type(disturbance).__name__ == "Convex":
-        knots = _knots(x[1:-1])
-        H = np.maximum(x[:, None] - knots[None, :], 0.0)  # hinge at every interior sample
-        return np.hstack([one, x[:, None]]), H
-    steps = (x[:, None] >= _knots(x[1:])[None, :]).astype(float)   # step up at every sample
-    return one, steps if disturbance.increasing else -steps
+    from odnn_sep.core.base import ConeDisturbance
+
+    check_type("disturbance", disturbance, ConeDisturbance, "a cone class (Convex(), Monotone(), ...)")
+    return disturbance.generators(x)
 
 
 class _ConeLS:
@@ -80,7 +79,7 @@ def _cp(sol, sigma2: float) -> float:
     return sol[2] + 2.0 * sigma2 * _active(sol[1])
 
 
-def _solve(A: np.ndarray, H: np.ndarray, y: np.ndarray):
+def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray):
     """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss)."""
     return _ConeLS(A, H)(y)
 
@@ -101,7 +100,7 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     A0, H = cone_generators(xs, disturbance)
     p = F.shape[1]
     A = np.hstack([Fs, A0])
-    u, d, rss_min = _solve(A, H, ys)
+    u, d, rss_min = cone_lstsq(A, H, ys)
     theta_ls = u[:p]
     n_active = _active(d)
     dof = max(1, xs.size - A.shape[1] - n_active)
@@ -161,12 +160,12 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
             interval[j, side] = inside
     theta_mid = np.where(np.isfinite(interval).all(axis=1), interval.mean(axis=1), theta_ls)
     # the disturbance at the reported point: best cone fit to what the physics leaves
-    ug, dg, _ = _solve(A0, H, ys - Fs @ theta_mid)
+    ug, dg, _ = cone_lstsq(A0, H, ys - Fs @ theta_mid)
     g_sorted = A0 @ ug + H @ dg
     g = np.empty_like(g_sorted)
     g[order] = g_sorted
     return {
         "theta_ls": theta_ls, "interval": interval, "theta_mid": theta_mid, "g": g,
         "rss_min": rss_min, "sigma2": sigma2, "active": n_active, "threshold_excess": excess, "generators": H.shape[1],
-        "exact_cone": H.shape[1] >= (xs.size - 2 if type(disturbance).__name__ == "Convex" else xs.size - 1),
+        "exact_cone": H.shape[1] >= disturbance.full_generator_count(xs.size),
     }

@@ -1,19 +1,27 @@
-"""Disturbance classes: where the unmodelled part g(x) is allowed to live.
+"""The shipped disturbance classes: where the unmodelled part g(x) is allowed to live.
 
-Subspace classes (``Even``, ``Periodic``, ``Band``, ``Subspace``) are linear: ``prepare(x)``
-returns an orthogonal projector P onto the class, and theta is exactly the least-squares fit of
+Subspace classes (``Even``, ``Periodic``, ``Band``, ``Subspace``) are linear: ``projector(x)``
+is an orthogonal projector P onto the class, and theta is exactly the least-squares fit of
 ``(I - P) y`` on ``(I - P) F``. ``Orthogonal`` is the paper's Eq. 3 (g orthogonal to the basis).
-``Convex`` and ``Monotone`` are cones: they only set-identify theta (see ``cone.py``).
+``Convex`` and ``Monotone`` are cones: they only set-identify theta (see ``cone.py``). The
+interface they implement, and that a new class implements, is in :mod:`odnn_sep.core.base`.
 """
 from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
+from odnn_sep.core.base import ConeDisturbance, Disturbance, Identification, Problem, SubspaceDisturbance
+from odnn_sep.core.checks import outside_class_report
+from odnn_sep.core.cone import thin_knots
 from odnn_sep.core.projection import BaseProjector, Projector
+from odnn_sep.core.projectors import FFTProjector, LabelProjector, OrbitProjector
 from odnn_sep.errors import InputError
+
+__all__ = ["Orthogonal", "Even", "Periodic", "Band", "Subspace", "Convex", "Monotone", "DISTURBANCES"]
 
 
 def _uniform_step(x: np.ndarray, who: str) -> float:
@@ -31,84 +39,49 @@ def _uniform_step(x: np.ndarray, who: str) -> float:
     return dt
 
 
-class _OrbitProjector(BaseProjector):
-    """Average over the orbits of a group of index permutations (reflections)."""
-
-    def __init__(self, perms: list[np.ndarray]):
-        self.perms = perms
-        n = perms[0].size
-        # number of orbits = rank of the averaging projector
-        self.rank = int(round(sum(float((p == np.arange(n)).sum()) for p in perms) / len(perms)))
-
-    def project(self, v):
-        return sum(v[p] for p in self.perms) / len(self.perms)
-
-    def project_torch(self, v):
-        import torch
-        return sum(v[torch.as_tensor(p)] for p in self.perms) / len(self.perms)
-
-
-class _LabelProjector(BaseProjector):
-    """Mean over samples that share a label (e.g. the same phase of a period)."""
-
-    def __init__(self, labels: np.ndarray):
-        self.labels = labels
-        self.counts = np.bincount(labels).astype(float)
-        self.rank = int((self.counts > 0).sum())
-
-    def project(self, v):
-        v = np.asarray(v)
-        if v.ndim == 1:
-            return (np.bincount(self.labels, weights=v, minlength=self.counts.size) / np.maximum(self.counts, 1))[self.labels]
-        out = np.empty_like(v, dtype=float)
-        for k in range(v.shape[1]):
-            out[:, k] = self.project(v[:, k])
-        return out
-
-    def project_torch(self, v):
-        import torch
-        lab = torch.as_tensor(self.labels)
-        sums = torch.zeros(self.counts.size, dtype=v.dtype).index_add(0, lab, v)
-        return (sums / torch.as_tensor(np.maximum(self.counts, 1), dtype=v.dtype))[lab]
-
-
-class _FFTProjector(BaseProjector):
-    def __init__(self, n: int, mask: np.ndarray):
-        self.n = n
-        self.mask = mask.astype(float)
-        nyq = (n % 2 == 0)
-        weights = np.full(mask.size, 2)
-        weights[0] = 1
-        if nyq:
-            weights[-1] = 1
-        self.rank = int((weights * mask).sum())
-
-    def project(self, v):
-        v = np.asarray(v, dtype=float)
-        m = self.mask if v.ndim == 1 else self.mask[:, None]
-        return np.fft.irfft(np.fft.rfft(v, axis=0) * m, n=self.n, axis=0)
-
-    def project_torch(self, v):
-        import torch
-        m = torch.as_tensor(self.mask, dtype=v.dtype)
-        return torch.fft.irfft(torch.fft.rfft(v) * m, n=self.n)
-
-
 @dataclass(frozen=True)
-class Orthogonal:
+class Orthogonal(Disturbance):
     """g is orthogonal to every basis column (explicit orthogonality, the paper's Eq. 3).
 
     Theta is then the (weighted) least-squares fit of y on the basis, whatever g is.
     """
 
-    kind = "orthogonal"
+    supports_weights: ClassVar[bool] = True
 
     def describe(self) -> str:
         return "orthogonal to the physics basis (explicit)"
 
+    def fit_exact(self, problem: Problem) -> dict:
+        from odnn_sep.core.exact import fit_linear_class
+
+        return fit_linear_class(problem, None)
+
+    def identifies(self, F, x) -> Identification:
+        F = np.asarray(F, dtype=float)
+        frac, cond = outside_class_report(F, F)
+        return Identification("none" if cond > 1e10 else "point", frac, cond)
+
+    def reduced_residual(self, design, x, y, weights, prepared):
+        from odnn_sep.core.linalg import varpro_residual
+
+        return varpro_residual(design, y, weights=weights), False
+
+    def project_out(self, M, x) -> np.ndarray:
+        # The class is the orthogonal complement of the physics columns: nothing of F lies in it.
+        return M
+
+    def network_layer(self, Fn, sw, prepared):
+        import torch
+
+        # paper Eq. 3 in the (weighted) empirical inner product <a, b> = sum w a b, so that the
+        # weighted loss splits into a theta part and a network part
+        Q, _ = torch.linalg.qr(Fn * sw[:, None])
+        safe = torch.where(sw > 0, sw, torch.ones_like(sw))
+        return (lambda h: h - (Q @ (Q.T @ (sw * h))) / safe), None
+
 
 @dataclass(frozen=True)
-class Even:
+class Even(SubspaceDisturbance):
     """g is symmetric: unchanged by reflecting x about ``center`` along ``axes``.
 
     Parameters
@@ -122,12 +95,11 @@ class Even:
 
     center: float | tuple = 0.0
     axes: tuple | None = None
-    kind = "subspace"
 
     def describe(self) -> str:
         return f"even (mirror-symmetric) about {self.center}"
 
-    def prepare(self, x: np.ndarray) -> Projector:
+    def projector(self, x: np.ndarray) -> BaseProjector:
         X = x[:, None] if x.ndim == 1 else x
         d = X.shape[1]
         center = np.broadcast_to(np.asarray(self.center, dtype=float), (d,))
@@ -157,11 +129,11 @@ class Even:
                         "sample on a grid symmetric about the centre or change center"
                     )
                 perms.append(perm)
-        return _OrbitProjector(perms)
+        return OrbitProjector(perms)
 
 
 @dataclass(frozen=True)
-class Periodic:
+class Periodic(SubspaceDisturbance):
     """g repeats with a known period.
 
     With uniform sampling and a period that is a whole number of sample steps, g may be any
@@ -171,12 +143,11 @@ class Periodic:
 
     period: float
     harmonics: int | None = None
-    kind = "subspace"
 
     def describe(self) -> str:
         return f"periodic with period {self.period:g}"
 
-    def prepare(self, x: np.ndarray) -> Projector:
+    def projector(self, x: np.ndarray) -> BaseProjector:
         if not np.isfinite(self.period) or self.period <= 0:
             raise InputError(f"Periodic(period={self.period}) must be a positive finite number")
         if x.ndim != 1:
@@ -199,7 +170,7 @@ class Periodic:
         if self.harmonics is None and uniform and abs(ratio - round(ratio)) < 1e-6 * ratio:
             m = int(round(ratio))
             labels = np.round((x - x.min()) / dt).astype(np.int64) % m
-            return _LabelProjector(labels)
+            return LabelProjector(labels)
         kmax = int(np.floor((ratio - 1) / 2)) if uniform else int(np.floor(ratio / 4))
         K = self.harmonics if self.harmonics is not None else kmax
         K = max(0, min(K, (x.size - 2) // 4))
@@ -209,7 +180,7 @@ class Periodic:
 
 
 @dataclass(frozen=True)
-class Band:
+class Band(SubspaceDisturbance):
     """g's spectrum lies inside the frequency band [lo, hi] (cycles per unit of x; uniform sampling).
 
     Uses Parseval: functions in disjoint DFT bands are exactly orthogonal on the sample grid.
@@ -217,12 +188,11 @@ class Band:
 
     lo: float
     hi: float
-    kind = "subspace"
 
     def describe(self) -> str:
         return f"band-limited to [{self.lo:g}, {self.hi:g}]"
 
-    def prepare(self, x: np.ndarray) -> Projector:
+    def projector(self, x: np.ndarray) -> BaseProjector:
         dt = _uniform_step(x, "Band")
         n = x.size
         nyq = 0.5 / dt
@@ -240,10 +210,10 @@ class Band:
                 f"Band(lo={self.lo:g}, hi={self.hi:g}) does not fit the sampling: it holds no DFT frequency "
                 f"(resolution {1 / (n * dt):g}); widen the band or use a longer record"
             )
-        return _FFTProjector(n, mask)
+        return FFTProjector(n, mask)
 
 
-class Subspace:
+class Subspace(SubspaceDisturbance):
     """g lies in the span of given nuisance columns (known shapes, unknown amounts).
 
     Parameters
@@ -251,7 +221,6 @@ class Subspace:
     G : (n, k) array, or a Basis evaluated at x
     """
 
-    kind = "subspace"
 
     def __init__(self, G):
         self.G = G
@@ -259,7 +228,7 @@ class Subspace:
     def describe(self) -> str:
         return "inside a given nuisance subspace"
 
-    def prepare(self, x: np.ndarray) -> Projector:
+    def projector(self, x: np.ndarray) -> BaseProjector:
         from odnn_sep.core.basis import Basis
 
         G = self.G.evaluate(x) if isinstance(self.G, Basis) else np.asarray(self.G, dtype=float)
@@ -274,24 +243,50 @@ class Subspace:
 
 
 @dataclass(frozen=True)
-class Convex:
+class Convex(ConeDisturbance):
     """g is a convex function of 1-D x. Only set-identifies theta (cone, not subspace)."""
-
-    kind = "cone"
 
     def describe(self) -> str:
         return "convex"
 
+    def generators(self, x_sorted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        # free: constant and line; cone: a hinge at every interior sample
+        knots = thin_knots(x_sorted[1:-1])
+        H = np.maximum(x_sorted[:, None] - knots[None, :], 0.0)
+        return np.hstack([np.ones((x_sorted.size, 1)), x_sorted[:, None]]), H
+
+    def full_generator_count(self, n: int) -> int:
+        return n - 2
+
+    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
+        from odnn_sep.core.nets import ICNN
+
+        return ICNN(in_dim, hidden, depth)
+
 
 @dataclass(frozen=True)
-class Monotone:
+class Monotone(ConeDisturbance):
     """g is monotone in 1-D x (non-decreasing, or non-increasing with ``increasing=False``)."""
 
     increasing: bool = True
-    kind = "cone"
 
     def describe(self) -> str:
         return "monotone " + ("non-decreasing" if self.increasing else "non-increasing")
 
+    def generators(self, x_sorted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        # free: constant; cone: a step up (or down) at every sample
+        steps = (x_sorted[:, None] >= thin_knots(x_sorted[1:])[None, :]).astype(float)
+        return np.ones((x_sorted.size, 1)), steps if self.increasing else -steps
 
+    def full_generator_count(self, n: int) -> int:
+        return n - 1
+
+    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
+        from odnn_sep.core.nets import MonotoneMLP
+
+        # monotone in the original x: the solver's standardisation keeps the direction (scale > 0)
+        return MonotoneMLP(in_dim, hidden, depth, increasing=self.increasing)
+
+
+#: The shipped classes (a user class subclasses :class:`~odnn_sep.core.base.Disturbance` instead).
 DISTURBANCES = (Orthogonal, Even, Periodic, Band, Subspace, Convex, Monotone)

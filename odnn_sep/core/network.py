@@ -2,7 +2,8 @@
 
 The network output h(x) is passed through the class's projection layer so the disturbance can
 only live in its class: Orthogonal uses Eq. 3 (h minus its projection on span F), subspace
-classes apply their exact projector, Convex uses an ICNN and Monotone a monotone MLP. Training:
+classes apply their exact projector, Convex uses an ICNN and Monotone a monotone MLP (each class
+gives its module and layer: ``Disturbance.network`` / ``Disturbance.network_layer``). Training:
 Adam, then L-BFGS polishing. Deterministic for a given ``random_state``.
 """
 from __future__ import annotations
@@ -18,6 +19,7 @@ log = logging.getLogger(__name__)
 
 
 def fit_network(F, x, y, dist, projector, **kw):
+    """Train the class's network jointly with theta; see the module docstring for the keywords."""
     import torch
 
     # The networks are tiny: one thread is as fast and does not fight other processes for cores.
@@ -49,8 +51,6 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
                  hidden=32, depth=3, lbfgs_iter=300):
     import torch
 
-    from odnn_sep.core.nets import ICNN, MLP, MonotoneMLP
-
     torch.manual_seed(0 if random_state is None else int(random_state))
     dt = torch.float64
     X = x[:, None] if x.ndim == 1 else x
@@ -63,33 +63,11 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
     fs = torch.linalg.norm(Ft, dim=0) / np.sqrt(F.shape[0])
     Fn = Ft / fs
     W = None if weights is None else torch.as_tensor(weights / np.mean(weights), dtype=dt)
-    d_in = Xt.shape[1]
-    kind = type(dist).__name__
-    if kind == "Convex":
-        net = ICNN(d_in, hidden, depth)
-    elif kind == "Monotone":
-        # monotone in the original x: standardisation keeps the direction (xs > 0)
-        net = MonotoneMLP(d_in, hidden, depth, increasing=dist.increasing)
-    else:
-        net = MLP(d_in, hidden, depth)
-    net = net.to(dt)
+    net = dist.network(Xt.shape[1], hidden, depth).to(dt)
     theta = torch.zeros(F.shape[1], dtype=dt, requires_grad=True)
-    if kind == "Orthogonal":
-        # paper Eq. 3 in the (weighted) empirical inner product <a, b> = sum w a b, so that the
-        # weighted loss splits into a theta part and a network part
-        sw = torch.ones_like(Yt) if W is None else torch.sqrt(W)
-        Q, _ = torch.linalg.qr(Fn * sw[:, None])
-        layer = lambda h: h - (Q @ (Q.T @ (sw * h))) / torch.where(sw > 0, sw, torch.ones_like(sw))
-    elif dist.kind == "subspace":
-        # Reparametrise g' = g + P F theta (same class): the loss then splits into a theta part on
-        # (I - P) and a network part on P, exactly as Eq. 3 does for the orthogonal case.
-        layer = projector.apply_torch
-        Fperp = Fn - torch.stack(
-            [projector.apply_torch(Fn[:, j].contiguous()) for j in range(Fn.shape[1])], 1)
-    else:
-        layer = lambda h: h  # noqa: E731  (the architecture itself enforces the shape)
-
-    split = dist.kind == "subspace"
+    sw = torch.ones_like(Yt) if W is None else torch.sqrt(W)
+    layer, Fperp = dist.network_layer(Fn, sw, projector)
+    split = Fperp is not None
 
     def loss_fn():
         if split:
@@ -97,6 +75,29 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
             return torch.mean(r * r)
         r = Yt - Fn @ theta - layer(net(Xt))
         return torch.mean(r * r) if W is None else torch.mean(W * r * r)
+
+    history = _train(net, theta, loss_fn, epochs=epochs, lr=lr, lbfgs_iter=lbfgs_iter)
+    with torch.no_grad():
+        final = float(loss_fn())
+        g = layer(net(Xt))
+        if split:
+            g = g - (Fn - Fperp) @ theta
+        g = g.numpy() * ys
+        th = (theta / fs).numpy() * ys
+    history.append(final)
+    grad_norm = float(torch.linalg.norm(theta.grad)) if theta.grad is not None else 0.0
+    converged = bool(np.isfinite(final) and grad_norm < 1e-6)
+    if not converged:
+        warnings.warn(f"network solver stopped with theta-gradient norm {grad_norm:.2e} (loss {final:.3e}); "
+                      "increase epochs", ConvergenceWarning, stacklevel=5)
+    return {"theta": th, "disturbance": g, "loss_history": history, "converged": converged,
+            "diagnostics": {"network_final_loss": final * ys * ys, "network": type(net).__name__}}
+
+
+def _train(net, theta, loss_fn, *, epochs: int, lr: float, lbfgs_iter: int) -> list:
+    """Adam with a cosine schedule, a joint L-BFGS polish, then L-BFGS on theta alone; leaves the
+    gradient of the final loss in ``theta.grad``. Returns the loss every 50 Adam steps."""
+    import torch
 
     history = []
     opt = torch.optim.Adam([{"params": net.parameters(), "lr": lr * 0.3}, {"params": [theta], "lr": lr}])
@@ -118,18 +119,4 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
     lb_theta = _lbfgs([theta], loss_fn, max_iter=200, history_size=20)
     lb_theta.zero_grad()
     loss_fn().backward()
-    with torch.no_grad():
-        final = float(loss_fn())
-        g = layer(net(Xt))
-        if split:
-            g = g - (Fn - Fperp) @ theta
-        g = g.numpy() * ys
-        th = (theta / fs).numpy() * ys
-    history.append(final)
-    grad_norm = float(torch.linalg.norm(theta.grad)) if theta.grad is not None else 0.0
-    converged = bool(np.isfinite(final) and grad_norm < 1e-6)
-    if not converged:
-        warnings.warn(f"network solver stopped with theta-gradient norm {grad_norm:.2e} (loss {final:.3e}); "
-                      "increase epochs", ConvergenceWarning, stacklevel=3)
-    return {"theta": th, "disturbance": g, "loss_history": history, "converged": converged,
-            "diagnostics": {"network_final_loss": final * ys * ys, "network": type(net).__name__}}
+    return history

@@ -87,9 +87,9 @@ def test_asymmetric_grid_for_even():
 
 
 def test_unknown_solver_and_class():
-    with pytest.raises(InputError, match="solver must be 'exact' or 'network'; got 'magic'"):
+    with pytest.raises(InputError, match="solver must be one of 'exact', 'network'; got 'magic'"):
         Separator(b, solver="magic").fit(x, x)
-    with pytest.raises(InputError, match="disturbance must be one of"):
+    with pytest.raises(InputError, match="disturbance must be a Disturbance instance"):
         Separator(b, disturbance="even").fit(x, x)
 
 

@@ -1,0 +1,77 @@
+"""Exact solutions of one separation problem: projection for linear classes, cone fits for shape classes.
+
+Called by the disturbance families (:class:`~odnn_sep.core.base.SubspaceDisturbance`,
+``Orthogonal``, :class:`~odnn_sep.core.base.ConeDisturbance`) through
+:class:`~odnn_sep.core.solvers.ExactSolver`. Each returns the solver dict the separator turns into a
+:class:`~odnn_sep.core.result.Result`: ``theta``, ``stderr``, ``interval``, ``disturbance``,
+``diagnostics`` (and ``cov`` for linear classes).
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from odnn_sep.core import cone
+from odnn_sep.core.checks import check_outside_class
+from odnn_sep.core.linalg import Z95, intervals, noise_variance, solve, stderr_from_cov
+from odnn_sep.errors import IdentifiabilityWarning
+
+__all__ = ["fit_linear_class", "fit_cone_class"]
+
+
+def fit_linear_class(problem, projector=None) -> dict:
+    """Theta by least squares of ``(I - P) y`` on ``(I - P) F``; ``projector=None`` is explicit orthogonality.
+
+    With explicit orthogonality g absorbs everything outside span(F) (``g = y - F theta``) and the
+    noise level comes from the fit residual, which treats g as noise (conservative when g is not
+    exactly orthogonal). With a subspace class, g is the class's part of ``y - F theta`` and the
+    degrees of freedom also lose the class's rank.
+    """
+    F, y, weights, names = problem.F, problem.y, problem.weights, problem.names
+    desc = problem.disturbance.describe()
+    n = F.shape[0]
+    if projector is None:
+        Fp, yp, rank_g = F, y, 0
+    else:
+        Fp, yp, rank_g = projector.project_out(F), projector.project_out(y), projector.rank
+    diag = check_outside_class(F, Fp, names, desc)
+    theta, cov_u, rank = solve(Fp, yp, weights=weights, method="qr", return_cov=True)
+    r = yp - Fp @ theta
+    if projector is None:
+        dof = n - rank
+        sigma2 = noise_variance(r, dof, np.ones(n) if weights is None else weights)
+        disturbance = y - F @ theta
+    else:
+        dof = n - rank_g - rank
+        sigma2 = noise_variance(r, dof)
+        disturbance = projector.project(y - F @ theta)
+    stderr = stderr_from_cov(cov_u, sigma2)
+    diag.update({"sigma": float(np.sqrt(sigma2)) if np.isfinite(sigma2) else None, "dof": int(dof),
+                 "disturbance_rank": int(rank_g)})
+    return {"theta": theta, "stderr": stderr, "interval": intervals(theta, stderr),
+            "disturbance": disturbance, "diagnostics": diag, "cov": cov_u * sigma2}
+
+
+def fit_cone_class(problem) -> dict:
+    """Identified intervals and their centre for a cone class (see :mod:`odnn_sep.core.cone`).
+
+    Warns (IdentifiabilityWarning) when an interval is wider than 5 % of its centre.
+    """
+    dist, names = problem.disturbance, problem.names
+    c = cone.fit_cone(problem.F, problem.x, problem.y, dist, random_state=problem.random_state)
+    width = c["interval"][:, 1] - c["interval"][:, 0]
+    rel = width / np.maximum(np.abs(c["theta_mid"]), 1e-300)
+    if np.any(rel > 0.05):
+        warnings.warn(
+            f"theta is only set-identified with the {dist.describe()} disturbance class: identified "
+            f"intervals {dict(zip(names, np.round(c['interval'], 6).tolist()))} (relative widths "
+            f"{np.round(rel, 3).tolist()}); the point estimate is the interval centre",
+            IdentifiabilityWarning, stacklevel=5,
+        )
+    return {"theta": c["theta_mid"], "stderr": width / (2 * Z95), "interval": c["interval"],
+            "disturbance": c["g"],
+            "diagnostics": {"theta_least_squares": c["theta_ls"].tolist(), "rss_min": c["rss_min"],
+                            "sigma": float(np.sqrt(c["sigma2"])), "active_cone_generators": c["active"],
+                            "cone_generators": c["generators"], "exact_cone": c["exact_cone"],
+                            "interval_relative_width": rel.tolist()}}

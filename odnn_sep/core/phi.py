@@ -1,0 +1,74 @@
+"""Nonlinear parameters phi of a ParametricBasis: starting points, the variable-projection search, errors.
+
+The search itself is :func:`odnn_sep.core.linalg.varpro`; the residual it minimises comes from the
+disturbance class (:meth:`~odnn_sep.core.base.Disturbance.reduced_residual`), so theta and the
+class's part are solved exactly inside for every phi.
+"""
+from __future__ import annotations
+
+import itertools
+import warnings
+
+import numpy as np
+
+from odnn_sep.core.linalg import standard_errors, varpro
+from odnn_sep.errors import IdentifiabilityWarning, InputError
+
+__all__ = ["MAX_GRID_POINTS", "phi_starts", "fit_phi"]
+
+#: Largest phi grid searched point by point.
+MAX_GRID_POINTS = 5000
+
+
+def phi_starts(basis, cost, *, n_starts: int, random_state=None) -> list[np.ndarray]:
+    """Starting points for the phi search: phi0, then the 3 best grid points (when the basis has a
+    grid) or ``n_starts - 1`` uniform draws inside finite bounds."""
+    keys = basis.phi_names
+    lo = np.array([basis.bounds[k][0] for k in keys], dtype=float)
+    hi = np.array([basis.bounds[k][1] for k in keys], dtype=float)
+    starts = [np.array([basis.phi0[k] for k in keys])]
+    grid = basis.grid
+    if grid:
+        axes = [np.asarray(grid.get(k, [basis.phi0[k]]), dtype=float) for k in keys]
+        cand = list(itertools.product(*axes))
+        if len(cand) > MAX_GRID_POINTS:
+            raise InputError(f"the phi grid has {len(cand)} points; keep it under {MAX_GRID_POINTS} "
+                             "(coarsen the grid)")
+        costs = [cost(np.array(c)) for c in cand]
+        starts += [np.array(cand[i]) for i in np.argsort(costs)[:3]]
+    elif np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and n_starts > 1:
+        rng = np.random.default_rng(random_state)
+        starts += [lo + (hi - lo) * rng.random(len(keys)) for _ in range(n_starts - 1)]
+    return starts
+
+
+def fit_phi(basis, dist, x, y, weights, prepared, *, n_starts: int, random_state=None) -> tuple[dict, dict]:
+    """Best phi by variable projection; returns ``(phi, {"stderr": ..., "diagnostics": ...})``.
+
+    Standard errors come from the Jacobian of the reduced residual (point-identified classes only;
+    the projected-out theta is accounted for by variable projection). Warns when phi ends on a bound.
+    """
+    keys = basis.phi_names
+    lo = np.array([basis.bounds[k][0] for k in keys], dtype=float)
+    hi = np.array([basis.bounds[k][1] for k in keys], dtype=float)
+    design = lambda v: basis.evaluate(x, dict(zip(keys, v)))  # noqa: E731
+    resid, scalar = dist.reduced_residual(design, x, y, weights, prepared)
+    cost = lambda v: float(np.sum(resid(v) ** 2))  # noqa: E731
+    starts = phi_starts(basis, cost, n_starts=n_starts, random_state=random_state)
+    best = varpro(resid, starts, (lo, hi), scalar=scalar)
+    v = best.phi
+    phi = dict(zip(keys, (float(t) for t in v)))
+    at_bound = [k for k, t, a, b in zip(keys, v, lo, hi) if np.isclose(t, a) or np.isclose(t, b)]
+    if at_bound:
+        warnings.warn(f"nonlinear parameter(s) {at_bound} ended on their bounds; widen the bounds",
+                      IdentifiabilityWarning, stacklevel=4)
+    stderr = {}
+    if dist.identification == "point" and best.jac is not None:
+        r = resid(v)
+        dof = r.size - len(keys) - basis.n_columns - dist.nuisance_rank(prepared)
+        if dof > 0:
+            try:
+                stderr = dict(zip(keys, standard_errors(best.jac, r, dof).tolist()))
+            except np.linalg.LinAlgError:
+                stderr = {}
+    return phi, {"stderr": stderr, "diagnostics": {"phi_starts": len(starts), "phi_cost": float(best.cost)}}

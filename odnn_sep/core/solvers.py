@@ -1,0 +1,142 @@
+"""Solvers as objects, and the registry through which a front-end plugs in a specialised one.
+
+A solver turns a :class:`~odnn_sep.core.base.Problem` (physics columns, data, disturbance class)
+into theta with uncertainty and the disturbance estimate. :class:`ExactSolver` asks the class for
+its exact solution; :class:`NetworkSolver` trains the paper's constrained network (torch, imported
+only when it runs) and takes its uncertainty from the exact analysis of the same problem.
+``Separator(solver=...)`` accepts a :class:`Solver` instance or a registered name.
+
+Examples
+--------
+>>> from odnn_sep.core.solvers import ExactSolver, get_solver, register_solver, registered_solvers
+>>> class LoudExact(ExactSolver):
+...     name = "loud-exact"
+>>> register_solver("loud-exact", LoudExact)
+>>> type(get_solver("loud-exact")).__name__, "exact" in registered_solvers()
+('LoudExact', True)
+"""
+from __future__ import annotations
+
+import abc
+import inspect
+from typing import Callable, ClassVar
+
+from odnn_sep.core.base import Problem
+from odnn_sep.core.linalg import intervals
+from odnn_sep.errors import InputError, check_option, check_type
+
+__all__ = ["Solver", "ExactSolver", "NetworkSolver", "register_solver", "get_solver", "registered_solvers"]
+
+
+class Solver(abc.ABC):
+    """Interface of a separation solver.
+
+    ``solve`` returns a dict with ``theta`` (p,), ``stderr`` (p,), ``interval`` (p, 2),
+    ``disturbance`` (n,), ``diagnostics`` (dict) and optionally ``loss_history`` and ``converged``.
+    """
+
+    #: Name recorded in :attr:`Result.solver <odnn_sep.core.result.Result>`.
+    name: ClassVar[str] = "solver"
+
+    def supports(self, disturbance) -> bool:
+        """Whether this solver can handle the class (a specialised solver may refuse some)."""
+        return True
+
+    @abc.abstractmethod
+    def solve(self, problem: Problem) -> dict:
+        """Solve one separation problem."""
+
+
+class ExactSolver(Solver):
+    """Closed-form projection for linear classes, shape-constrained least squares for cones."""
+
+    name: ClassVar[str] = "exact"
+
+    def solve(self, problem: Problem) -> dict:
+        return problem.disturbance.fit_exact(problem)
+
+
+class NetworkSolver(Solver):
+    """The paper's constrained network trained jointly with theta (Adam, then L-BFGS), in torch.
+
+    Parameters
+    ----------
+    epochs : int
+        Adam iterations before the L-BFGS polish.
+    lr : float
+        Adam step size for theta (the network's is 0.3 times it).
+    hidden, depth : int
+        Width and number of hidden layers of the disturbance network.
+
+    Its theta must agree with the exact solver's where both apply; its standard errors and
+    identified sets come from the exact analysis of the same problem.
+    """
+
+    name: ClassVar[str] = "network"
+
+    def __init__(self, epochs: int = 1500, lr: float = 1e-2, hidden: int = 32, depth: int = 3):
+        self.epochs, self.lr, self.hidden, self.depth = epochs, lr, hidden, depth
+
+    def solve(self, problem: Problem) -> dict:
+        try:
+            import torch  # noqa: F401
+        except ImportError:  # pragma: no cover - depends on the environment
+            raise InputError("the network solver needs torch: install the `network` extra "
+                             "(pip install 'odnn-sep[network]') or use solver='exact'") from None
+        from odnn_sep.core.network import fit_network
+
+        out = fit_network(problem.F, problem.x, problem.y, problem.disturbance, problem.prepared,
+                          weights=problem.weights, random_state=problem.random_state, epochs=self.epochs,
+                          lr=self.lr, hidden=self.hidden, depth=self.depth)
+        exact = ExactSolver().solve(problem)
+        out["stderr"], out["interval_exact"] = exact["stderr"], exact["interval"]
+        out["diagnostics"] = {**exact["diagnostics"], **out.get("diagnostics", {}),
+                              "exact_theta": exact["theta"].tolist()}
+        if problem.disturbance.identification == "set":
+            out["interval"] = exact["interval"]
+        else:
+            out["interval"] = intervals(out["theta"], exact["stderr"])
+        return out
+
+
+_REGISTRY: dict[str, Callable[..., Solver]] = {"exact": ExactSolver, "network": NetworkSolver}
+
+
+def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool = False) -> None:
+    """Make ``Separator(solver=name)`` build its solver with ``factory(**options)``.
+
+    ``factory`` is a Solver subclass or any callable returning a :class:`Solver`; it receives the
+    separator options it names among ``epochs`` and ``lr``. The built-in names cannot be replaced.
+    """
+    check_type("name", name, str)
+    if name in ("exact", "network") or (name in _REGISTRY and not replace):
+        raise InputError(f"a solver named {name!r} is already registered; pick another name"
+                         + ("" if name in ("exact", "network") else " or pass replace=True"))
+    if not callable(factory):
+        raise InputError(f"factory must be callable (a Solver subclass); got {factory!r}")
+    _REGISTRY[name] = factory
+
+
+def registered_solvers() -> tuple[str, ...]:
+    """Names ``Separator(solver=...)`` accepts."""
+    return tuple(_REGISTRY)
+
+
+def get_solver(spec, **options) -> Solver:
+    """The solver for ``spec``: a :class:`Solver` instance is returned as is; a name is built from the
+    registry with the ``options`` its factory accepts (``epochs``, ``lr`` for the network solver)."""
+    if isinstance(spec, Solver):
+        return spec
+    if not isinstance(spec, str):
+        raise InputError(f"solver must be a registered name or a Solver instance; got {spec!r}")
+    check_option("solver", spec, tuple(_REGISTRY))
+    factory = _REGISTRY[spec]
+    try:
+        params = inspect.signature(factory).parameters
+    except (TypeError, ValueError):  # pragma: no cover - builtins without a signature
+        params = {}
+    takes_all = any(p.kind is p.VAR_KEYWORD for p in params.values())
+    solver = factory(**{k: v for k, v in options.items() if takes_all or k in params})
+    if not isinstance(solver, Solver):
+        raise InputError(f"the factory registered as {spec!r} returned {type(solver).__name__}, not a Solver")
+    return solver
