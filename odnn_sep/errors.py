@@ -1,7 +1,18 @@
-"""Exception and warning types, plus the input checks every front-end shares.
+"""Every exception and warning the package raises on purpose, plus the input checks all of it shares.
+
+Hierarchy::
+
+    OdnnSepError
+    ├── InputError (also ValueError)        bad data or options from the caller
+    │   ├── ModelIntegrationError           a model could not be evaluated (ODE failure, non-finite values)
+    │   └── NotFittedError (also AttributeError)  a fitted attribute was used before fit
+    ├── FormatError (also ValueError)       a file could not be read or written in the requested format
+    └── NotIdentifiableError                the physics lies (nearly) inside the disturbance class
+    IdentifiabilityWarning, ConvergenceWarning (UserWarning)
 
 Messages follow one pattern: name the parameter, show what was received, say what is allowed
-and what to do. The CLI prints them as one line.
+and what to do. The CLI prints them as one line. :func:`check_option` and :func:`check_type` write
+the "must be one of" messages (MNE's ``_check_option`` / ``_validate_type``).
 """
 from __future__ import annotations
 
@@ -18,6 +29,14 @@ class InputError(OdnnSepError, ValueError):
 
 class FormatError(OdnnSepError, ValueError):
     """A file could not be read or written in the requested format."""
+
+
+class ModelIntegrationError(InputError):
+    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values)."""
+
+
+class NotFittedError(InputError, AttributeError):
+    """A fitted attribute or ``predict`` was used before ``fit`` (scikit-learn's convention)."""
 
 
 class NotIdentifiableError(OdnnSepError):

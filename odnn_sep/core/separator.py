@@ -13,7 +13,7 @@ from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.core.phi import fit_phi
 from odnn_sep.core.result import Result
 from odnn_sep.core.solvers import Solver, get_solver
-from odnn_sep.errors import check_type
+from odnn_sep.errors import InputError, check_type
 
 log = logging.getLogger(__name__)
 
@@ -79,6 +79,14 @@ class Separator:
         check_type("disturbance", dist, Disturbance,
                    "a Disturbance instance (Orthogonal(), Even(), Periodic(T), Band(lo, hi), Subspace(G), "
                    "Convex(), Monotone() or a subclass of odnn_sep.core.base.Disturbance)")
+        for name, low in (("n_starts", 1), ("epochs", 0)):
+            value = getattr(self, name)
+            check_type(name, value, (int, np.integer), "an integer")
+            if value < low:
+                raise InputError(f"{name} must be >= {low}; got {value!r}")
+        check_type("lr", self.lr, (int, float, np.floating), "a number")
+        if not (np.isfinite(self.lr) and self.lr > 0):
+            raise InputError(f"lr must be a finite number > 0; got {self.lr!r}")
         solver = get_solver(self.solver, epochs=self.epochs, lr=self.lr)
         return dist, solver
 

@@ -99,3 +99,48 @@ def test_caller_arrays_not_mutated():
     fit(b, y, dist=Even())
     np.testing.assert_array_equal(y, y0)
     np.testing.assert_array_equal(x, x0)
+
+
+def test_check_option_and_check_type_messages():
+    from odnn_sep.errors import check_option, check_type
+
+    check_option("method", "qr", ("qr", "svd"))
+    with pytest.raises(InputError, match=r"^method must be one of 'qr', 'svd'; got 'lu'$"):
+        check_option("method", "lu", ("qr", "svd"))
+    with pytest.raises(InputError, match="got \\[1\\]"):
+        check_option("method", [1], ("qr",))           # unhashable values are reported, not crashed on
+    check_type("n", 3, (int, float))
+    with pytest.raises(InputError, match=r"^n must be int or float; got str \('3'\)$"):
+        check_type("n", "3", (int, float))
+    with pytest.raises(InputError, match="n must be a count; got NoneType"):
+        check_type("n", None, int, "a count")
+
+
+def test_every_exception_of_the_engine_lives_in_errors_py():
+    import ast
+    from pathlib import Path
+
+    import odnn_sep.errors as errors
+
+    core = Path(errors.__file__).parent / "core"
+    for path in core.glob("*.py"):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ClassDef):
+                assert not node.name.endswith(("Error", "Warning", "Exception")), f"{path.name}: {node.name}"
+            if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call):
+                name = getattr(node.exc.func, "id", "")
+                assert name not in ("ValueError", "TypeError", "RuntimeError"), f"bare {name} in {path.name}"
+    assert issubclass(errors.ModelIntegrationError, errors.InputError)
+    assert issubclass(errors.NotFittedError, AttributeError)
+
+
+@pytest.mark.parametrize("kw, msg", [({"n_starts": 0}, "n_starts must be >= 1; got 0"),
+                                     ({"n_starts": 2.5}, "n_starts must be an integer; got float"),
+                                     ({"epochs": -1}, "epochs must be >= 0"),
+                                     ({"lr": 0.0}, "lr must be a finite number > 0"),
+                                     ({"lr": "fast"}, "lr must be a number; got str")])
+def test_separator_options_are_checked_in_fit(kw, msg):
+    sep = Separator(b, **kw)                    # __init__ only stores
+    with pytest.raises(InputError, match=msg):
+        sep.fit(x, x)
