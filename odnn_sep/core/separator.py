@@ -1,6 +1,7 @@
 """The ODNN separator: y = F(phi) theta + g + noise with g confined to a disturbance class."""
 from __future__ import annotations
 
+import inspect
 import logging
 
 import numpy as np
@@ -13,7 +14,14 @@ from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.core.phi import fit_phi
 from odnn_sep.core.result import Result
 from odnn_sep.core.solvers import Solver, get_solver
-from odnn_sep.errors import InputError, check_type
+from odnn_sep.errors import (
+    InputError,
+    NotFittedError,
+    NotIdentifiableError,
+    as_float_array,
+    check_option,
+    check_type,
+)
 
 log = logging.getLogger(__name__)
 
@@ -72,6 +80,105 @@ class Separator:
         self.epochs = epochs
         self.lr = lr
 
+    # -- scikit-learn estimator protocol --------------------------------------------------------
+    @classmethod
+    def _param_names(cls) -> list[str]:
+        sig = inspect.signature(cls.__init__)
+        return [n for n, p in sig.parameters.items() if n != "self" and p.kind is not p.VAR_KEYWORD]
+
+    def get_params(self, deep: bool = True) -> dict:
+        """The constructor parameters (scikit-learn protocol, so ``sklearn.base.clone`` works).
+
+        Parameters
+        ----------
+        deep : bool
+            Also return ``name__sub`` entries for parameters that have ``get_params`` themselves.
+
+        Examples
+        --------
+        >>> from odnn_sep.core import Basis, Separator
+        >>> Separator(Basis([abs], names=["a"]), epochs=10).get_params()["epochs"]
+        10
+        """
+        out = {}
+        for name in self._param_names():
+            value = getattr(self, name)
+            if deep and hasattr(value, "get_params") and not isinstance(value, type):
+                out.update({f"{name}__{k}": v for k, v in value.get_params().items()})
+            out[name] = value
+        return out
+
+    def set_params(self, **params) -> "Separator":
+        """Set constructor parameters (``name__sub`` reaches into a parameter with ``set_params``); returns self.
+
+        Examples
+        --------
+        >>> from odnn_sep.core import Basis, Even, Separator
+        >>> Separator(Basis([abs], names=["a"])).set_params(disturbance=Even(), n_starts=2).n_starts
+        2
+        """
+        valid = self._param_names()
+        nested: dict = {}
+        for key, value in params.items():
+            name, _, sub = key.partition("__")
+            check_option("parameter", name, valid)
+            if sub:
+                nested.setdefault(name, {})[sub] = value
+            else:
+                setattr(self, name, value)
+        for name, sub_params in nested.items():
+            target = getattr(self, name)
+            if not hasattr(target, "set_params"):
+                raise InputError(f"{name} ({type(target).__name__}) has no parameters to set; got {sorted(sub_params)}")
+            target.set_params(**sub_params)
+        return self
+
+    def __repr__(self) -> str:
+        args = ", ".join(f"{k}={v!r}" for k, v in self.get_params(deep=False).items())
+        return f"{type(self).__name__}({args})"
+
+    def predict(self, x) -> np.ndarray:
+        """The fitted physics ``F(x; phi_) @ theta_`` at sample points ``x`` (new or the fitted ones).
+
+        Parameters
+        ----------
+        x : array_like, shape (m,) or (m, d)
+            Sample points, with the dimensionality used in :meth:`fit`.
+
+        Returns
+        -------
+        ndarray, shape (m,)
+
+        Raises
+        ------
+        NotFittedError
+            Before :meth:`fit`.
+        NotIdentifiableError
+            When theta is only set-identified (cone classes): there is no single physics curve.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.core import Basis, Even, Separator
+        >>> x = np.linspace(-1, 1, 51)
+        >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, 3 * x + np.cos(4 * x))
+        >>> sep.predict(np.array([2.0])).round(9).tolist()
+        [6.0]
+        """
+        if not hasattr(self, "result_"):
+            raise NotFittedError(f"this {type(self).__name__} is not fitted yet; call fit(x, y) before predict")
+        if self.result_.identified != "point":
+            raise NotIdentifiableError(
+                f"theta is only set-identified with the {self.result_.disturbance_class} disturbance class, so the "
+                "physics at new x is not one curve; evaluate basis.evaluate(x, phi_) @ theta for thetas inside "
+                "result_.interval instead")
+        x = as_float_array("x", x, ndim=(1, 2))
+        d = 1 if x.ndim == 1 else x.shape[1]
+        if d != self.n_features_in_:
+            raise InputError(f"x has {d} coordinate(s) per sample but the separator was fitted with "
+                             f"{self.n_features_in_}; pass x of the same dimensionality")
+        return self.basis.evaluate(x, self.phi_) @ self.theta_
+
     # ------------------------------------------------------------------------------------------
     def _validate(self) -> tuple[Disturbance, Solver]:
         check_type("basis", self.basis, Basis, "an odnn_sep.core.Basis")
@@ -125,6 +232,7 @@ class Separator:
         self.result_ = self._result(problem, out, solver, phi, phi_info)
         self.theta_ = self.result_.theta
         self.phi_ = phi
+        self.n_features_in_ = 1 if x.ndim == 1 else x.shape[1]
         return self
 
     def _result(self, problem: Problem, out: dict, solver: Solver, phi: dict, phi_info: dict) -> Result:
