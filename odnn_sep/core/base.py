@@ -33,6 +33,15 @@ class Problem:
     """One separation problem as the solvers see it (physics columns already evaluated at phi).
 
     ``prepared`` is what ``disturbance.prepare(x)`` returned (a projector for subspace classes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Orthogonal
+    >>> x = np.linspace(0, 1, 20)
+    >>> out = Orthogonal().fit_exact(Problem(np.c_[x], x, 3 * x, None, ("a",), Orthogonal()))
+    >>> round(float(out["theta"][0]), 9)
+    3.0
     """
 
     F: np.ndarray
@@ -53,6 +62,14 @@ class Identification:
     cone's free directions), ``condition`` the condition number of the projected, normalised
     columns. ``"none"``: a column (nearly) lies inside the class, or the projected columns are
     collinear (condition > 1e10).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Even
+    >>> x = np.linspace(-1, 1, 11)
+    >>> Even().identifies(np.c_[x], x).identified, Even().identifies(np.c_[x**2], x).identified
+    ('point', 'none')
     """
 
     identified: str
@@ -74,6 +91,15 @@ class Disturbance(abc.ABC):
         Whether theta is a point (linear classes) or only an interval (cones).
     supports_weights : bool
         Whether ``Separator.fit(..., weights=...)`` is meaningful for the class.
+
+    Subclass :class:`SubspaceDisturbance` or :class:`ConeDisturbance` rather than this class
+    directly; the README ("Your own disturbance class") has a complete example.
+
+    Examples
+    --------
+    >>> from odnn_sep.core import Convex, Disturbance, Even
+    >>> isinstance(Even(), Disturbance), Even().identification, Convex().identification
+    (True, 'point', 'set')
     """
 
     identification: ClassVar[str] = "point"
@@ -142,6 +168,21 @@ class SubspaceDisturbance(Disturbance):
 
     Subclasses implement :meth:`projector` and :meth:`~Disturbance.describe`. ``prepare`` is the
     projector (the name the classes have always used).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Separator, SubspaceDisturbance
+    >>> from odnn_sep.core.linalg import Projector
+    >>> class Constant(SubspaceDisturbance):
+    ...     def describe(self):
+    ...         return "constant"
+    ...     def projector(self, x):
+    ...         return Projector(np.ones((x.size, 1)))
+    >>> x = np.arange(10.0)
+    >>> sep = Separator(Basis([lambda x: x], names=["slope"]), disturbance=Constant()).fit(x, 2 * x + 7)
+    >>> round(float(sep.theta_[0]), 9)
+    2.0
     """
 
     @abc.abstractmethod
@@ -186,6 +227,22 @@ class ConeDisturbance(Disturbance):
     Theta is only set-identified; the exact solver reports the identified interval (see
     :mod:`odnn_sep.core.cone`). Subclasses implement :meth:`generators`,
     :meth:`full_generator_count`, :meth:`~Disturbance.network` and ``describe``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import ConeDisturbance, Convex
+    >>> class Concave(ConeDisturbance):
+    ...     def describe(self):
+    ...         return "concave"
+    ...     def generators(self, x_sorted):
+    ...         A, H = Convex().generators(x_sorted)
+    ...         return A, -H
+    ...     def full_generator_count(self, n):
+    ...         return n - 2
+    >>> x = np.linspace(-1, 1, 21)
+    >>> Concave().identification, Concave().identifies(np.c_[np.sin(5 * x)], x).identified
+    ('set', 'set')
     """
 
     identification: ClassVar[str] = "set"

@@ -95,30 +95,37 @@ class Basis:
     # -- properties ---------------------------------------------------------------------------
     @property
     def names(self) -> tuple[str, ...]:
+        """Column names, in column order."""
         return tuple(n for t in self._terms for n in t.names)
 
     @property
     def n_columns(self) -> int:
+        """Number of columns p (linear coefficients)."""
         return len(self.names)
 
     @property
     def phi_names(self) -> tuple[str, ...]:
+        """Names of the nonlinear parameters (empty for a linear basis)."""
         return tuple(k for t in self._terms for k in t.phi0)
 
     @property
     def is_parametric(self) -> bool:
+        """Whether the basis has nonlinear parameters phi."""
         return bool(self.phi_names)
 
     @property
     def phi0(self) -> dict:
+        """Starting values of phi."""
         return {k: v for t in self._terms for k, v in t.phi0.items()}
 
     @property
     def bounds(self) -> dict:
+        """``name -> (lo, hi)`` for every phi (infinite where none were given)."""
         return {k: t.bounds.get(k, (-np.inf, np.inf)) for t in self._terms for k in t.phi0}
 
     @property
     def grid(self) -> dict:
+        """``name -> candidate values`` for the multi-start search (phi with a grid only)."""
         return {k: v for t in self._terms if t.grid for k, v in t.grid.items()}
 
     # -- evaluation ---------------------------------------------------------------------------

@@ -9,6 +9,14 @@ from odnn_sep.errors import IdentifiabilityWarning, InputError, NotIdentifiableE
 
 
 def check_xy(x, y, weights=None):
+    """Float copies of x (n,) or (n, d), y (n,) and weights (n,) >= 0, with one clear error per problem.
+
+    Examples
+    --------
+    >>> x, y, w = check_xy([0, 1, 2], [1.0, 2.0, 3.0])
+    >>> x.dtype, w is None
+    (dtype('float64'), True)
+    """
     y = as_float_array("y", y, ndim=(1,))
     x = as_float_array("x", x, ndim=(1, 2))
     if x.shape[0] != y.shape[0]:
@@ -23,7 +31,16 @@ def check_xy(x, y, weights=None):
 
 
 def check_basis_matrix(F: np.ndarray, names, n_extra: int = 0) -> None:
-    """Reject all-zero or duplicated columns and too few samples for the parameter count."""
+    """Reject all-zero or duplicated columns and too few samples for the parameter count.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_basis_matrix(np.c_[np.arange(5.0), 2 * np.arange(5.0)], ["a", "b"])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: basis columns 'a' and 'b' are duplicates (collinear at the given x); remove one
+    """
     n, p = F.shape
     if p == 0:
         raise InputError("the basis has no columns; add at least one physics function")
@@ -56,7 +73,16 @@ def check_basis_matrix(F: np.ndarray, names, n_extra: int = 0) -> None:
 
 def outside_class_report(F: np.ndarray, Fp: np.ndarray) -> tuple[np.ndarray, float]:
     """Per-column share of the norm of ``F`` left in ``Fp`` (its part outside the class), and the
-    condition number of the normalised ``Fp`` (inf when a column vanishes)."""
+    condition number of the normalised ``Fp`` (inf when a column vanishes).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> F = np.c_[np.ones(4), np.arange(4.0)]
+    >>> frac, cond = outside_class_report(F, F - F.mean(axis=0))   # the class: constants
+    >>> frac.round(3).tolist(), cond
+    ([0.0, 0.598], inf)
+    """
     frac = np.linalg.norm(Fp, axis=0) / np.linalg.norm(F, axis=0)
     if not (frac > 0).all():
         return frac, np.inf
@@ -69,6 +95,15 @@ def check_outside_class(F: np.ndarray, Fp: np.ndarray, names, cls_desc: str) -> 
     """How much of each basis column lies outside the disturbance class; fail if (nearly) none.
 
     Returns diagnostics: per-column outside fraction and the condition number of the projected basis.
+    Raises NotIdentifiableError when a column lies (nearly) inside the class or the projected
+    columns are collinear; warns (IdentifiabilityWarning) when identification is weak.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> F = np.c_[np.arange(4.0)]
+    >>> check_outside_class(F, F - F.mean(), ["slope"], "constant")["outside_fraction"]["slope"] > 0.5
+    True
     """
     frac, cond = outside_class_report(F, Fp)
     for j, f in enumerate(frac):

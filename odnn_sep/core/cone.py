@@ -28,6 +28,12 @@ def thin_knots(inner: np.ndarray) -> np.ndarray:
 
     NNLS cost grows ~ cubically with the knot count; beyond MAX_KNOTS we keep an evenly spread
     subset, i.e. an inner approximation of the cone (reported in the diagnostics).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> thin_knots(np.arange(1000.0)).size
+    400
     """
     if inner.size <= MAX_KNOTS:
         return inner
@@ -39,6 +45,13 @@ def cone_generators(x: np.ndarray, disturbance) -> tuple[np.ndarray, np.ndarray]
 
     ``x`` must be sorted increasing; the class's own ``generators`` (see
     :class:`~odnn_sep.core.base.ConeDisturbance`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Monotone
+    >>> [a.shape for a in cone_generators(np.arange(5.0), Monotone())]
+    [(5, 1), (5, 4)]
     """
     from odnn_sep.core.base import ConeDisturbance
 
@@ -80,8 +93,56 @@ def _cp(sol, sigma2: float) -> float:
 
 
 def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray):
-    """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss)."""
+    """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.arange(6.0)
+    >>> u, d, rss = cone_lstsq(np.ones((6, 1)), (x[:, None] >= x[None, 1:]).astype(float), np.sqrt(x))
+    >>> rss < 1e-20, bool((d >= 0).all())          # sqrt(x) is non-decreasing: it lies in the cone
+    (True, True)
+    """
     return _ConeLS(A, H)(y)
+
+
+def profile_edge(profile, t0: float, thresh: float, sgn: float) -> float:
+    """Edge of ``{t : profile(t) <= thresh}`` on one side (``sgn`` -1 or +1) of ``t0``, which is inside.
+
+    Doubles the step until the profile exceeds the threshold (looking a little further first, since
+    Cp jumps with the active set and one exceedance may be a local bump), then bisects; returns
+    ``sgn * inf`` when no edge is found within 60 doublings.
+
+    Examples
+    --------
+    >>> round(profile_edge(lambda t: t * t, 0.0, 4.0, 1.0), 5)
+    2.0
+    """
+    step0 = max(abs(t0), 1.0) * 1e-3
+    inside, step = t0, step0
+    out = t0 + sgn * step
+    it = 0
+    while it < 60:
+        if profile(out) > thresh:
+            ahead = [t0 + sgn * step * f for f in (1.25, 1.5, 2.0)]
+            back_in = [a for a in ahead if profile(a) <= thresh]
+            if not back_in:
+                break
+            out = back_in[-1]
+        inside, step = out, abs(out - t0) * 2
+        out = t0 + sgn * step
+        it += 1
+    if it >= 60:
+        return sgn * np.inf
+    for _ in range(40):  # bisection to ~1e-12 of the bracket
+        mid = 0.5 * (inside + out)
+        if profile(mid) <= thresh:
+            inside = mid
+        else:
+            out = mid
+        if abs(out - inside) <= 1e-7 * max(1.0, abs(t0)):
+            break
+    return inside
 
 
 def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_chi2: float = CHI2_1_95,
@@ -94,6 +155,15 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
 
     Returns a dict with theta_ls, interval (p, 2), theta_mid, g (at theta_mid), rss_min, sigma2,
     active (number of active cone generators).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Convex
+    >>> x = np.linspace(-1, 1, 41)
+    >>> c = fit_cone(np.c_[np.sin(5 * x)], x, x**2 + np.sin(5 * x), Convex(), n_boot=0)
+    >>> bool(c["interval"][0, 0] < 1 < c["interval"][0, 1])    # theta = 1 lies in the identified set
+    True
     """
     order = np.argsort(x, kind="stable")
     xs, ys, Fs = x[order], y[order], F[order]
@@ -122,42 +192,9 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     cp_min = _cp((u, d, rss_min), sigma2)
     interval = np.empty((p, 2))
     for j in range(p):
-        solver_j = solvers[j]
         thresh = cp_min + excess[j] + 1e-10 * scale
-
-        def profile(j: int, t: float, solver_j=solver_j) -> float:
-            return _cp(solver_j(ys - t * Fs[:, j]), sigma2)
-
-        t0 = theta_ls[j]
-        step0 = max(abs(t0), 1.0) * 1e-3
-        for side, sgn in ((0, -1.0), (1, 1.0)):
-            inside, step = t0, step0
-            out = t0 + sgn * step
-            it = 0
-            while it < 60:
-                if profile(j, out) > thresh:
-                    # Cp jumps with the active set, so one exceedance may be a local bump: look a
-                    # little further before accepting the edge.
-                    ahead = [t0 + sgn * step * f for f in (1.25, 1.5, 2.0)]
-                    back_in = [a for a in ahead if profile(j, a) <= thresh]
-                    if not back_in:
-                        break
-                    out = back_in[-1]
-                inside, step = out, abs(out - t0) * 2
-                out = t0 + sgn * step
-                it += 1
-            if it >= 60:
-                interval[j, side] = sgn * np.inf
-                continue
-            for _ in range(40):  # bisection to ~1e-12 of the bracket
-                mid = 0.5 * (inside + out)
-                if profile(j, mid) <= thresh:
-                    inside = mid
-                else:
-                    out = mid
-                if abs(out - inside) <= 1e-7 * max(1.0, abs(t0)):
-                    break
-            interval[j, side] = inside
+        profile = lambda t, j=j: _cp(solvers[j](ys - t * Fs[:, j]), sigma2)  # noqa: E731
+        interval[j] = [profile_edge(profile, theta_ls[j], thresh, sgn) for sgn in (-1.0, 1.0)]
     theta_mid = np.where(np.isfinite(interval).all(axis=1), interval.mean(axis=1), theta_ls)
     # the disturbance at the reported point: best cone fit to what the physics leaves
     ug, dg, _ = cone_lstsq(A0, H, ys - Fs @ theta_mid)

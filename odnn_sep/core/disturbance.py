@@ -44,6 +44,15 @@ class Orthogonal(Disturbance):
     """g is orthogonal to every basis column (explicit orthogonality, the paper's Eq. 3).
 
     Theta is then the (weighted) least-squares fit of y on the basis, whatever g is.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Orthogonal, Separator
+    >>> x = np.linspace(-1, 1, 201)
+    >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Orthogonal()).fit(x, 2 * x + x**2 - 1 / 3)
+    >>> round(float(sep.theta_[0]), 9)
+    2.0
     """
 
     supports_weights: ClassVar[bool] = True
@@ -91,6 +100,13 @@ class Even(SubspaceDisturbance):
     axes : sequence of int, optional
         Axes to reflect for 2-D x (default: all). Symmetric about both axes means g is invariant
         under every combination of the reflections.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = Even().projector(np.linspace(-1, 1, 5))
+    >>> P.rank, P.project(np.array([1.0, 2.0, 3.0, 4.0, 5.0])).tolist()
+    (3, [3.0, 3.0, 3.0, 3.0, 3.0])
     """
 
     center: float | tuple = 0.0
@@ -139,6 +155,12 @@ class Periodic(SubspaceDisturbance):
     With uniform sampling and a period that is a whole number of sample steps, g may be any
     periodic sequence (exact phase averaging). Otherwise g is a Fourier series with
     ``harmonics`` terms (default: as many as the sampling resolves).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Periodic(4).projector(np.arange(12.0)).rank          # any sequence of period 4 samples
+    4
     """
 
     period: float
@@ -184,6 +206,12 @@ class Band(SubspaceDisturbance):
     """g's spectrum lies inside the frequency band [lo, hi] (cycles per unit of x; uniform sampling).
 
     Uses Parseval: functions in disjoint DFT bands are exactly orthogonal on the sample grid.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Band(0, 2).projector(np.arange(16) / 16).rank        # DFT bins 0, 1 and 2 (cos and sin)
+    5
     """
 
     lo: float
@@ -219,6 +247,12 @@ class Subspace(SubspaceDisturbance):
     Parameters
     ----------
     G : (n, k) array, or a Basis evaluated at x
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Subspace(np.c_[np.ones(4), np.arange(4.0)]).projector(np.arange(4.0)).rank
+    2
     """
 
 
@@ -244,7 +278,15 @@ class Subspace(SubspaceDisturbance):
 
 @dataclass(frozen=True)
 class Convex(ConeDisturbance):
-    """g is a convex function of 1-D x. Only set-identifies theta (cone, not subspace)."""
+    """g is a convex function of 1-D x. Only set-identifies theta (cone, not subspace).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A, H = Convex().generators(np.linspace(0, 1, 5))   # constant and line free, a hinge per interior sample
+    >>> A.shape, H.shape
+    ((5, 2), (5, 3))
+    """
 
     def describe(self) -> str:
         return "convex"
@@ -266,7 +308,15 @@ class Convex(ConeDisturbance):
 
 @dataclass(frozen=True)
 class Monotone(ConeDisturbance):
-    """g is monotone in 1-D x (non-decreasing, or non-increasing with ``increasing=False``)."""
+    """g is monotone in 1-D x (non-decreasing, or non-increasing with ``increasing=False``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A, H = Monotone(increasing=False).generators(np.arange(4.0))   # a step down at every sample
+    >>> H[:, 0].tolist()
+    [-0.0, -1.0, -1.0, -1.0]
+    """
 
     increasing: bool = True
 

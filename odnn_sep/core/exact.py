@@ -27,6 +27,16 @@ def fit_linear_class(problem, projector=None) -> dict:
     noise level comes from the fit residual, which treats g as noise (conservative when g is not
     exactly orthogonal). With a subspace class, g is the class's part of ``y - F theta`` and the
     degrees of freedom also lose the class's rank.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Even, Problem
+    >>> x = np.linspace(-1, 1, 21)
+    >>> problem = Problem(np.c_[x], x, 2 * x + x**2, None, ("a",), Even())
+    >>> out = fit_linear_class(problem, Even().projector(x))
+    >>> round(float(out["theta"][0]), 9), out["diagnostics"]["disturbance_rank"]
+    (2.0, 11)
     """
     F, y, weights, names = problem.F, problem.y, problem.weights, problem.names
     desc = problem.disturbance.describe()
@@ -57,6 +67,18 @@ def fit_cone_class(problem) -> dict:
     """Identified intervals and their centre for a cone class (see :mod:`odnn_sep.core.cone`).
 
     Warns (IdentifiabilityWarning) when an interval is wider than 5 % of its centre.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import numpy as np
+    >>> from odnn_sep.core import Monotone, Problem
+    >>> x = np.linspace(0, 1, 30)
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     out = fit_cone_class(Problem(np.c_[np.sin(9 * x)], x, x + np.sin(9 * x), None, ("s",), Monotone(), None, 0))
+    >>> bool(out["interval"][0, 0] <= 1 <= out["interval"][0, 1])
+    True
     """
     dist, names = problem.disturbance, problem.names
     c = cone.fit_cone(problem.F, problem.x, problem.y, dist, random_state=problem.random_state)

@@ -45,7 +45,15 @@ MAX_COND = 1e8
 
 
 class LstsqSolution(NamedTuple):
-    """``theta``, the unscaled covariance ``(F^H W F)^+`` and the numerical rank (unpacks as a tuple)."""
+    """``theta``, the unscaled covariance ``(F^H W F)^+`` and the numerical rank (unpacks as a tuple).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sol = solve(np.c_[np.ones(4)], np.arange(4.0), return_cov=True)
+    >>> sol.theta.tolist(), sol.cov_unscaled.tolist(), sol.rank
+    ([1.5], [[0.25]], 1)
+    """
 
     theta: np.ndarray
     cov_unscaled: np.ndarray
@@ -150,7 +158,7 @@ class GramFactor:
 
     ``rcond`` is ``(min diag L / max diag L)^2``, a cheap estimate of 1 / cond of the scaled
     matrix (0 when ``G`` is not numerically positive definite); compare it with ``1 / max_cond``
-    before trusting :meth:`solve`. Build it with :func:`factor_gram`.
+    before trusting :meth:`solve`. Build it with :func:`factor_gram` (which has an example).
     """
 
     def __init__(self, factor, scale: np.ndarray, rcond: float):

@@ -7,68 +7,110 @@
 - ``MonotoneMLP``: non-negative weights throughout with monotone activations give an output that is
   non-decreasing in every input; ``increasing=False`` flips the sign.
 
-Only this module and ``network.py`` import torch, and only when the network solver is used.
+Only this module and ``network.py`` import torch, and only when the network solver is used: the
+classes are built on first access (``from odnn_sep.core.nets import MLP``), so importing the module
+does not need torch.
+
+Examples
+--------
+>>> from odnn_sep.core.nets import ICNN   # doctest: +SKIP
+>>> ICNN(in_dim=1, hidden=8, depth=2)     # doctest: +SKIP
 """
 from __future__ import annotations
 
-import torch
-from torch import nn
-from torch.nn import functional as F
+import functools
+
+#: The torch modules, built on first access by the module ``__getattr__``.
+NETWORKS = ("MLP", "ICNN", "MonotoneMLP")
+__all__ = ["require_torch", *NETWORKS]  # noqa: F822 - the networks come from __getattr__
 
 
-def _softplus_pos(w: torch.Tensor) -> torch.Tensor:
-    # Reparametrise to keep weights non-negative without projected steps.
-    return F.softplus(w)
+def __getattr__(name: str):
+    if name in NETWORKS:
+        return _classes()[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-class MLP(nn.Module):
-    def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3, out_dim: int = 1):
-        super().__init__()
-        layers: list[nn.Module] = []
-        d = in_dim
-        for _ in range(depth):
-            layers += [nn.Linear(d, hidden), nn.Tanh()]
-            d = hidden
-        layers.append(nn.Linear(d, out_dim))
-        self.net = nn.Sequential(*layers)
+def require_torch():
+    """Import and return torch, or raise a one-line InputError naming the ``network`` extra."""
+    try:
+        import torch
+    except ImportError:  # pragma: no cover - depends on the environment
+        from odnn_sep.errors import InputError
 
-    def forward(self, x: torch.Tensor) -> torch.Tensor:
-        return self.net(x).squeeze(-1)
+        raise InputError("the network solver needs torch: install the `network` extra "
+                         "(pip install 'odnn-sep[network]') or use solver='exact'") from None
+    return torch
 
 
-class ICNN(nn.Module):
-    """z_{k+1} = softplus(W_k^+ z_k + A_k x + b_k); output = w^+ . z_K + a . x + b (convex in x)."""
+@functools.lru_cache(maxsize=None)
+def _classes() -> dict:
+    """Define the torch modules once, on first use.
 
-    def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
-        super().__init__()
-        self.inp = nn.ModuleList([nn.Linear(in_dim, hidden) for _ in range(depth)])
-        self.hid = nn.ParameterList(
-            [nn.Parameter(torch.randn(hidden, hidden) * 0.1 - 1.0) for _ in range(depth - 1)]
-        )
-        self.out_w = nn.Parameter(torch.randn(hidden) * 0.1 - 1.0)
-        self.out_lin = nn.Linear(in_dim, 1)
+    Longer than 60 lines only because it holds the three class bodies: defining them here is what
+    keeps ``import odnn_sep.core.nets`` free of torch.
+    """
+    torch = require_torch()
+    from torch import nn
+    from torch.nn import functional as F
 
-    def forward(self, x: torch.Tensor) -> torch.Tensor:
-        z = F.softplus(self.inp[0](x))
-        for A, W in zip(self.inp[1:], self.hid):
-            z = F.softplus(z @ _softplus_pos(W).T + A(x))
-        return z @ _softplus_pos(self.out_w) + self.out_lin(x).squeeze(-1)
+    def _softplus_pos(w: torch.Tensor) -> torch.Tensor:
+        # Reparametrise to keep weights non-negative without projected steps.
+        return F.softplus(w)
+
+    class MLP(nn.Module):
+        def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3, out_dim: int = 1):
+            super().__init__()
+            layers: list[nn.Module] = []
+            d = in_dim
+            for _ in range(depth):
+                layers += [nn.Linear(d, hidden), nn.Tanh()]
+                d = hidden
+            layers.append(nn.Linear(d, out_dim))
+            self.net = nn.Sequential(*layers)
+
+        def forward(self, x: torch.Tensor) -> torch.Tensor:
+            return self.net(x).squeeze(-1)
 
 
-class MonotoneMLP(nn.Module):
-    """Output non-decreasing in each input (non-increasing with ``increasing=False``)."""
+    class ICNN(nn.Module):
+        """z_{k+1} = softplus(W_k^+ z_k + A_k x + b_k); output = w^+ . z_K + a . x + b (convex in x)."""
 
-    def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3, increasing: bool = True):
-        super().__init__()
-        self.sign = 1.0 if increasing else -1.0
-        dims = [in_dim] + [hidden] * depth + [1]
-        self.w = nn.ParameterList([nn.Parameter(torch.randn(o, i) * 0.3 - 1.0) for i, o in zip(dims, dims[1:])])
-        self.b = nn.ParameterList([nn.Parameter(torch.zeros(o)) for o in dims[1:]])
+        def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
+            super().__init__()
+            self.inp = nn.ModuleList([nn.Linear(in_dim, hidden) for _ in range(depth)])
+            self.hid = nn.ParameterList(
+                [nn.Parameter(torch.randn(hidden, hidden) * 0.1 - 1.0) for _ in range(depth - 1)]
+            )
+            self.out_w = nn.Parameter(torch.randn(hidden) * 0.1 - 1.0)
+            self.out_lin = nn.Linear(in_dim, 1)
 
-    def forward(self, x: torch.Tensor) -> torch.Tensor:
-        h = self.sign * x
-        for k, (w, b) in enumerate(zip(self.w, self.b)):
-            h = h @ _softplus_pos(w).T + b
-            if k < len(self.w) - 1:
-                h = torch.tanh(h)
-        return h.squeeze(-1)
+        def forward(self, x: torch.Tensor) -> torch.Tensor:
+            z = F.softplus(self.inp[0](x))
+            for A, W in zip(self.inp[1:], self.hid):
+                z = F.softplus(z @ _softplus_pos(W).T + A(x))
+            return z @ _softplus_pos(self.out_w) + self.out_lin(x).squeeze(-1)
+
+
+    class MonotoneMLP(nn.Module):
+        """Output non-decreasing in each input (non-increasing with ``increasing=False``)."""
+
+        def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3, increasing: bool = True):
+            super().__init__()
+            self.sign = 1.0 if increasing else -1.0
+            dims = [in_dim] + [hidden] * depth + [1]
+            self.w = nn.ParameterList([nn.Parameter(torch.randn(o, i) * 0.3 - 1.0) for i, o in zip(dims, dims[1:])])
+            self.b = nn.ParameterList([nn.Parameter(torch.zeros(o)) for o in dims[1:]])
+
+        def forward(self, x: torch.Tensor) -> torch.Tensor:
+            h = self.sign * x
+            for k, (w, b) in enumerate(zip(self.w, self.b)):
+                h = h @ _softplus_pos(w).T + b
+                if k < len(self.w) - 1:
+                    h = torch.tanh(h)
+            return h.squeeze(-1)
+
+    classes = {"MLP": MLP, "ICNN": ICNN, "MonotoneMLP": MonotoneMLP}
+    for name, cls in classes.items():    # picklable as odnn_sep.core.nets.<name>
+        cls.__qualname__, cls.__module__ = name, __name__
+    return classes

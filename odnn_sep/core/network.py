@@ -19,7 +19,18 @@ log = logging.getLogger(__name__)
 
 
 def fit_network(F, x, y, dist, projector, **kw):
-    """Train the class's network jointly with theta; see the module docstring for the keywords."""
+    """Train the class's network jointly with theta (keywords: weights, random_state, epochs, lr, hidden,
+    depth, lbfgs_iter). Returns the solver dict without standard errors (see ``NetworkSolver``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Orthogonal
+    >>> x = np.linspace(-1, 1, 50)
+    >>> out = fit_network(np.c_[x], x, 2 * x + np.cos(3 * x), Orthogonal(), None, epochs=20)  # doctest: +SKIP
+    >>> round(float(out["theta"][0]), 3)                                                  # doctest: +SKIP
+    2.0
+    """
     import torch
 
     # The networks are tiny: one thread is as fast and does not fight other processes for cores.

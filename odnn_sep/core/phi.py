@@ -22,7 +22,16 @@ MAX_GRID_POINTS = 5000
 
 def phi_starts(basis, cost, *, n_starts: int, random_state=None) -> list[np.ndarray]:
     """Starting points for the phi search: phi0, then the 3 best grid points (when the basis has a
-    grid) or ``n_starts - 1`` uniform draws inside finite bounds."""
+    grid) or ``n_starts - 1`` uniform draws inside finite bounds.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import ParametricBasis
+    >>> pb = ParametricBasis(lambda x, xp=np, f=1.0: xp.sin(f * x), {"f": 1.0}, names=["a"], bounds={"f": (0, 2)})
+    >>> len(phi_starts(pb, cost=None, n_starts=4, random_state=0))
+    4
+    """
     keys = basis.phi_names
     lo = np.array([basis.bounds[k][0] for k in keys], dtype=float)
     hi = np.array([basis.bounds[k][1] for k in keys], dtype=float)
@@ -47,6 +56,16 @@ def fit_phi(basis, dist, x, y, weights, prepared, *, n_starts: int, random_state
 
     Standard errors come from the Jacobian of the reduced residual (point-identified classes only;
     the projected-out theta is accounted for by variable projection). Warns when phi ends on a bound.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Orthogonal, ParametricBasis
+    >>> t = np.linspace(0, 1, 50)
+    >>> pb = ParametricBasis(lambda t, xp=np, k=1.0: xp.exp(-k * t), {"k": 1.0}, names=["a"], bounds={"k": (0, 10)})
+    >>> phi, info = fit_phi(pb, Orthogonal(), t, 2 * np.exp(-3 * t), None, None, n_starts=1)
+    >>> round(phi["k"], 6)
+    3.0
     """
     keys = basis.phi_names
     lo = np.array([basis.bounds[k][0] for k in keys], dtype=float)

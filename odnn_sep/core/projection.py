@@ -19,6 +19,16 @@ class BaseProjector:
 
     Subclasses implement :meth:`project` (and, for the network solver, :meth:`project_torch`) and set
     ``rank``, the dimension of the subspace. ``apply`` and ``apply_torch`` are the historical names.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Mean(BaseProjector):          # projector onto the constants
+    ...     rank = 1
+    ...     def project(self, v):
+    ...         return np.full_like(v, v.mean())
+    >>> Mean().project_out(np.array([1.0, 2.0, 3.0])).tolist()
+    [-1.0, 0.0, 1.0]
     """
 
     rank: int

@@ -14,7 +14,15 @@ __all__ = ["OrbitProjector", "LabelProjector", "FFTProjector"]
 
 
 class OrbitProjector(BaseProjector):
-    """Average over the orbits of a group of index permutations (reflections)."""
+    """Average over the orbits of a group of index permutations (reflections).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = OrbitProjector([np.arange(4), np.arange(4)[::-1]])       # mirror symmetry
+    >>> P.rank, P.project(np.array([1.0, 2.0, 4.0, 8.0])).tolist()
+    (2, [4.5, 3.0, 3.0, 4.5])
+    """
 
     def __init__(self, perms: list[np.ndarray]):
         self.perms = perms
@@ -31,7 +39,14 @@ class OrbitProjector(BaseProjector):
 
 
 class LabelProjector(BaseProjector):
-    """Mean over samples that share a label (e.g. the same phase of a period)."""
+    """Mean over samples that share a label (e.g. the same phase of a period).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> LabelProjector(np.array([0, 1, 0, 1])).project(np.array([1.0, 2.0, 3.0, 4.0])).tolist()
+    [2.0, 3.0, 2.0, 3.0]
+    """
 
     def __init__(self, labels: np.ndarray):
         self.labels = labels
@@ -55,7 +70,14 @@ class LabelProjector(BaseProjector):
 
 
 class FFTProjector(BaseProjector):
-    """Keep the DFT bins where ``mask`` is true (band-limited functions on a uniform grid)."""
+    """Keep the DFT bins where ``mask`` is true (band-limited functions on a uniform grid).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> FFTProjector(4, np.array([True, False, False])).project(np.array([1.0, 2.0, 3.0, 4.0])).tolist()
+    [2.5, 2.5, 2.5, 2.5]
+    """
 
     def __init__(self, n: int, mask: np.ndarray):
         self.n = n

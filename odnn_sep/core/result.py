@@ -15,6 +15,17 @@ class Result:
     ``physics + disturbance + residual == y`` holds to rounding. ``interval`` is a 95 % confidence
     interval for point-identified theta, and the identified set (profile-likelihood, 95 %) for cone
     classes, where ``identified == "set"`` and ``theta`` is the interval centre.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 101)
+    >>> r = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, 2 * x + np.cos(x)).result_
+    >>> {k: round(v, 9) for k, v in r.theta_dict().items()}, r.identified
+    ({'a': 2.0}, 'point')
+    >>> bool(np.allclose(r.physics + r.disturbance + r.residual, 2 * x + np.cos(x)))
+    True
     """
 
     theta: np.ndarray
@@ -34,6 +45,7 @@ class Result:
     diagnostics: dict = field(default_factory=dict)
 
     def theta_dict(self) -> dict:
+        """``{name: theta}`` as Python floats."""
         return dict(zip(self.names, (float(t) for t in self.theta)))
 
     def as_dict(self) -> dict:
@@ -53,6 +65,7 @@ class Result:
         }
 
     def summary(self) -> str:
+        """A few lines for people: every parameter with its standard error and interval."""
         lines = [f"ODNN separation ({self.solver} solver, disturbance {self.disturbance_class}, "
                  f"{self.identified}-identified)"]
         lab = "identified set" if self.identified == "set" else "95% CI"

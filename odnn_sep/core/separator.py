@@ -195,6 +195,9 @@ class Separator:
         if not (np.isfinite(self.lr) and self.lr > 0):
             raise InputError(f"lr must be a finite number > 0; got {self.lr!r}")
         solver = get_solver(self.solver, epochs=self.epochs, lr=self.lr)
+        if not solver.supports(dist):
+            raise InputError(f"solver {solver.name!r} does not handle the {dist.describe()} disturbance class; "
+                             "use solver='exact' or another solver")
         return dist, solver
 
     def fit(self, x, y, weights=None) -> "Separator":

@@ -33,6 +33,23 @@ class Solver(abc.ABC):
 
     ``solve`` returns a dict with ``theta`` (p,), ``stderr`` (p,), ``interval`` (p, 2),
     ``disturbance`` (n,), ``diagnostics`` (dict) and optionally ``loss_history`` and ``converged``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Orthogonal, Separator
+    >>> class OrdinaryLeastSquares(Solver):        # a specialised solver for the Orthogonal class
+    ...     name = "ols"
+    ...     def supports(self, disturbance):
+    ...         return isinstance(disturbance, Orthogonal)
+    ...     def solve(self, problem):
+    ...         theta = np.linalg.lstsq(problem.F, problem.y, rcond=None)[0]
+    ...         zeros = np.zeros_like(theta)
+    ...         return {"theta": theta, "stderr": zeros, "interval": np.c_[theta, theta],
+    ...                 "disturbance": problem.y - problem.F @ theta, "diagnostics": {}}
+    >>> x = np.linspace(0, 1, 10)
+    >>> Separator(Basis([lambda x: x], names=["a"]), solver=OrdinaryLeastSquares()).fit(x, 4 * x).theta_.round(9)
+    array([4.])
     """
 
     #: Name recorded in :attr:`Result.solver <odnn_sep.core.result.Result>`.
@@ -48,7 +65,17 @@ class Solver(abc.ABC):
 
 
 class ExactSolver(Solver):
-    """Closed-form projection for linear classes, shape-constrained least squares for cones."""
+    """Closed-form projection for linear classes, shape-constrained least squares for cones.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 21)
+    >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even(), solver=ExactSolver())
+    >>> round(float(sep.fit(x, 2 * x + x**2).theta_[0]), 9)
+    2.0
+    """
 
     name: ClassVar[str] = "exact"
 
@@ -70,6 +97,15 @@ class NetworkSolver(Solver):
 
     Its theta must agree with the exact solver's where both apply; its standard errors and
     identified sets come from the exact analysis of the same problem.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 41)
+    >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even(), solver=NetworkSolver(epochs=20))
+    >>> round(float(sep.fit(x, 2 * x + x**2).theta_[0]), 4)   # doctest: +SKIP
+    2.0
     """
 
     name: ClassVar[str] = "network"
@@ -78,12 +114,10 @@ class NetworkSolver(Solver):
         self.epochs, self.lr, self.hidden, self.depth = epochs, lr, hidden, depth
 
     def solve(self, problem: Problem) -> dict:
-        try:
-            import torch  # noqa: F401
-        except ImportError:  # pragma: no cover - depends on the environment
-            raise InputError("the network solver needs torch: install the `network` extra "
-                             "(pip install 'odnn-sep[network]') or use solver='exact'") from None
+        from odnn_sep.core.nets import require_torch
         from odnn_sep.core.network import fit_network
+
+        require_torch()
 
         out = fit_network(problem.F, problem.x, problem.y, problem.disturbance, problem.prepared,
                           weights=problem.weights, random_state=problem.random_state, epochs=self.epochs,
@@ -107,6 +141,7 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
 
     ``factory`` is a Solver subclass or any callable returning a :class:`Solver`; it receives the
     separator options it names among ``epochs`` and ``lr``. The built-in names cannot be replaced.
+    The module docstring has an example.
     """
     check_type("name", name, str)
     if name in ("exact", "network") or (name in _REGISTRY and not replace):
@@ -118,13 +153,25 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
 
 
 def registered_solvers() -> tuple[str, ...]:
-    """Names ``Separator(solver=...)`` accepts."""
+    """Names ``Separator(solver=...)`` accepts.
+
+    Examples
+    --------
+    >>> registered_solvers()[:2]
+    ('exact', 'network')
+    """
     return tuple(_REGISTRY)
 
 
 def get_solver(spec, **options) -> Solver:
     """The solver for ``spec``: a :class:`Solver` instance is returned as is; a name is built from the
-    registry with the ``options`` its factory accepts (``epochs``, ``lr`` for the network solver)."""
+    registry with the ``options`` its factory accepts (``epochs``, ``lr`` for the network solver).
+
+    Examples
+    --------
+    >>> get_solver("network", epochs=10, lr=0.1).epochs
+    10
+    """
     if isinstance(spec, Solver):
         return spec
     if not isinstance(spec, str):

@@ -69,7 +69,7 @@ def varpro_residual(design: Callable[[np.ndarray], np.ndarray], y, *,
 class VarproResult:
     """Best of a multi-start search: ``phi`` (q,), its ``cost`` (sum of squared residuals), the
     optimizer's result (``.jac`` is the residual Jacobian for least-squares searches) and the
-    number of starts tried."""
+    number of starts tried; :func:`varpro` has an example."""
 
     phi: np.ndarray
     cost: float

@@ -137,6 +137,15 @@ def test_solver_objects_and_registry():
     with pytest.raises(InputError, match="registered name or a Solver"):
         Separator(odd, solver=3).fit(x, y)
 
+    class EvenOnly(ExactSolver):
+        name = "even-only"
+
+        def supports(self, disturbance):
+            return isinstance(disturbance, Even)
+
+    with pytest.raises(InputError, match="solver 'even-only' does not handle the convex disturbance class"):
+        Separator(odd, disturbance=Convex(), solver=EvenOnly()).fit(x, y)
+
 
 def test_network_solver_options_come_from_the_separator():
     s = solvers_mod.get_solver("network", epochs=12, lr=0.5)
