@@ -3,7 +3,8 @@
 Subspace classes (``Even``, ``Periodic``, ``Band``, ``Subspace``) are linear: ``projector(x)``
 is an orthogonal projector P onto the class, and theta is exactly the least-squares fit of
 ``(I - P) y`` on ``(I - P) F``. ``Orthogonal`` is the paper's Eq. 3 (g orthogonal to the basis).
-``Convex`` and ``Monotone`` are cones: they only set-identify theta (see ``cone.py``). The
+``Convex`` and ``Monotone`` are cones: they only set-identify theta (defined in ``shapes.py``,
+re-exported here; see ``cone.py``). The
 interface they implement, and that a new class implements, is in :mod:`odnn_sep.core.base`.
 """
 from __future__ import annotations
@@ -14,11 +15,11 @@ from typing import ClassVar
 
 import numpy as np
 
-from odnn_sep.core.base import ConeDisturbance, Disturbance, Identification, Problem, SubspaceDisturbance
+from odnn_sep.core.base import Disturbance, Identification, Problem, SubspaceDisturbance
 from odnn_sep.core.checks import outside_class_report
-from odnn_sep.core.cone import thin_knots
 from odnn_sep.core.projection import BaseProjector, Projector
 from odnn_sep.core.projectors import FFTProjector, LabelProjector, OrbitProjector
+from odnn_sep.core.shapes import Convex, Monotone
 from odnn_sep.errors import InputError
 
 __all__ = ["Orthogonal", "Even", "Periodic", "Band", "Subspace", "Convex", "Monotone", "DISTURBANCES"]
@@ -274,68 +275,6 @@ class Subspace(SubspaceDisturbance):
 
     def __repr__(self) -> str:
         return "Subspace(G)"
-
-
-@dataclass(frozen=True)
-class Convex(ConeDisturbance):
-    """g is a convex function of 1-D x. Only set-identifies theta (cone, not subspace).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> A, H = Convex().generators(np.linspace(0, 1, 5))   # constant and line free, a hinge per interior sample
-    >>> A.shape, H.shape
-    ((5, 2), (5, 3))
-    """
-
-    def describe(self) -> str:
-        return "convex"
-
-    def generators(self, x_sorted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # free: constant and line; cone: a hinge at every interior sample
-        knots = thin_knots(x_sorted[1:-1])
-        H = np.maximum(x_sorted[:, None] - knots[None, :], 0.0)
-        return np.hstack([np.ones((x_sorted.size, 1)), x_sorted[:, None]]), H
-
-    def full_generator_count(self, n: int) -> int:
-        return n - 2
-
-    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
-        from odnn_sep.core.nets import ICNN
-
-        return ICNN(in_dim, hidden, depth)
-
-
-@dataclass(frozen=True)
-class Monotone(ConeDisturbance):
-    """g is monotone in 1-D x (non-decreasing, or non-increasing with ``increasing=False``).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> A, H = Monotone(increasing=False).generators(np.arange(4.0))   # a step down at every sample
-    >>> H[:, 0].tolist()
-    [-0.0, -1.0, -1.0, -1.0]
-    """
-
-    increasing: bool = True
-
-    def describe(self) -> str:
-        return "monotone " + ("non-decreasing" if self.increasing else "non-increasing")
-
-    def generators(self, x_sorted: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        # free: constant; cone: a step up (or down) at every sample
-        steps = (x_sorted[:, None] >= thin_knots(x_sorted[1:])[None, :]).astype(float)
-        return np.ones((x_sorted.size, 1)), steps if self.increasing else -steps
-
-    def full_generator_count(self, n: int) -> int:
-        return n - 1
-
-    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
-        from odnn_sep.core.nets import MonotoneMLP
-
-        # monotone in the original x: the solver's standardisation keeps the direction (scale > 0)
-        return MonotoneMLP(in_dim, hidden, depth, increasing=self.increasing)
 
 
 #: The shipped classes (a user class subclasses :class:`~odnn_sep.core.base.Disturbance` instead).

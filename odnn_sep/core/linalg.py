@@ -8,7 +8,8 @@ One tested place for the algebra of ``y = F theta + g + noise``:
   conditioning check, pivoted QR as the fallback, or either on request);
 - :func:`factor_gram` / :func:`solve_batched`: the same Cholesky-with-check for Gram matrices a
   front-end has summed itself (one, or a stack of small ones);
-- :func:`noise_variance`, :func:`standard_errors`, :func:`stderr_from_cov`, :func:`intervals`, ``Z95``;
+- :func:`noise_variance`, :func:`standard_errors`, :func:`stderr_from_cov`, :func:`intervals`, ``Z95``
+  (from :mod:`odnn_sep.core.uncertainty`);
 - :func:`varpro_residual`, :func:`varpro`: variable projection for nonlinear parameters phi (from
   :mod:`odnn_sep.core.varpro`).
 
@@ -30,15 +31,13 @@ import numpy as np
 from scipy import linalg as sla
 
 from odnn_sep.core.projection import BaseProjector, Projector, orthonormal_basis, project_out
+from odnn_sep.core.uncertainty import Z95, intervals, noise_variance, standard_errors, stderr_from_cov
 from odnn_sep.core.varpro import VarproResult, varpro, varpro_residual
 from odnn_sep.errors import InputError, check_option
 
 __all__ = ["Z95", "BaseProjector", "Projector", "orthonormal_basis", "project_out", "solve", "LstsqSolution",
            "GramFactor", "factor_gram", "solve_batched", "noise_variance", "standard_errors", "stderr_from_cov",
            "intervals", "varpro", "varpro_residual", "VarproResult"]
-
-#: Two-sided 95 % standard-normal quantile, ``scipy.stats.norm.ppf(0.975)``.
-Z95 = 1.959963984540054
 
 #: Largest condition number (estimated) for which :func:`solve` trusts the normal equations.
 MAX_COND = 1e8
@@ -267,91 +266,3 @@ def _cholesky_ok(Gs: np.ndarray, max_cond: float) -> np.ndarray:
         return (dl.min(axis=1) / dl.max(axis=1)) ** 2 >= 1.0 / max_cond
     except np.linalg.LinAlgError:
         return np.array([factor_gram(g).rcond >= 1.0 / max_cond for g in Gs], dtype=bool)
-
-
-def noise_variance(resid, dof: int, weights=None) -> float:
-    """``sum(w r^2) / dof`` (``r @ r / dof`` without weights); NaN when ``dof <= 0``.
-
-    Examples
-    --------
-    >>> noise_variance([1.0, -1.0, 2.0], 2)
-    3.0
-    """
-    r = np.asarray(resid)
-    if dof <= 0:
-        return float("nan")
-    if weights is None:
-        return float(r @ r / dof)
-    return float((np.asarray(weights) * r * r).sum() / dof)
-
-
-def stderr_from_cov(cov_unscaled, sigma2: float) -> np.ndarray:
-    """Standard errors ``sqrt(diag(cov_unscaled) * sigma2)`` (negative rounding clipped to 0).
-
-    Examples
-    --------
-    >>> stderr_from_cov(np.diag([4.0, 1.0]), 0.25).tolist()
-    [1.0, 0.5]
-    """
-    return np.sqrt(np.maximum(np.diag(cov_unscaled).real, 0) * sigma2)
-
-
-def standard_errors(J, resid=None, dof: int | None = None, *, sigma2: float | None = None) -> np.ndarray:
-    """Gauss–Newton standard errors ``sqrt(diag(pinv(J^T J) * s^2))`` of a least-squares fit.
-
-    Parameters
-    ----------
-    J : array_like, shape (n, q)
-        Jacobian of the residual (or model) with respect to the q parameters at the optimum.
-    resid : array_like, shape (n,), optional
-        Residual at the optimum; with ``dof`` gives ``s^2 = resid @ resid / dof``.
-    dof : int, optional
-        Residual degrees of freedom.
-    sigma2 : float, optional
-        The noise variance, instead of ``resid`` and ``dof``.
-
-    Returns
-    -------
-    ndarray, shape (q,)
-
-    Raises
-    ------
-    numpy.linalg.LinAlgError
-        When the SVD inside ``pinv`` does not converge (non-finite J).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> J = np.c_[np.ones(4)]
-    >>> standard_errors(J, np.array([1.0, -1.0, 1.0, -1.0]), 3).round(6).tolist()
-    [0.57735]
-    """
-    J = np.asarray(J)
-    if sigma2 is None:
-        if resid is None or dof is None:
-            raise InputError("standard_errors needs resid and dof, or sigma2")
-        r = np.asarray(resid)
-        sigma2 = float(r @ r / dof)
-    cov = np.linalg.pinv(J.T @ J) * sigma2
-    return np.sqrt(np.maximum(np.diag(cov), 0))
-
-
-def intervals(theta, stderr, level: float = 0.95) -> np.ndarray:
-    """Normal-approximation confidence intervals ``theta -+ z stderr``, shape (p, 2).
-
-    Examples
-    --------
-    >>> intervals([1.0], [0.5]).round(4).tolist()
-    [[0.02, 1.98]]
-    """
-    if not 0 < level < 1:
-        raise InputError(f"level must be strictly between 0 and 1; got {level!r}")
-    if level == 0.95:
-        z = Z95
-    else:
-        from scipy import stats
-
-        z = float(stats.norm.ppf(0.5 + level / 2))
-    theta = np.asarray(theta)
-    stderr = np.asarray(stderr)
-    return np.c_[theta - z * stderr, theta + z * stderr]
