@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Callable, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.core.checks import outside_class_report
 from odnn_sep.core.projection import BaseProjector
@@ -109,12 +110,12 @@ class Disturbance(abc.ABC):
     def describe(self) -> str:
         """A short phrase for reports: ``"even (mirror-symmetric) about 0"``."""
 
-    def check_inputs(self, x: np.ndarray, weights) -> None:
+    def check_inputs(self, x: np.ndarray, weights: np.ndarray | None) -> None:
         """Reject sample points or weights this class cannot use (one-line InputError)."""
         if weights is not None and not self.supports_weights:
             raise InputError(f"weights are supported only with Orthogonal(); got disturbance {self!r}")
 
-    def prepare(self, x: np.ndarray):
+    def prepare(self, x: np.ndarray) -> object:
         """What the solvers reuse for these sample points (a projector for subspace classes); None here."""
         return None
 
@@ -123,7 +124,7 @@ class Disturbance(abc.ABC):
         """The exact solver's answer for ``problem`` (see :mod:`odnn_sep.core.exact`)."""
 
     @abc.abstractmethod
-    def identifies(self, F, x) -> Identification:
+    def identifies(self, F: ArrayLike, x: ArrayLike) -> Identification:
         """Whether theta in ``y = F theta + g`` is point-, set- or not identified for g in this class.
 
         Parameters
@@ -135,27 +136,28 @@ class Disturbance(abc.ABC):
         """
 
     @abc.abstractmethod
-    def reduced_residual(self, design: Callable, x, y, weights, prepared) -> tuple[Callable, bool]:
+    def reduced_residual(self, design: Callable, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None,
+                         prepared: object) -> tuple[Callable, bool]:
         """``(residual(phi), scalar)`` for variable projection over the nonlinear parameters.
 
         ``scalar`` is True when the residual is not smooth in phi (then a derivative-free search is used).
         """
 
-    def nuisance_rank(self, prepared) -> int:
+    def nuisance_rank(self, prepared: object) -> int:
         """Dimension the class takes from the residual degrees of freedom (0 when not a subspace)."""
         return 0
 
-    def project_out(self, M, x) -> np.ndarray:
+    def project_out(self, M: np.ndarray, x: ArrayLike) -> np.ndarray:
         """The part of the columns ``M`` the class cannot imitate (for the efficiency bound)."""
         raise InputError(f"{type(self).__name__} is not a linear class; it only set-identifies theta")
 
-    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
+    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3) -> object:
         """The torch module the network solver trains for g (an unconstrained MLP by default)."""
         from odnn_sep.core.nets import MLP
 
         return MLP(in_dim, hidden, depth)
 
-    def network_layer(self, Fn, sw, prepared) -> tuple[Callable, object]:
+    def network_layer(self, Fn: object, sw: object, prepared: object) -> tuple[Callable, object]:
         """``(layer, F_perp)`` for the network solver: ``layer(h)`` confines the network output to the
         class; ``F_perp`` (or None) is the part of the scaled columns ``Fn`` outside the class, when
         the loss splits into a theta part and a network part. The identity by default (the

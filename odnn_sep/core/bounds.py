@@ -15,8 +15,10 @@ Monotone) only set-identify theta, so no such bound exists for them.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.core.base import Disturbance
+from odnn_sep.core.basis import Basis
 from odnn_sep.errors import InputError, check_type
 
 
@@ -32,7 +34,8 @@ def _jacobian(basis, x, theta: np.ndarray, phi: dict) -> np.ndarray:
     return np.hstack(cols)
 
 
-def efficiency_bound(basis, disturbance, x, theta, phi: dict | None = None, *, sigma: float) -> np.ndarray:
+def efficiency_bound(basis: Basis, disturbance: Disturbance, x: ArrayLike, theta: ArrayLike, phi: dict | None = None, *,
+                     sigma: float) -> np.ndarray:
     """Cramér–Rao covariance of (theta, phi) for ``y = F(phi) theta + g + N(0, sigma^2)``, g in the class.
 
     Parameters
@@ -79,7 +82,7 @@ def efficiency_bound(basis, disturbance, x, theta, phi: dict | None = None, *, s
     return np.linalg.pinv(info, hermitian=True)
 
 
-def expected_mape(cov: np.ndarray, values) -> float:
+def expected_mape(cov: np.ndarray, values: ArrayLike) -> float:
     """Mean absolute percentage error (%) of a Gaussian estimator with covariance ``cov`` around ``values``.
 
     E|N(0, s^2)| = s sqrt(2/pi); averaged over the parameters as MAPE is.

@@ -9,6 +9,7 @@ Called by the disturbance families (:class:`~odnn_sep.core.base.SubspaceDisturba
 from __future__ import annotations
 
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -17,10 +18,14 @@ from odnn_sep.core.checks import check_outside_class
 from odnn_sep.core.linalg import Z95, intervals, noise_variance, solve, stderr_from_cov
 from odnn_sep.errors import IdentifiabilityWarning
 
+if TYPE_CHECKING:  # the families import this module on use
+    from odnn_sep.core.base import Problem
+    from odnn_sep.core.projection import BaseProjector
+
 __all__ = ["fit_linear_class", "fit_cone_class"]
 
 
-def fit_linear_class(problem, projector=None) -> dict:
+def fit_linear_class(problem: Problem, projector: BaseProjector | None = None) -> dict:
     """Theta by least squares of ``(I - P) y`` on ``(I - P) F``; ``projector=None`` is explicit orthogonality.
 
     With explicit orthogonality g absorbs everything outside span(F) (``g = y - F theta``) and the
@@ -63,7 +68,7 @@ def fit_linear_class(problem, projector=None) -> dict:
             "disturbance": disturbance, "diagnostics": diag, "cov": cov_u * sigma2}
 
 
-def fit_cone_class(problem) -> dict:
+def fit_cone_class(problem: Problem) -> dict:
     """Identified intervals and their centre for a cone class (see :mod:`odnn_sep.core.cone`).
 
     Warns (IdentifiabilityWarning) when an interval is wider than 5 % of its centre.

@@ -28,6 +28,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import linalg as sla
 
 from odnn_sep.core.projection import BaseProjector, Projector, orthonormal_basis, project_out
@@ -86,8 +87,8 @@ def _qr_solve(A, b, rcond, want_cov):
     return theta, cov, rank
 
 
-def solve(A, b, *, weights=None, rcond: float = 1e-12, method: str = "auto", max_cond: float = MAX_COND,
-          return_cov: bool = False):
+def solve(A: ArrayLike, b: ArrayLike, *, weights: ArrayLike | None = None, rcond: float = 1e-12, method: str = "auto",
+          max_cond: float = MAX_COND, return_cov: bool = False) -> np.ndarray | LstsqSolution:
     """Weighted least squares ``min ||W^(1/2) (b - A theta)||``, real or complex, one or many right-hand sides.
 
     Parameters
@@ -168,7 +169,7 @@ class GramFactor:
         """Whether the factorisation succeeded (``rcond > 0``)."""
         return self.factor is not None
 
-    def solve(self, rhs) -> np.ndarray:
+    def solve(self, rhs: ArrayLike) -> np.ndarray:
         """``G^-1 rhs`` for rhs (p,) or (p, k)."""
         if self.factor is None:
             raise InputError("the Gram matrix is not positive definite; solve by QR instead (solve(..., method='qr'))")
@@ -176,7 +177,7 @@ class GramFactor:
         return sla.cho_solve(self.factor, rhs / d, check_finite=False) / d
 
 
-def factor_gram(G) -> GramFactor:
+def factor_gram(G: ArrayLike) -> GramFactor:
     """Jacobi-scaled Cholesky of a Hermitian positive semi-definite Gram matrix ``G`` (p, p).
 
     Scaling by ``sqrt(diag G)`` first makes the pivot ratio a scale-free conditioning check;
@@ -205,7 +206,7 @@ def factor_gram(G) -> GramFactor:
     return GramFactor((c, low), d, float(rc ** 2))
 
 
-def solve_batched(G, r, *, max_cond: float = MAX_COND) -> np.ndarray:
+def solve_batched(G: ArrayLike, r: ArrayLike, *, max_cond: float = MAX_COND) -> np.ndarray:
     """Solve ``G x = r`` for a Gram matrix or a stack of them, Cholesky with a per-system fallback.
 
     Parameters

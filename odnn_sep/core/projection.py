@@ -8,6 +8,7 @@ built from explicit columns (SVD or QR), optionally in a weighted inner product.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.errors import InputError, check_option
 
@@ -54,7 +55,7 @@ class BaseProjector:
         return self.project_torch(v)
 
 
-def orthonormal_basis(A, *, method: str = "svd", rtol: float | None = 1e-10, min_scale: float = 0.0) -> np.ndarray:
+def orthonormal_basis(A: ArrayLike, *, method: str = "svd", rtol: float | None = 1e-10, min_scale: float = 0.0) -> np.ndarray:
     """Orthonormal columns spanning the numerical range of ``A`` (n, k), real or complex.
 
     Parameters
@@ -132,7 +133,7 @@ class Projector(BaseProjector):
     (2, True, True)
     """
 
-    def __init__(self, A, *, weights=None, method: str = "svd", rtol: float | None = 1e-10,
+    def __init__(self, A: ArrayLike, *, weights: ArrayLike | None = None, method: str = "svd", rtol: float | None = 1e-10,
                  min_scale: float = 0.0):
         A = np.asarray(A)
         if A.ndim == 1:
@@ -168,7 +169,7 @@ class Projector(BaseProjector):
         return Q @ (Q.T @ v)
 
 
-def project_out(F, G, weights=None) -> np.ndarray:
+def project_out(F: ArrayLike, G: ArrayLike, weights: ArrayLike | None = None) -> np.ndarray:
     """Remove from the columns of ``F`` their (weighted) projection onto span(G): ``(I - P_G) F``.
 
     Parameters

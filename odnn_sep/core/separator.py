@@ -5,6 +5,7 @@ import inspect
 import logging
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.core.base import Disturbance, Problem
 from odnn_sep.core.basis import Basis
@@ -137,7 +138,7 @@ class Separator:
         args = ", ".join(f"{k}={v!r}" for k, v in self.get_params(deep=False).items())
         return f"{type(self).__name__}({args})"
 
-    def predict(self, x) -> np.ndarray:
+    def predict(self, x: ArrayLike) -> np.ndarray:
         """The fitted physics ``F(x; phi_) @ theta_`` at sample points ``x`` (new or the fitted ones).
 
         Parameters
@@ -200,7 +201,7 @@ class Separator:
                              "use solver='exact' or another solver")
         return dist, solver
 
-    def fit(self, x, y, weights=None) -> "Separator":
+    def fit(self, x: ArrayLike, y: ArrayLike, weights: ArrayLike | None = None) -> "Separator":
         """Fit theta (and phi) to ``y`` sampled at ``x``.
 
         Parameters

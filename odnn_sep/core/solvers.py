@@ -21,7 +21,7 @@ import abc
 import inspect
 from typing import Callable, ClassVar
 
-from odnn_sep.core.base import Problem
+from odnn_sep.core.base import Disturbance, Problem
 from odnn_sep.core.linalg import intervals
 from odnn_sep.errors import InputError, check_option, check_type
 
@@ -55,7 +55,7 @@ class Solver(abc.ABC):
     #: Name recorded in :attr:`Result.solver <odnn_sep.core.result.Result>`.
     name: ClassVar[str] = "solver"
 
-    def supports(self, disturbance) -> bool:
+    def supports(self, disturbance: Disturbance) -> bool:
         """Whether this solver can handle the class (a specialised solver may refuse some)."""
         return True
 
@@ -163,7 +163,7 @@ def registered_solvers() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
-def get_solver(spec, **options) -> Solver:
+def get_solver(spec: str | Solver, **options) -> Solver:
     """The solver for ``spec``: a :class:`Solver` instance is returned as is; a name is built from the
     registry with the ``options`` its factory accepts (``epochs``, ``lr`` for the network solver).
 

@@ -5,6 +5,7 @@ Re-exported by :mod:`odnn_sep.core.linalg`, where front-ends should import them 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.errors import InputError
 
@@ -14,7 +15,7 @@ __all__ = ["Z95", "noise_variance", "stderr_from_cov", "standard_errors", "inter
 Z95 = 1.959963984540054
 
 
-def noise_variance(resid, dof: int, weights=None) -> float:
+def noise_variance(resid: ArrayLike, dof: int, weights: ArrayLike | None = None) -> float:
     """``sum(w r^2) / dof`` (``r @ r / dof`` without weights); NaN when ``dof <= 0``.
 
     Examples
@@ -30,7 +31,7 @@ def noise_variance(resid, dof: int, weights=None) -> float:
     return float((np.asarray(weights) * r * r).sum() / dof)
 
 
-def stderr_from_cov(cov_unscaled, sigma2: float) -> np.ndarray:
+def stderr_from_cov(cov_unscaled: ArrayLike, sigma2: float) -> np.ndarray:
     """Standard errors ``sqrt(diag(cov_unscaled) * sigma2)`` (negative rounding clipped to 0).
 
     Examples
@@ -41,7 +42,8 @@ def stderr_from_cov(cov_unscaled, sigma2: float) -> np.ndarray:
     return np.sqrt(np.maximum(np.diag(cov_unscaled).real, 0) * sigma2)
 
 
-def standard_errors(J, resid=None, dof: int | None = None, *, sigma2: float | None = None) -> np.ndarray:
+def standard_errors(J: ArrayLike, resid: ArrayLike | None = None, dof: int | None = None, *,
+                    sigma2: float | None = None) -> np.ndarray:
     """Gauss–Newton standard errors ``sqrt(diag(pinv(J^T J) * s^2))`` of a least-squares fit.
 
     Parameters
@@ -81,7 +83,7 @@ def standard_errors(J, resid=None, dof: int | None = None, *, sigma2: float | No
     return np.sqrt(np.maximum(np.diag(cov), 0))
 
 
-def intervals(theta, stderr, level: float = 0.95) -> np.ndarray:
+def intervals(theta: ArrayLike, stderr: ArrayLike, level: float = 0.95) -> np.ndarray:
     """Normal-approximation confidence intervals ``theta -+ z stderr``, shape (p, 2).
 
     Examples

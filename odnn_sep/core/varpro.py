@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["varpro_residual", "varpro", "VarproResult"]
 
@@ -18,9 +19,9 @@ __all__ = ["varpro_residual", "varpro", "VarproResult"]
 LEAST_SQUARES_OPTIONS = {"x_scale": "jac", "xtol": 1e-12, "ftol": 1e-12, "gtol": 1e-12, "max_nfev": 2000}
 
 
-def varpro_residual(design: Callable[[np.ndarray], np.ndarray], y, *,
+def varpro_residual(design: Callable[[np.ndarray], np.ndarray], y: ArrayLike, *,
                     project_out: Callable[[np.ndarray], np.ndarray] | None = None,
-                    weights=None) -> Callable[[np.ndarray], np.ndarray]:
+                    weights: ArrayLike | None = None) -> Callable[[np.ndarray], np.ndarray]:
     """The reduced residual ``phi -> sqrt(w) * ((I - P) y - (I - P) F(phi) theta_hat(phi))``.
 
     Parameters
@@ -82,7 +83,8 @@ class VarproResult:
         return getattr(self.result, "jac", None)
 
 
-def varpro(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, bounds, *, scalar: bool = False,
+def varpro(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, bounds: tuple[ArrayLike, ArrayLike], *,
+           scalar: bool = False,
            **options) -> VarproResult:
     """Minimise ``sum(residual(phi)^2)`` over phi inside ``bounds`` from several starts; keep the best.
 
