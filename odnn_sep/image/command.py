@@ -20,7 +20,15 @@ examples:
   odnn-sep unwatermark photo.jpg --text "(c) ACME 2024" -o clean.png
   odnn-sep unwatermark photo.png --text "SAMPLE" --font DejaVuSans-Bold -o out.png --report r.json --plot p.png
   odnn-sep unwatermark photo.png --mask area.png -o out.png
+
+exit codes: 0 removed (the mark is no longer detected in the output); 3 the mark was found and inverted
+but is still visible (the report's residual_mark says how much; no output unless --keep-partial);
+1 not found or bad input; 2 bad usage
 """
+
+
+# Exit code when the mark was found and inverted but is still visible in the output.
+EXIT_MARK_VISIBLE = 3
 
 
 def register(subparsers) -> None:
@@ -39,6 +47,9 @@ def register(subparsers) -> None:
     p.add_argument("--min-score", type=float, default=None, metavar="S",
                    help="detection threshold on the match score (default 0.19; lower finds fainter marks and risks "
                         "false alarms on busy photos)")
+    p.add_argument("--keep-partial", action="store_true",
+                   help=f"write the output even when the mark is still visible after removal (exit code "
+                        f"{EXIT_MARK_VISIBLE} all the same)")
     p.add_argument("--no-inpaint", action="store_true", help="leave lost pixels as inverted instead of inpainting")
     p.add_argument("--quiet", action="store_true", help="no summary line")
     p.set_defaults(func=run)
@@ -73,14 +84,28 @@ def run(args) -> int:
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
                       inpaint_lost=not args.no_inpaint)
-    write_image(args.output, res.image, inp)
-    report = {"input": str(inp), "output": str(args.output), **res.report}
+    residual = res.report.get("residual_mark", {})
+    visible = bool(residual.get("visible"))
+    written = not visible or args.keep_partial
+    if written:
+        write_image(args.output, res.image, inp)
+    report = {"input": str(inp), "output": str(args.output) if written else None,
+              "outcome": "mark still visible" if visible else "removed", **res.report}
     if args.report:
         write_json(args.report, report)
     if args.plot:
         from odnn_sep.image.plot import plot_unwatermark
 
         plot_unwatermark(img, res, args.plot)
+    if visible:
+        import sys
+
+        print(f"mark still visible after removal: residual score {residual['score']:.3f} (>= "
+              f"{residual['threshold']:g}), contrast {residual['contrast_levels']:.1f} grey levels; "
+              + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
+                 "writes it)")
+              + "; try --font with the mark's font file, or --mask over the mark", file=sys.stderr)
+        return EXIT_MARK_VISIBLE
     if not args.quiet:
         where = f"font {Path(report['font']).name} {report['font_size_px']:.1f} px, angle {report['angle_deg']:.1f} deg, " \
             if "font" in report else ""

@@ -200,6 +200,8 @@ def _assemble(y, text, placed, score, min_score, random_state):
         fit = fit_blend(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], random_state=random_state)
     else:
         fit = best.fit
+    prior = M
+    M, fit = _coverage_from_data(y, M, fit, random_state)
     nz = np.nonzero(M > 0.05)
     info = {
         "text": text, "font": str(best.font), "font_size_px": round(best.size, 3), "angle_deg": round(best.angle, 3),
@@ -210,7 +212,27 @@ def _assemble(y, text, placed, score, min_score, random_state):
         "marks": [{"center": [round(p.center[0], 2), round(p.center[1], 2)], "angle_deg": round(p.angle, 3),
                    "font_size_px": round(p.size, 3), "score": round(float(p.fit.explained), 4)} for p in placed],
     }
-    return M, fit.alpha, fit.color, info
+    return M, fit.alpha, fit.color, info, prior
+
+
+def _coverage_from_data(y, M, fit, random_state):
+    """The coverage estimated from the image around the registered rendering ``M`` (``coverage``), on
+    the crop holding the mark(s) with a margin; the rendering's fit stands if the new one fails."""
+    from odnn_sep.image.coverage import refine_coverage
+    from odnn_sep.image.estimate import stroke_width
+
+    H, W = M.shape
+    nz = np.nonzero(M > 0.02)
+    pad = int(np.ceil(2 * stroke_width(M))) + 8
+    b = (max(0, nz[1].min() - pad), max(0, nz[0].min() - pad), min(W, nz[1].max() + pad + 1),
+         min(H, nz[0].max() + pad + 1))
+    Mc, f = refine_coverage(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], fit.alpha, fit.color,
+                            random_state=random_state)
+    if f is None:
+        return M, fit
+    out = np.zeros_like(M)
+    out[b[1]:b[3], b[0]:b[2]] = Mc
+    return out, f
 
 
 def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state):
@@ -239,7 +261,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
         reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
         if not reg.any():
             reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_AREA) > 0
-    _, _, _, info = text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
+    _, _, _, info, _ = text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
                               reduced=True)
     fx, fy = W / w, H / h
     placed, scores = [], []

@@ -1,0 +1,185 @@
+"""Glyph coverage from the data: the registered rendering is the starting reference, not the truth.
+
+A mark drawn in a font the tool does not have (another face, weight, letter spacing, a blur or a
+resampling after the blend) is found and registered with a rendering that is close but not right:
+its glyph edges sit a pixel or two off, its strokes are thinner or bolder. Inverting the blend with
+that coverage leaves the true glyph edges in the photo. Here the coverage ``M`` is estimated per
+pixel, inside a band around the rendered glyphs, jointly with the photo under it:
+
+* the photo ``I`` is predicted at every band pixel from the pixels where it is seen directly: outside
+  the glyphs, and inside them after the blend is undone (a normalised Gaussian average). A photo is
+  smooth across a glyph edge on the scale of a pixel or two; the mark is not.
+* given ``I``, opacity ``a`` and colour ``c``, the blend ``y = I + a M (c - I)`` is linear in ``M`` at
+  each pixel: ``M`` is the projection of ``y - I`` on ``a (c - I)`` over the channels, with a variance
+  from the photo's local texture (how well the prediction does where the photo is seen directly);
+* the rendering is a prior on ``M``: where the data agree with it within their noise the two are
+  averaged (the rendering's anti-aliasing is better than a per-pixel estimate when the font is right),
+  where they disagree the data win (the rendering is wrong there), and where the mark's colour is too
+  close to the photo's for the data to tell, the rendering stays;
+* opacity and colour are fitted again with the new coverage (``estimate.fit_blend``), and the steps
+  repeat a few times.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from odnn_sep.errors import NotIdentifiableError
+
+# Prior standard deviation of the coverage around the rendering where the data agree with it.
+PRIOR_SD = 0.15
+# Data further than this many of their standard deviations from the rendering replace it.
+DISAGREE_Z = 2.5
+# The rendering stands when the data overrule it at fewer than this share of the glyph pixels.
+AGREE_SHARE = 0.05
+# Floor of the photo's prediction error (a fraction of full scale: quantisation and sensor noise).
+NOISE_FLOOR = 1.5 / 255
+
+
+def _smooth(a: np.ndarray, sigma: float) -> np.ndarray:
+    import cv2
+
+    return cv2.GaussianBlur(np.ascontiguousarray(a, dtype=np.float32), (0, 0), sigma,
+                            borderType=cv2.BORDER_REFLECT)
+
+
+def predict_photo(R: np.ndarray, w: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """Normalised Gaussian average of the photo ``R`` (h, w, C) seen with weights ``w`` (h, w):
+    the prediction (h, w, C) and the local RMS prediction error where it is seen (h, w)."""
+    den = _smooth(w, sigma)[:, :, None] + 1e-6
+    pred = np.stack([_smooth(w * R[:, :, c], sigma) for c in range(R.shape[2])], axis=2) / den
+    err = np.mean((R - pred) ** 2, axis=2)
+    var = _smooth(w * err, sigma) / den[:, :, 0]
+    return pred.astype(np.float64), np.sqrt(np.maximum(var, 0.0)).astype(np.float64)
+
+
+def coverage_step(y, M, prior, band, alpha, color, sigma, first):
+    """One matting step: the photo predicted from where it is seen, then ``M`` per band pixel."""
+    a = float(alpha)
+    col = np.asarray(color, dtype=np.float64).reshape(1, 1, -1)
+    if first:  # the rendering's glyphs may be wrong: only the photo outside the band is trusted
+        w = (~band).astype(np.float64)
+        R = y
+    else:
+        aM = a * M[:, :, None]
+        R = (y - aM * col) / np.maximum(1.0 - aM, 0.05)
+        # outside the glyphs the photo is seen as is; inside, after the inversion (its noise is
+        # amplified 1 / (1 - a)); at the glyph edges, where M is uncertain, not at all
+        w = np.where(M < 0.03, 1.0, np.where(M > 0.97, (1.0 - a) ** 2, 0.0))
+    I_hat, sd = predict_photo(R, w, sigma)
+    D = a * (col - I_hat)
+    dd = np.sum(D * D, axis=2) + 1e-12
+    M_data = np.sum((y - I_hat) * D, axis=2) / dd
+    sd_M = (1.5 * sd + NOISE_FLOOR) / np.sqrt(dd)
+    prec_d, prec_p = 1.0 / sd_M**2, 1.0 / PRIOR_SD**2
+    post = (M_data * prec_d + prior * prec_p) / (prec_d + prec_p)
+    disagree = np.abs(M_data - prior) > DISAGREE_Z * np.sqrt(sd_M**2 + PRIOR_SD**2)
+    M_new = np.clip(np.where(disagree, M_data, post), 0.0, 1.0)
+    # where a M is determined to 0.05 whatever a is (the mark's colour far enough from the photo's)
+    confident = band & (a * sd_M < 0.05)
+    return np.where(band, M_new, 0.0), np.where(confident, a * M_data, np.nan), disagree & confident
+
+
+def disagreement(y, prior, alpha, color, sigma) -> float:
+    """Share of the glyph pixels at which the data overrule the rendering, whatever the opacity.
+
+    The photo is predicted around the rendering's glyphs, the per-pixel opacity ``Q = a M`` measured
+    where the mark's colour is far enough from the photo's, and compared with the rendering scaled by
+    its best opacity (an opacity fitted with a wrong rendering is itself off, so it is not used)."""
+    a = float(alpha)
+    col = np.asarray(color, dtype=np.float64).reshape(1, 1, -1)
+    aM = a * prior[:, :, None]
+    R = (y - aM * col) / np.maximum(1.0 - aM, 0.05)
+    w = np.where(prior < 0.03, 1.0, np.where(prior > 0.97, (1.0 - a) ** 2, 0.0))
+    I_hat, sd = predict_photo(R, w, sigma)
+    D = col - I_hat
+    dd = np.sum(D * D, axis=2) + 1e-12
+    Q = np.sum((y - I_hat) * D, axis=2) / dd
+    sd_Q = (1.5 * sd + NOISE_FLOOR) / np.sqrt(dd)
+    ok = sd_Q < 0.05
+    if ok.sum() < 20:
+        return 0.0
+    a_best = float(np.sum(Q[ok] * prior[ok]) / max(float(np.sum(prior[ok] ** 2)), 1e-12))
+    zone = ok & ((prior > 0.1) | (Q > 0.1 * max(a_best, 0.05)))
+    if zone.sum() < 20:
+        return 0.0
+    tol = DISAGREE_Z * np.sqrt(sd_Q**2 + (PRIOR_SD * a_best) ** 2)
+    return float(np.mean(np.abs(Q - a_best * prior)[zone] > tol[zone]))
+
+
+def interior_opacity(Q: np.ndarray) -> float | None:
+    """Opacity from the per-pixel ``a M`` (``Q``, NaN where not determined): its median over the pixels
+    inside the glyphs, or None when fewer than 20 are seen.
+
+    Per pixel only ``a M`` is seen, so the split between opacity and coverage comes from the glyphs
+    being solid: inside a stroke (a pixel whose neighbours are all in the glyph) ``M`` is 1. An opacity
+    fitted with the wrong glyph shape is wrong by the ratio of the two."""
+    import cv2
+
+    v = np.nan_to_num(Q, nan=0.0)
+    ok = np.isfinite(Q)
+    if ok.sum() < 20:
+        return None
+    hi = float(np.quantile(Q[ok], 0.98))
+    inner = cv2.erode((v > 0.5 * hi).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool) & ok
+    if hi <= 0 or inner.sum() < 20:
+        return None
+    return float(np.quantile(Q[inner], 0.9))
+
+
+def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, iterations: int = 3,
+                    random_state=0):
+    """Coverage, opacity and colour of a mark estimated from ``y`` around its registered rendering.
+
+    Parameters
+    ----------
+    y : (h, w, C) float array in [0, 1], a crop holding the mark with a margin of a few stroke widths
+    prior : (h, w) registered rendering of the mark's text (coverage in [0, 1])
+    alpha, color : opacity and colour fitted with the rendering (``estimate.fit_blend``)
+    iterations : matting steps, each followed by a new opacity and colour fit
+
+    Returns
+    -------
+    (M (h, w), BlendFit or None): the coverage and the last fit; (``prior``, None) when the data agree
+    with the rendering (or the fit failed): then ``alpha`` and ``color`` stand
+    """
+    import cv2
+
+    from odnn_sep.image.estimate import fit_blend, stroke_width
+
+    y = np.asarray(y, dtype=np.float64)
+    if y.ndim == 2:
+        y = y[:, :, None]
+    prior = np.asarray(prior, dtype=np.float64)
+    s = stroke_width(prior)
+    # the band: where a glyph of a similar font drawn at the registered place can reach
+    r = int(np.ceil(max(2.0, 0.8 * s)))
+    band = cv2.dilate((prior > 0.02).astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))).astype(bool)
+    if disagreement(y, prior, alpha, color, max(1.0, 0.4 * s)) < AGREE_SHARE:
+        return prior, None  # the rendering is right: its anti-aliasing beats a per-pixel estimate
+    M, fit = prior, None
+    for it in range(iterations + 1):
+        first = it == 0
+        sigma = max(1.5, float(r)) if first else max(1.0, 0.4 * s)
+        M_prev = M
+        M, M_data, _ = coverage_step(y, M_prev, prior, band, alpha, color, sigma, first)
+        # the opacity that puts the glyph interiors at full coverage, and the coverage that goes with it
+        a_in = interior_opacity(M_data)
+        if a_in is not None:
+            alpha = float(np.clip(a_in, 1e-3, 0.995))
+        M, _, _ = coverage_step(y, M_prev, prior, band, alpha, color, sigma, first)
+        if it == iterations:
+            break
+        try:
+            fit = fit_blend(y, M, random_state=random_state)
+        except NotIdentifiableError:
+            break
+        alpha, color = fit.alpha, fit.color
+    if fit is not None:
+        fit = dataclasses.replace(fit, alpha=alpha, beta=alpha * np.asarray(color))
+    return M, fit
+
+
+__all__ = ["refine_coverage", "coverage_step", "predict_photo"]
