@@ -31,8 +31,11 @@ from odnn_sep.errors import NotIdentifiableError
 PRIOR_SD = 0.15
 # Data further than this many of their standard deviations from the rendering replace it.
 DISAGREE_Z = 2.5
-# The rendering stands when the data overrule it at fewer than this share of the glyph pixels.
-AGREE_SHARE = 0.05
+# The data's coverage replaces the rendering only if it leaves at least this much less of the
+# mark's edge energy (a share of the input's; ``residual.edge_excess``).
+EDGE_MARGIN = 0.05
+# Half-width of the band around the rendered glyphs, in stroke widths of the rendering.
+BAND_STROKES = 1.2
 # Floor of the photo's prediction error (a fraction of full scale: quantisation and sensor noise).
 NOISE_FLOOR = 1.5 / 255
 
@@ -81,33 +84,6 @@ def coverage_step(y, M, prior, band, alpha, color, sigma, first):
     return np.where(band, M_new, 0.0), np.where(confident, a * M_data, np.nan), disagree & confident
 
 
-def disagreement(y, prior, alpha, color, sigma) -> float:
-    """Share of the glyph pixels at which the data overrule the rendering, whatever the opacity.
-
-    The photo is predicted around the rendering's glyphs, the per-pixel opacity ``Q = a M`` measured
-    where the mark's colour is far enough from the photo's, and compared with the rendering scaled by
-    its best opacity (an opacity fitted with a wrong rendering is itself off, so it is not used)."""
-    a = float(alpha)
-    col = np.asarray(color, dtype=np.float64).reshape(1, 1, -1)
-    aM = a * prior[:, :, None]
-    R = (y - aM * col) / np.maximum(1.0 - aM, 0.05)
-    w = np.where(prior < 0.03, 1.0, np.where(prior > 0.97, (1.0 - a) ** 2, 0.0))
-    I_hat, sd = predict_photo(R, w, sigma)
-    D = col - I_hat
-    dd = np.sum(D * D, axis=2) + 1e-12
-    Q = np.sum((y - I_hat) * D, axis=2) / dd
-    sd_Q = (1.5 * sd + NOISE_FLOOR) / np.sqrt(dd)
-    ok = sd_Q < 0.05
-    if ok.sum() < 20:
-        return 0.0
-    a_best = float(np.sum(Q[ok] * prior[ok]) / max(float(np.sum(prior[ok] ** 2)), 1e-12))
-    zone = ok & ((prior > 0.1) | (Q > 0.1 * max(a_best, 0.05)))
-    if zone.sum() < 20:
-        return 0.0
-    tol = DISAGREE_Z * np.sqrt(sd_Q**2 + (PRIOR_SD * a_best) ** 2)
-    return float(np.mean(np.abs(Q - a_best * prior)[zone] > tol[zone]))
-
-
 def interior_opacity(Q: np.ndarray) -> float | None:
     """Opacity from the per-pixel ``a M`` (``Q``, NaN where not determined): its median over the pixels
     inside the glyphs, or None when fewer than 20 are seen.
@@ -154,11 +130,10 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     prior = np.asarray(prior, dtype=np.float64)
     s = stroke_width(prior)
     # the band: where a glyph of a similar font drawn at the registered place can reach
-    r = int(np.ceil(max(2.0, 0.8 * s)))
+    r = int(np.ceil(max(2.0, BAND_STROKES * s)))
     band = cv2.dilate((prior > 0.02).astype(np.uint8), cv2.getStructuringElement(
         cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))).astype(bool)
-    if disagreement(y, prior, alpha, color, max(1.0, 0.4 * s)) < AGREE_SHARE:
-        return prior, None  # the rendering is right: its anti-aliasing beats a per-pixel estimate
+    alpha0, color0 = alpha, color
     M, fit = prior, None
     for it in range(iterations + 1):
         first = it == 0
@@ -177,9 +152,31 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
         except NotIdentifiableError:
             break
         alpha, color = fit.alpha, fit.color
-    if fit is not None:
-        fit = dataclasses.replace(fit, alpha=alpha, beta=alpha * np.asarray(color))
-    return M, fit
+    if fit is None:
+        return prior, None
+    fit = dataclasses.replace(fit, alpha=alpha, beta=alpha * np.asarray(color))
+    # The rendering stands unless the data's coverage leaves clearly less of the mark's edges: with
+    # the right font the rendering's anti-aliasing beats any per-pixel estimate.
+    left_prior = edges_left(y, prior, alpha0, color0, prior)
+    left_data = edges_left(y, M, fit.alpha, fit.color, prior)
+    if left_data < left_prior - EDGE_MARGIN:
+        return M, fit
+    return prior, None
+
+
+def edges_left(y, M, alpha, color, prior) -> float:
+    """Share of the mark's excess edge energy left after inverting with (M, alpha, color), in the
+    band of the rendering and of ``M`` (the larger)."""
+    from odnn_sep.image.estimate import invert
+    from odnn_sep.image.residual import edge_excess
+
+    out, _ = invert(y, M, alpha, color, inpaint=False)
+    left = 0.0
+    for cov in (prior, M):
+        e_in = edge_excess(y, cov)
+        if e_in > 0:
+            left = max(left, edge_excess(out, cov) / e_in)
+    return left
 
 
 __all__ = ["refine_coverage", "coverage_step", "predict_photo"]
