@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.image.detect import CLIP as SCORE_MAX
 from odnn_sep.image.detect import THRESHOLD as MIN_SCORE
 from odnn_sep.image.textmode import WORK_MAX_PX, text_mode
 
@@ -47,9 +48,11 @@ def _check_text_options(text, min_score) -> None:
     try:
         ms = float(min_score)
     except (TypeError, ValueError):
-        raise InputError(f"min_score/--min-score must be a number in (0, 1]; got {min_score!r}") from None
-    if not (np.isfinite(ms) and 0.0 < ms <= 1.0):
-        raise InputError(f"min_score/--min-score must be finite and in (0, 1] (default {MIN_SCORE}); got {min_score!r}")
+        raise InputError(f"min_score/--min-score must be a number in (0, {SCORE_MAX:g}]; got {min_score!r}") from None
+    # the detection score lies in [0, CLIP]: a threshold above CLIP could never be reached
+    if not (np.isfinite(ms) and 0.0 < ms <= SCORE_MAX):
+        raise InputError(f"min_score/--min-score must be finite and in (0, {SCORE_MAX:g}] (the detection score's range; "
+                         f"default {MIN_SCORE}); got {min_score!r}")
     if text is None:
         return
     t = str(text)

@@ -45,8 +45,8 @@ def register(subparsers) -> None:
     p.add_argument("--report", metavar="R.json", help="write a JSON report (alpha, colour, box, angle, font, ...)")
     p.add_argument("--plot", metavar="P.png", help="write a figure: input, found mark, output, difference")
     p.add_argument("--min-score", type=float, default=None, metavar="S",
-                   help="detection threshold on the match score (default 0.19; lower finds fainter marks and risks "
-                        "false alarms on busy photos)")
+                   help="detection threshold on the match score, in (0, 2] (default 0.19; lower finds fainter marks and "
+                        "risks false alarms on busy photos)")
     p.add_argument("--keep-partial", action="store_true",
                    help=f"write the output even when the mark is still visible after removal (exit code "
                         f"{EXIT_MARK_VISIBLE} all the same)")

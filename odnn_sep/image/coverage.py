@@ -31,11 +31,16 @@ from odnn_sep.errors import NotIdentifiableError
 PRIOR_SD = 0.15
 # Data further than this many of their standard deviations from the rendering replace it.
 DISAGREE_Z = 2.5
+# The rendering stands when the data depart from it at fewer than this share of the glyph pixels.
+AGREE_SHARE = 0.35
 # The data's coverage replaces the rendering only if it leaves at least this much less of the
 # mark's edge energy (a share of the input's; ``residual.edge_excess``).
 EDGE_MARGIN = 0.05
 # Half-width of the band around the rendered glyphs, in stroke widths of the rendering.
 BAND_STROKES = 1.2
+# The opacity is read from pixels where a M is known to this standard deviation (the mark's colour
+# far enough from the photo's, for the photo's texture there).
+CONFIDENT_SD = 0.1
 # Floor of the photo's prediction error (a fraction of full scale: quantisation and sensor noise).
 NOISE_FLOOR = 1.5 / 255
 
@@ -79,14 +84,32 @@ def coverage_step(y, M, prior, band, alpha, color, sigma, first):
     post = (M_data * prec_d + prior * prec_p) / (prec_d + prec_p)
     disagree = np.abs(M_data - prior) > DISAGREE_Z * np.sqrt(sd_M**2 + PRIOR_SD**2)
     M_new = np.clip(np.where(disagree, M_data, post), 0.0, 1.0)
-    # where a M is determined to 0.05 whatever a is (the mark's colour far enough from the photo's)
-    confident = band & (a * sd_M < 0.05)
+    # where a M is known well enough to read the opacity from
+    confident = band & (a * sd_M < CONFIDENT_SD)
     return np.where(band, M_new, 0.0), np.where(confident, a * M_data, np.nan), disagree & confident
+
+
+def disagreement(Q: np.ndarray, prior: np.ndarray) -> float:
+    """Share of the glyph pixels where the per-pixel ``a M`` (``Q``, NaN where not determined) departs
+    from the rendering scaled by its best opacity by more than a third of that opacity (an opacity
+    fitted with a wrong rendering is itself off, so it is not used)."""
+    ok = np.isfinite(Q)
+    if ok.sum() < 50:
+        return 0.0
+    q = Q[ok]
+    p = prior[ok]
+    a_best = float(np.sum(q * p) / max(float(np.sum(p * p)), 1e-12))
+    if a_best <= 0:
+        return 1.0
+    zone = (p > 0.5) | (q > 0.5 * a_best)
+    if zone.sum() < 50:
+        return 0.0
+    return float(np.mean(np.abs(q - a_best * p)[zone] > a_best / 3))
 
 
 def interior_opacity(Q: np.ndarray) -> float | None:
     """Opacity from the per-pixel ``a M`` (``Q``, NaN where not determined): its median over the pixels
-    inside the glyphs, or None when fewer than 20 are seen.
+    inside the glyphs, or None when fewer than 50 are seen.
 
     Per pixel only ``a M`` is seen, so the split between opacity and coverage comes from the glyphs
     being solid: inside a stroke (a pixel whose neighbours are all in the glyph) ``M`` is 1. An opacity
@@ -95,11 +118,11 @@ def interior_opacity(Q: np.ndarray) -> float | None:
 
     v = np.nan_to_num(Q, nan=0.0)
     ok = np.isfinite(Q)
-    if ok.sum() < 20:
+    if ok.sum() < 50:
         return None
     hi = float(np.quantile(Q[ok], 0.98))
     inner = cv2.erode((v > 0.5 * hi).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool) & ok
-    if hi <= 0 or inner.sum() < 20:
+    if hi <= 0 or inner.sum() < 50:
         return None
     return float(np.quantile(Q[inner], 0.9))
 
@@ -113,7 +136,7 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     y : (h, w, C) float array in [0, 1], a crop holding the mark with a margin of a few stroke widths
     prior : (h, w) registered rendering of the mark's text (coverage in [0, 1])
     alpha, color : opacity and colour fitted with the rendering (``estimate.fit_blend``)
-    iterations : matting steps, each followed by a new opacity and colour fit
+    iterations : matting steps with the photo predicted from nearby (after the first two from afar)
 
     Returns
     -------
@@ -134,24 +157,28 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     band = cv2.dilate((prior > 0.02).astype(np.uint8), cv2.getStructuringElement(
         cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))).astype(bool)
     alpha0, color0 = alpha, color
+    wide = max(1.5, float(r))
+    # 1. the photo from outside the band only (it does not depend on the opacity or the coverage),
+    #    so the per-pixel a M and the opacity of the glyph interiors follow in one step
     M, fit = prior, None
-    for it in range(iterations + 1):
-        first = it == 0
-        sigma = max(1.5, float(r)) if first else max(1.0, 0.4 * s)
-        M_prev = M
-        M, M_data, _ = coverage_step(y, M_prev, prior, band, alpha, color, sigma, first)
-        # the opacity that puts the glyph interiors at full coverage, and the coverage that goes with it
-        a_in = interior_opacity(M_data)
-        if a_in is not None:
-            alpha = float(np.clip(a_in, 1e-3, 0.995))
-        M, _, _ = coverage_step(y, M_prev, prior, band, alpha, color, sigma, first)
-        if it == iterations:
-            break
+    for k in range(2):
+        M, Q, _ = coverage_step(y, prior, prior, band, alpha, color, wide, first=True)
+        if k == 0 and disagreement(Q, prior) < AGREE_SHARE:
+            return prior, None  # the rendering is right: its anti-aliasing beats a per-pixel estimate
+        a_in = interior_opacity(Q)
+        if a_in is None:
+            return prior, None
+        alpha = float(np.clip(a_in, 1e-3, 0.995))
+        M, _, _ = coverage_step(y, prior, prior, band, alpha, color, wide, first=True)
+        # the colour from the blend fit with that coverage (its opacity is tied to the coverage's scale)
         try:
             fit = fit_blend(y, M, random_state=random_state)
         except NotIdentifiableError:
-            break
-        alpha, color = fit.alpha, fit.color
+            return prior, None
+        color = fit.color
+    # 2. the photo from closer by (outside the glyphs and, inverted, inside them), opacity fixed
+    for _ in range(iterations):
+        M, _, _ = coverage_step(y, M, prior, band, alpha, color, max(1.0, 0.4 * s), first=False)
     if fit is None:
         return prior, None
     fit = dataclasses.replace(fit, alpha=alpha, beta=alpha * np.asarray(color))

@@ -63,7 +63,7 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
             x0, y0, x1, y1 = p.box
             if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
                 placed.append(p)
-    return _assemble(y, text, placed, score, min_score, random_state)
+    return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
 
 
 def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=False):
@@ -184,8 +184,11 @@ def _overlap(a, b) -> float:
     return w * h / min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
 
 
-def _assemble(y, text, placed, score, min_score, random_state):
-    """Coverage of all placed copies, one opacity and colour for them, and the report fields."""
+def _assemble(y, text, placed, score, min_score, random_state, from_data=True):
+    """Coverage of all placed copies, one opacity and colour for them, and the report fields.
+
+    ``from_data``: estimate the coverage from the image around the rendering (``coverage``); off when
+    the user pinned the font, whose rendering is then the coverage."""
     from odnn_sep.image.estimate import fit_blend
 
     H, W = y.shape[:2]
@@ -201,7 +204,8 @@ def _assemble(y, text, placed, score, min_score, random_state):
     else:
         fit = best.fit
     prior = M
-    M, fit = _coverage_from_data(y, M, fit, random_state)
+    if from_data:
+        M, fit = _coverage_from_data(y, M, fit, random_state)
     nz = np.nonzero(M > 0.05)
     info = {
         "text": text, "font": str(best.font), "font_size_px": round(best.size, 3), "angle_deg": round(best.angle, 3),
@@ -284,4 +288,4 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
                          f"--text/--font or give --mask")
     order = np.argsort(-np.asarray(scores), kind="stable")
     placed = [placed[i] for i in order]
-    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state)
+    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state, from_data=font is None)

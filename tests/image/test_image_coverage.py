@@ -31,10 +31,10 @@ def _mark(font: str, size: int, shape) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def other_font_case():
-    """A mark in STIX bold (serif), with the registered rendering of another face (DejaVu Sans Bold)."""
+    """A mark in STIX bold (serif), with the rendering of STIX regular at the same place (another weight)."""
     clean = photo_like((90, 260), random_state=4).astype(np.float64) / 255
     truth = _mark("STIXGeneralBol", 40, clean.shape[:2])
-    prior = _mark("DejaVuSans-Bold", 36, clean.shape[:2])
+    prior = _mark("STIXGeneral", 40, clean.shape[:2])
     a, col = 0.55, np.array([1.0, 1.0, 1.0])
     y = (1 - a * truth[..., None]) * clean + a * truth[..., None] * col
     y = np.round(y * 255) / 255
@@ -50,18 +50,17 @@ def test_coverage_from_data_beats_the_wrong_rendering(other_font_case):
     f0 = fit_blend(y, prior)
     out0, _ = invert(y, prior, f0.alpha, f0.color)
     M, fit = refine_coverage(y, prior, f0.alpha, f0.color)
+    assert fit is not None
     out1, _ = invert(y, M, fit.alpha, fit.color)
     assert np.mean(np.abs(M - truth)) < 0.5 * np.mean(np.abs(prior - truth))
     assert abs(fit.alpha - a) < 0.05
-    assert psnr(out1, clean) > psnr(out0, clean) + 8
-    assert psnr(out1, clean) > 38
+    assert psnr(out1, clean) > psnr(out0, clean) + 10
 
 
 def test_coverage_keeps_a_right_rendering(other_font_case):
     y, clean, truth, _, a = other_font_case
     M, fit = refine_coverage(y, truth, a, np.ones(3))
-    out, _ = invert(y, M, fit.alpha, fit.color)
-    assert abs(fit.alpha - a) < 0.02 and psnr(out, clean) > 44
+    assert M is truth and fit is None
 
 
 def test_residual_mark_sees_the_rims_of_a_wrong_shape(other_font_case):
@@ -74,7 +73,7 @@ def test_residual_mark_sees_the_rims_of_a_wrong_shape(other_font_case):
     assert not r["visible"] and r["edge_left"] < 0.3 and set(r) >= {"score", "contrast_levels", "threshold"}
 
 
-@pytest.mark.parametrize("bad", [-5, 0, float("nan"), float("inf"), 1.5])
+@pytest.mark.parametrize("bad", [-5, 0, float("nan"), float("inf"), 2.5])
 def test_min_score_out_of_range_refused(bad):
     from odnn_sep.image import unwatermark
 
