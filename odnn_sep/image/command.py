@@ -9,8 +9,9 @@ DESCRIPTION = """\
 Remove a visible, alpha-blended text watermark. The text is rendered with a TrueType font and
 found in the image (position, size, rotation up to +-45 degrees, repeated copies); its opacity
 and colour are estimated with the photo treated as a locally smooth disturbance that cannot
-imitate sharp glyph edges; the blend is then inverted, so the photo under the mark is recovered
-from the data rather than painted over. Only pixels whose data are really gone (nearly opaque
+imitate sharp glyph edges. Without --font, the glyph coverage is then estimated from the image
+around the rendering (another face, weight or spacing than the fonts tried). The blend is then
+inverted, so the photo under the mark is recovered from the data rather than painted over. Only pixels whose data are really gone (nearly opaque
 mark, clipping) are inpainted, and the report counts them. With --mask, the mark's shape is
 estimated inside the marked area instead. Use it only on images you have the rights to.
 """
@@ -110,5 +111,6 @@ def run(args) -> int:
         where = f"font {Path(report['font']).name} {report['font_size_px']:.1f} px, angle {report['angle_deg']:.1f} deg, " \
             if "font" in report else ""
         print(f"removed watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
-              f"{report['lost_pixels']} lost pixel(s) inpainted -> {args.output}")
+              f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
+              f"{residual.get('score', 0.0):.3f} -> {args.output}")
     return 0

@@ -128,17 +128,31 @@ def test_cli_mark_still_visible_exit_3(tmp_path, capsys, monkeypatch, keep):
 
 
 @pytest.mark.slow
-def test_real_example_not_reported_removed_while_readable(tmp_path):
-    """The real example's second line, in an unknown font: either really removed or reported as visible."""
+def test_real_example_not_reported_removed_while_readable():
+    """The real example's second line, in an unknown font: reported as still visible, or really removed
+    (in the mark, much closer to the registered clean original than the input is)."""
     if not (REAL / "watermarked-image.png").is_file():
         pytest.skip("../shared/data/watermark_examples_braindotai not present")
+    import cv2
+
     from odnn_sep.image import read_image, unwatermark
 
-    y = read_image(REAL / "watermarked-image.png")
+    y = np.ascontiguousarray(read_image(REAL / "watermarked-image.png")[:, :, :3])
+    o = np.ascontiguousarray(read_image(REAL / "original-image.png")[:, :, :3])
+    H, W = y.shape[:2]
+    gy, go = (cv2.cvtColor(a, cv2.COLOR_RGB2GRAY).astype(np.float32) for a in (y, o))
+    _, warp = cv2.findTransformECC(gy, go, np.eye(2, 3, dtype=np.float32), cv2.MOTION_AFFINE,
+                                   (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT, 200, 1e-7), None, 5)
+    clean = cv2.warpAffine(o, warp, (W, H), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                           borderMode=cv2.BORDER_REPLICATE).astype(float)
     r = unwatermark(y, text="s had come to dominate")
-    assert "residual_mark" in r.report
     x0, y0, x1, y1 = r.report["bbox"]
-    inside = np.abs(r.image[y0:y1, x0:x1, :3].astype(float) - y[y0:y1, x0:x1, :3]).mean()
-    assert inside > 5  # the blend was inverted
+    mark = np.zeros((H, W), bool)
+    mark[y0:y1, x0:x1] = np.abs(clean - y).max(axis=2)[y0:y1, x0:x1] > 30
+
+    def psnr_in(a):
+        return 10 * np.log10(255.0**2 / np.mean((clean[mark] - a[mark].astype(float)) ** 2))
+
+    assert {"score", "edge_left", "visible"} <= set(r.report["residual_mark"])
     if not r.report["residual_mark"]["visible"]:
-        assert r.report["residual_mark"]["edge_left"] < 0.3
+        assert psnr_in(r.image) > psnr_in(y) + 5
