@@ -101,8 +101,9 @@ def run(args) -> int:
     if visible:
         import sys
 
-        print(f"mark still visible after removal: residual score {residual['score']:.3f} (>= "
-              f"{residual['threshold']:g}), contrast {residual['contrast_levels']:.1f} grey levels; "
+        print(f"mark still visible after removal: {100 * residual['edge_left']:.0f} % of its edge energy left, "
+              f"detection score on the output {residual['score']:.3f} (threshold {residual['threshold']:g}), "
+              f"contrast {residual['contrast_levels']:.1f} grey levels; "
               + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
                  "writes it)")
               + "; try --font with the mark's font file, or --mask over the mark", file=sys.stderr)
