@@ -8,6 +8,10 @@ anchors cv2.inpaint TELEA and NS get the true mask (coverage > 0.05, dilated 2 p
 
     python recipes/bench_watermark.py            # full run, writes BENCHMARKS.md section
     python recipes/bench_watermark.py --quick    # seconds-scale smoke run (used by tests)
+    python recipes/bench_watermark.py --unseen-only --seed 7   # development: unseen fonts and the real example
+
+Part two (``_watermark_unseen``): fonts outside the tool's default list, letter spacing, blur and
+resampling after the blend, the real example, and skimage inpaint_biharmonic as a third anchor.
 """
 from __future__ import annotations
 
@@ -337,6 +341,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--no-write", action="store_true", help="do not write BENCHMARKS.md")
     ap.add_argument("--calibrate-only", action="store_true", help="only the null scores on clean photos")
+    ap.add_argument("--unseen-only", action="store_true",
+                    help="only the fonts the tool never tries, the false alarms and the real example")
+    ap.add_argument("--unseen-trials", type=int, default=2, help="unseen-font marks per photo (default 2)")
     ap.add_argument("--development-scores", action="store_true",
                     help="only the detection scores of clean photos and of found marks (development seeds)")
     args = ap.parse_args(argv)
@@ -349,8 +356,17 @@ def main(argv=None) -> int:
     if args.calibrate_only:
         print(calibrate(args.seed))
         return 0
+    from _watermark_unseen import false_alarms, real_example, run_unseen, summarize_unseen
+
+    unseen = run_unseen(1 if args.quick else args.unseen_trials, args.seed, metrics, inpaint, jpeg, quick=args.quick)
+    real = None if args.quick else real_example(metrics, inpaint)
+    fa = None if args.quick else false_alarms(args.seed)
+    body_unseen = summarize_unseen(unseen, real, fa)
+    if args.unseen_only:
+        print(body_unseen)
+        return 0
     rows = run_trials(args.quick, 1 if args.quick else args.trials, args.seed)
-    body = summarize(rows)
+    body = body_unseen + "\n\n**DejaVu fonts (the tool's own default family)**\n\n" + summarize(rows)
     if not args.quick:
         t = time_12mp(args.seed)
         body += calibrate(args.seed, per_photo=2)

@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.image.detect import CLIP as SCORE_MAX
 from odnn_sep.image.detect import THRESHOLD as MIN_SCORE
 from odnn_sep.image.textmode import WORK_MAX_PX, text_mode
 
@@ -16,6 +17,8 @@ log = logging.getLogger(__name__)
 # Mask mode: the blend fit replaces the shape estimate's opacity and colour only when the mark
 # explains at least this share of the edge patches' photo-only residual.
 MASK_MIN_EXPLAINED = 0.28
+# A watermark line longer than this is not a watermark (and would render to an unbounded template).
+MAX_TEXT_CHARS = 200
 
 
 @dataclasses.dataclass
@@ -38,6 +41,38 @@ class UnwatermarkResult:
     mask: np.ndarray
     lost: np.ndarray
     report: dict
+
+
+def _check_text_options(text, min_score) -> None:
+    """One-line errors for a detection threshold or a text that cannot be meant."""
+    try:
+        ms = float(min_score)
+    except (TypeError, ValueError):
+        raise InputError(f"min_score/--min-score must be a number in (0, {SCORE_MAX:g}]; got {min_score!r}") from None
+    # the detection score lies in [0, CLIP]: a threshold above CLIP could never be reached
+    if not (np.isfinite(ms) and 0.0 < ms <= SCORE_MAX):
+        raise InputError(f"min_score/--min-score must be finite and in (0, {SCORE_MAX:g}] (the detection score's range; "
+                         f"default {MIN_SCORE}); got {min_score!r}")
+    if text is None:
+        return
+    t = str(text)
+    if "\n" in t or "\r" in t:
+        raise InputError("text/--text holds a line break; a watermark with several lines is removed one line at "
+                         "a time: run once per line with that line's text")
+    if len(t) > MAX_TEXT_CHARS:
+        raise InputError(f"text/--text has {len(t)} characters, more than {MAX_TEXT_CHARS}; give the "
+                         f"watermark's visible text (one line)")
+
+
+def _residual(out, inp, M, prior, b, random_state) -> dict:
+    """What is left of the mark in the restored box ``out`` (``residual.measure``): the detection
+    statistic under the estimated coverage and under the registered rendering (text mode)."""
+    from odnn_sep.image.residual import measure
+
+    covs = [M[b[1]:b[3], b[0]:b[2]]]
+    if prior is not None:
+        covs.append(prior[b[1]:b[3], b[0]:b[2]])
+    return measure(out, inp, *covs, random_state=random_state)
 
 
 def _color_report(color, planes) -> dict:
@@ -82,12 +117,13 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     t0 = time.perf_counter()
     if min_score is None:
         min_score = MIN_SCORE
+    _check_text_options(text, min_score)
     if (text is None or not str(text).strip()) and mask is None:
         raise InputError("give the watermark's text (text=/--text) or a mask of its area (mask=/--mask); got neither")
     planes = split(image)
     y = planes.view  # float crops on demand: large images are never converted whole
     H, W = y.shape[:2]
-    region = None
+    region, prior = None, None
     if mask is not None:
         mk = np.asarray(mask)
         if mk.ndim == 3:
@@ -103,8 +139,8 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     if text:
         if max(H, W) <= WORK_MAX_PX:
             y = y.full()
-        M, alpha, color, info = text_mode(y, str(text), font, region, min_score, angle_range, max_marks,
-                                           random_state)
+        M, alpha, color, info, prior = text_mode(y, str(text), font, region, min_score, angle_range,
+                                                  max_marks, random_state)
         report.update(info)
     else:
         from odnn_sep.image.maskmode import estimate_shape
@@ -137,8 +173,11 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
                        inpaint=inpaint_lost)
         restored = paste(planes, o, b)
         lost[b[1]:b[3], b[0]:b[2]] = lo
+        report["residual_mark"] = _residual(o, y[b[1]:b[3], b[0]:b[2]], M, prior, b, random_state)
     if restored is None:
         restored = paste(planes)
+        report["residual_mark"] = {"score": 0.0, "contrast_levels": 0.0, "edge_left": 0.0, "threshold": MIN_SCORE,
+                                   "visible": False}
     report.update({"alpha": round(float(alpha), 5), **_color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})

@@ -9,8 +9,9 @@ DESCRIPTION = """\
 Remove a visible, alpha-blended text watermark. The text is rendered with a TrueType font and
 found in the image (position, size, rotation up to +-45 degrees, repeated copies); its opacity
 and colour are estimated with the photo treated as a locally smooth disturbance that cannot
-imitate sharp glyph edges; the blend is then inverted, so the photo under the mark is recovered
-from the data rather than painted over. Only pixels whose data are really gone (nearly opaque
+imitate sharp glyph edges. Without --font, the glyph coverage is then estimated from the image
+around the rendering (another face, weight or spacing than the fonts tried). The blend is then
+inverted, so the photo under the mark is recovered from the data rather than painted over. Only pixels whose data are really gone (nearly opaque
 mark, clipping) are inpainted, and the report counts them. With --mask, the mark's shape is
 estimated inside the marked area instead. Use it only on images you have the rights to.
 """
@@ -20,7 +21,15 @@ examples:
   odnn-sep unwatermark photo.jpg --text "(c) ACME 2024" -o clean.png
   odnn-sep unwatermark photo.png --text "SAMPLE" --font DejaVuSans-Bold -o out.png --report r.json --plot p.png
   odnn-sep unwatermark photo.png --mask area.png -o out.png
+
+exit codes: 0 removed (the mark is no longer detected in the output); 3 the mark was found and inverted
+but is still visible (the report's residual_mark says how much; no output unless --keep-partial);
+1 not found or bad input; 2 bad usage
 """
+
+
+# Exit code when the mark was found and inverted but is still visible in the output.
+EXIT_MARK_VISIBLE = 3
 
 
 def register(subparsers) -> None:
@@ -37,8 +46,11 @@ def register(subparsers) -> None:
     p.add_argument("--report", metavar="R.json", help="write a JSON report (alpha, colour, box, angle, font, ...)")
     p.add_argument("--plot", metavar="P.png", help="write a figure: input, found mark, output, difference")
     p.add_argument("--min-score", type=float, default=None, metavar="S",
-                   help="detection threshold on the match score (default 0.19; lower finds fainter marks and risks "
-                        "false alarms on busy photos)")
+                   help="detection threshold on the match score, in (0, 2] (default 0.19; lower finds fainter marks and "
+                        "risks false alarms on busy photos)")
+    p.add_argument("--keep-partial", action="store_true",
+                   help=f"write the output even when the mark is still visible after removal (exit code "
+                        f"{EXIT_MARK_VISIBLE} all the same)")
     p.add_argument("--no-inpaint", action="store_true", help="leave lost pixels as inverted instead of inpainting")
     p.add_argument("--quiet", action="store_true", help="no summary line")
     p.set_defaults(func=run)
@@ -73,17 +85,33 @@ def run(args) -> int:
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
                       inpaint_lost=not args.no_inpaint)
-    write_image(args.output, res.image, inp)
-    report = {"input": str(inp), "output": str(args.output), **res.report}
+    residual = res.report.get("residual_mark", {})
+    visible = bool(residual.get("visible"))
+    written = not visible or args.keep_partial
+    if written:
+        write_image(args.output, res.image, inp)
+    report = {"input": str(inp), "output": str(args.output) if written else None,
+              "outcome": "mark still visible" if visible else "removed", **res.report}
     if args.report:
         write_json(args.report, report)
     if args.plot:
         from odnn_sep.image.plot import plot_unwatermark
 
         plot_unwatermark(img, res, args.plot)
+    if visible:
+        import sys
+
+        print(f"mark still visible after removal: {100 * residual['edge_left']:.0f} % of its edge energy left, "
+              f"detection score on the output {residual['score']:.3f} (threshold {residual['threshold']:g}), "
+              f"contrast {residual['contrast_levels']:.1f} grey levels; "
+              + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
+                 "writes it)")
+              + "; try --font with the mark's font file, or --mask over the mark", file=sys.stderr)
+        return EXIT_MARK_VISIBLE
     if not args.quiet:
         where = f"font {Path(report['font']).name} {report['font_size_px']:.1f} px, angle {report['angle_deg']:.1f} deg, " \
             if "font" in report else ""
         print(f"removed watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
-              f"{report['lost_pixels']} lost pixel(s) inpainted -> {args.output}")
+              f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
+              f"{residual.get('score', 0.0):.3f} -> {args.output}")
     return 0

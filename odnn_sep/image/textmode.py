@@ -63,7 +63,7 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
             x0, y0, x1, y1 = p.box
             if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
                 placed.append(p)
-    return _assemble(y, text, placed, score, min_score, random_state)
+    return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
 
 
 def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=False):
@@ -184,8 +184,11 @@ def _overlap(a, b) -> float:
     return w * h / min((a[2] - a[0]) * (a[3] - a[1]), (b[2] - b[0]) * (b[3] - b[1]))
 
 
-def _assemble(y, text, placed, score, min_score, random_state):
-    """Coverage of all placed copies, one opacity and colour for them, and the report fields."""
+def _assemble(y, text, placed, score, min_score, random_state, from_data=True):
+    """Coverage of all placed copies, one opacity and colour for them, and the report fields.
+
+    ``from_data``: estimate the coverage from the image around the rendering (``coverage``); off when
+    the user pinned the font, whose rendering is then the coverage."""
     from odnn_sep.image.estimate import fit_blend
 
     H, W = y.shape[:2]
@@ -200,6 +203,9 @@ def _assemble(y, text, placed, score, min_score, random_state):
         fit = fit_blend(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], random_state=random_state)
     else:
         fit = best.fit
+    prior = M
+    if from_data:
+        M, fit = _coverage_from_data(y, M, fit, random_state)
     nz = np.nonzero(M > 0.05)
     info = {
         "text": text, "font": str(best.font), "font_size_px": round(best.size, 3), "angle_deg": round(best.angle, 3),
@@ -210,7 +216,27 @@ def _assemble(y, text, placed, score, min_score, random_state):
         "marks": [{"center": [round(p.center[0], 2), round(p.center[1], 2)], "angle_deg": round(p.angle, 3),
                    "font_size_px": round(p.size, 3), "score": round(float(p.fit.explained), 4)} for p in placed],
     }
-    return M, fit.alpha, fit.color, info
+    return M, fit.alpha, fit.color, info, prior
+
+
+def _coverage_from_data(y, M, fit, random_state):
+    """The coverage estimated from the image around the registered rendering ``M`` (``coverage``), on
+    the crop holding the mark(s) with a margin; the rendering's fit stands if the new one fails."""
+    from odnn_sep.image.coverage import refine_coverage
+    from odnn_sep.image.estimate import stroke_width
+
+    H, W = M.shape
+    nz = np.nonzero(M > 0.02)
+    pad = int(np.ceil(2 * stroke_width(M))) + 8
+    b = (max(0, nz[1].min() - pad), max(0, nz[0].min() - pad), min(W, nz[1].max() + pad + 1),
+         min(H, nz[0].max() + pad + 1))
+    Mc, f = refine_coverage(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], fit.alpha, fit.color,
+                            random_state=random_state)
+    if f is None:
+        return M, fit
+    out = np.zeros_like(M)
+    out[b[1]:b[3], b[0]:b[2]] = Mc
+    return out, f
 
 
 def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state):
@@ -239,7 +265,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
         reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_NEAREST) > 0
         if not reg.any():
             reg = cv2.resize(region.astype(np.uint8), (w, h), interpolation=cv2.INTER_AREA) > 0
-    _, _, _, info = text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
+    _, _, _, info, _ = text_mode(small, text, font, reg, min_score, angle_range, max_marks, random_state,
                               reduced=True)
     fx, fy = W / w, H / h
     placed, scores = [], []
@@ -262,4 +288,4 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
                          f"--text/--font or give --mask")
     order = np.argsort(-np.asarray(scores), kind="stable")
     placed = [placed[i] for i in order]
-    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state)
+    return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state, from_data=font is None)

@@ -1,0 +1,209 @@
+"""Glyph coverage from the data: the registered rendering is the starting reference, not the truth.
+
+A mark drawn in a font the tool does not have (another face, weight, letter spacing, a blur or a
+resampling after the blend) is found and registered with a rendering that is close but not right:
+its glyph edges sit a pixel or two off, its strokes are thinner or bolder. Inverting the blend with
+that coverage leaves the true glyph edges in the photo. Here the coverage ``M`` is estimated per
+pixel, inside a band around the rendered glyphs, jointly with the photo under it:
+
+* the photo ``I`` is predicted at every band pixel from the pixels where it is seen directly: outside
+  the glyphs, and inside them after the blend is undone (a normalised Gaussian average). A photo is
+  smooth across a glyph edge on the scale of a pixel or two; the mark is not.
+* given ``I``, opacity ``a`` and colour ``c``, the blend ``y = I + a M (c - I)`` is linear in ``M`` at
+  each pixel: ``M`` is the projection of ``y - I`` on ``a (c - I)`` over the channels, with a variance
+  from the photo's local texture (how well the prediction does where the photo is seen directly);
+* the rendering is a prior on ``M``: where the data agree with it within their noise the two are
+  averaged (the rendering's anti-aliasing is better than a per-pixel estimate when the font is right),
+  where they disagree the data win (the rendering is wrong there), and where the mark's colour is too
+  close to the photo's for the data to tell, the rendering stays;
+* opacity and colour are fitted again with the new coverage (``estimate.fit_blend``), and the steps
+  repeat a few times.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from odnn_sep.errors import NotIdentifiableError
+
+# Prior standard deviation of the coverage around the rendering where the data agree with it.
+PRIOR_SD = 0.15
+# Data further than this many of their standard deviations from the rendering replace it.
+DISAGREE_Z = 2.5
+# The rendering stands when the data depart from it at fewer than this share of the glyph pixels.
+AGREE_SHARE = 0.35
+# The data's coverage replaces the rendering only if it leaves at least this much less of the
+# mark's edge energy (a share of the input's; ``residual.edge_excess``).
+EDGE_MARGIN = 0.05
+# Half-width of the band around the rendered glyphs, in stroke widths of the rendering.
+BAND_STROKES = 1.2
+# The opacity is read from pixels where a M is known to this standard deviation (the mark's colour
+# far enough from the photo's, for the photo's texture there).
+CONFIDENT_SD = 0.1
+# Floor of the photo's prediction error (a fraction of full scale: quantisation and sensor noise).
+NOISE_FLOOR = 1.5 / 255
+
+
+def _smooth(a: np.ndarray, sigma: float) -> np.ndarray:
+    import cv2
+
+    return cv2.GaussianBlur(np.ascontiguousarray(a, dtype=np.float32), (0, 0), sigma,
+                            borderType=cv2.BORDER_REFLECT)
+
+
+def predict_photo(R: np.ndarray, w: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """Normalised Gaussian average of the photo ``R`` (h, w, C) seen with weights ``w`` (h, w):
+    the prediction (h, w, C) and the local RMS prediction error where it is seen (h, w)."""
+    den = _smooth(w, sigma)[:, :, None] + 1e-6
+    pred = np.stack([_smooth(w * R[:, :, c], sigma) for c in range(R.shape[2])], axis=2) / den
+    err = np.mean((R - pred) ** 2, axis=2)
+    var = _smooth(w * err, sigma) / den[:, :, 0]
+    return pred.astype(np.float64), np.sqrt(np.maximum(var, 0.0)).astype(np.float64)
+
+
+def coverage_step(y, M, prior, band, alpha, color, sigma, first):
+    """One matting step: the photo predicted from where it is seen, then ``M`` per band pixel."""
+    a = float(alpha)
+    col = np.asarray(color, dtype=np.float64).reshape(1, 1, -1)
+    if first:  # the rendering's glyphs may be wrong: only the photo outside the band is trusted
+        w = (~band).astype(np.float64)
+        R = y
+    else:
+        aM = a * M[:, :, None]
+        R = (y - aM * col) / np.maximum(1.0 - aM, 0.05)
+        # outside the glyphs the photo is seen as is; inside, after the inversion (its noise is
+        # amplified 1 / (1 - a)); at the glyph edges, where M is uncertain, not at all
+        w = np.where(M < 0.03, 1.0, np.where(M > 0.97, (1.0 - a) ** 2, 0.0))
+    I_hat, sd = predict_photo(R, w, sigma)
+    D = a * (col - I_hat)
+    dd = np.sum(D * D, axis=2) + 1e-12
+    M_data = np.sum((y - I_hat) * D, axis=2) / dd
+    sd_M = (1.5 * sd + NOISE_FLOOR) / np.sqrt(dd)
+    prec_d, prec_p = 1.0 / sd_M**2, 1.0 / PRIOR_SD**2
+    post = (M_data * prec_d + prior * prec_p) / (prec_d + prec_p)
+    disagree = np.abs(M_data - prior) > DISAGREE_Z * np.sqrt(sd_M**2 + PRIOR_SD**2)
+    M_new = np.clip(np.where(disagree, M_data, post), 0.0, 1.0)
+    # where a M is known well enough to read the opacity from
+    confident = band & (a * sd_M < CONFIDENT_SD)
+    return np.where(band, M_new, 0.0), np.where(confident, a * M_data, np.nan), disagree & confident
+
+
+def disagreement(Q: np.ndarray, prior: np.ndarray) -> float:
+    """Share of the glyph pixels where the per-pixel ``a M`` (``Q``, NaN where not determined) departs
+    from the rendering scaled by its best opacity by more than a third of that opacity (an opacity
+    fitted with a wrong rendering is itself off, so it is not used)."""
+    ok = np.isfinite(Q)
+    if ok.sum() < 50:
+        return 0.0
+    q = Q[ok]
+    p = prior[ok]
+    a_best = float(np.sum(q * p) / max(float(np.sum(p * p)), 1e-12))
+    if a_best <= 0:
+        return 1.0
+    zone = (p > 0.5) | (q > 0.5 * a_best)
+    if zone.sum() < 50:
+        return 0.0
+    return float(np.mean(np.abs(q - a_best * p)[zone] > a_best / 3))
+
+
+def interior_opacity(Q: np.ndarray) -> float | None:
+    """Opacity from the per-pixel ``a M`` (``Q``, NaN where not determined): its median over the pixels
+    inside the glyphs, or None when fewer than 50 are seen.
+
+    Per pixel only ``a M`` is seen, so the split between opacity and coverage comes from the glyphs
+    being solid: inside a stroke (a pixel whose neighbours are all in the glyph) ``M`` is 1. An opacity
+    fitted with the wrong glyph shape is wrong by the ratio of the two."""
+    import cv2
+
+    v = np.nan_to_num(Q, nan=0.0)
+    ok = np.isfinite(Q)
+    if ok.sum() < 50:
+        return None
+    hi = float(np.quantile(Q[ok], 0.98))
+    inner = cv2.erode((v > 0.5 * hi).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool) & ok
+    if hi <= 0 or inner.sum() < 50:
+        return None
+    return float(np.quantile(Q[inner], 0.9))
+
+
+def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, iterations: int = 3,
+                    random_state=0):
+    """Coverage, opacity and colour of a mark estimated from ``y`` around its registered rendering.
+
+    Parameters
+    ----------
+    y : (h, w, C) float array in [0, 1], a crop holding the mark with a margin of a few stroke widths
+    prior : (h, w) registered rendering of the mark's text (coverage in [0, 1])
+    alpha, color : opacity and colour fitted with the rendering (``estimate.fit_blend``)
+    iterations : matting steps with the photo predicted from nearby (after the first two from afar)
+
+    Returns
+    -------
+    (M (h, w), BlendFit or None): the coverage and the last fit; (``prior``, None) when the data agree
+    with the rendering (or the fit failed): then ``alpha`` and ``color`` stand
+    """
+    import cv2
+
+    from odnn_sep.image.estimate import fit_blend, stroke_width
+
+    y = np.asarray(y, dtype=np.float64)
+    if y.ndim == 2:
+        y = y[:, :, None]
+    prior = np.asarray(prior, dtype=np.float64)
+    s = stroke_width(prior)
+    # the band: where a glyph of a similar font drawn at the registered place can reach
+    r = int(np.ceil(max(2.0, BAND_STROKES * s)))
+    band = cv2.dilate((prior > 0.02).astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))).astype(bool)
+    alpha0, color0 = alpha, color
+    wide = max(1.5, float(r))
+    # 1. the photo from outside the band only (it does not depend on the opacity or the coverage),
+    #    so the per-pixel a M and the opacity of the glyph interiors follow in one step
+    M, fit = prior, None
+    for k in range(2):
+        M, Q, _ = coverage_step(y, prior, prior, band, alpha, color, wide, first=True)
+        if k == 0 and disagreement(Q, prior) < AGREE_SHARE:
+            return prior, None  # the rendering is right: its anti-aliasing beats a per-pixel estimate
+        a_in = interior_opacity(Q)
+        if a_in is None:
+            return prior, None
+        alpha = float(np.clip(a_in, 1e-3, 0.995))
+        M, _, _ = coverage_step(y, prior, prior, band, alpha, color, wide, first=True)
+        # the colour from the blend fit with that coverage (its opacity is tied to the coverage's scale)
+        try:
+            fit = fit_blend(y, M, random_state=random_state)
+        except NotIdentifiableError:
+            return prior, None
+        color = fit.color
+    # 2. the photo from closer by (outside the glyphs and, inverted, inside them), opacity fixed
+    for _ in range(iterations):
+        M, _, _ = coverage_step(y, M, prior, band, alpha, color, max(1.0, 0.4 * s), first=False)
+    if fit is None:
+        return prior, None
+    fit = dataclasses.replace(fit, alpha=alpha, beta=alpha * np.asarray(color))
+    # The rendering stands unless the data's coverage leaves clearly less of the mark's edges: with
+    # the right font the rendering's anti-aliasing beats any per-pixel estimate.
+    left_prior = edges_left(y, prior, alpha0, color0, prior)
+    left_data = edges_left(y, M, fit.alpha, fit.color, prior)
+    if left_data < left_prior - EDGE_MARGIN:
+        return M, fit
+    return prior, None
+
+
+def edges_left(y, M, alpha, color, prior) -> float:
+    """Share of the mark's excess edge energy left after inverting with (M, alpha, color), in the
+    band of the rendering and of ``M`` (the larger)."""
+    from odnn_sep.image.estimate import invert
+    from odnn_sep.image.residual import edge_excess
+
+    out, _ = invert(y, M, alpha, color, inpaint=False)
+    left = 0.0
+    for cov in (prior, M):
+        e_in = edge_excess(y, cov)
+        if e_in > 0:
+            left = max(left, edge_excess(out, cov) / e_in)
+    return left
+
+
+__all__ = ["refine_coverage", "coverage_step", "predict_photo"]
