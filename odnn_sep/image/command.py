@@ -49,7 +49,7 @@ def run(args) -> int:
 
     from odnn_sep.errors import InputError
     from odnn_sep.image.api import unwatermark
-    from odnn_sep.image.io import EXTENSIONS, read_image, write_image
+    from odnn_sep.image.io import EXTENSIONS, read_image, read_image_meta, write_image
     from odnn_sep.io_utils import check_input_path, check_output_path, write_json
 
     if not args.text and not args.mask:
@@ -68,12 +68,12 @@ def run(args) -> int:
             outs[flag] = Path(p)
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
-    img = read_image(inp)
+    img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
     mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
                       inpaint_lost=not args.no_inpaint)
-    write_image(args.output, res.image, inp)
+    write_image(args.output, res.image, inp, meta=meta)
     report = {"input": str(inp), "output": str(args.output), **res.report}
     if args.report:
         write_json(args.report, report)
