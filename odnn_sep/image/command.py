@@ -34,6 +34,12 @@ def register(subparsers) -> None:
                    help="font file or name (e.g. DejaVuSans-Bold); default: try the common fonts found")
     p.add_argument("--mask", default=None, metavar="MASK.png",
                    help="image of the same size, nonzero over the watermark's area (rough box or stroke)")
+    pol = p.add_mutually_exclusive_group()
+    pol.add_argument("--mask-invert", dest="mask_invert", action="store_const", const=True, default=None,
+                     help="the mask is black on white (black marks the watermark); default: a mask marking most "
+                          "of the image is read as inverted, with a warning")
+    pol.add_argument("--mask-as-is", dest="mask_invert", action="store_const", const=False,
+                     help="use the mask's polarity as it is, even when it marks most of the image")
     p.add_argument("--report", metavar="R.json", help="write a JSON report (alpha, colour, box, angle, font, ...)")
     p.add_argument("--plot", metavar="P.png", help="write a figure: input, found mark, output, difference")
     p.add_argument("--min-score", type=float, default=None, metavar="S",
@@ -72,7 +78,7 @@ def run(args) -> int:
     mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
-                      inpaint_lost=not args.no_inpaint)
+                      inpaint_lost=not args.no_inpaint, mask_invert=args.mask_invert)
     write_image(args.output, res.image, inp, meta=meta)
     report = {"input": str(inp), "output": str(args.output), **res.report}
     if args.report:
