@@ -46,7 +46,7 @@ def _color_report(color, planes) -> dict:
 
 def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_score: float | None = None,
                 angle_range: float = 45.0, max_marks: int = 64, inpaint_lost: bool = True,
-                random_state=0, mask_invert: bool | None = None) -> UnwatermarkResult:
+                random_state=0, mask_invert: bool | None = None, reference=None) -> UnwatermarkResult:
     """Remove a visible (alpha-blended) text watermark.
 
     Parameters
@@ -59,6 +59,9 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
         intermediate values is a soft prior on the coverage; see ``maskprep``
     mask_invert : the mask is black on white (True), white on black (False); None: read as inverted
         when it marks most of the image (with a warning)
+    reference : a logo image (array, with or without alpha channel) to find (position, scale 0.25-4x,
+        rotation within ``angle_range``, tiled copies) and remove; see ``refmode``. The report's
+        ``residual_mark`` says whether the mark is still visible in the output
     min_score : detection threshold of text mode (``detect.detection_score``: mean log-ratio of the
         edge patches' photo-only residual to their residual under the mark, predicted out of
         sample); default ``MIN_SCORE``, just above the best chance score on clean photos
@@ -78,6 +81,11 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     from odnn_sep.image.estimate import invert
     from odnn_sep.image.io import paste, split
 
+    if reference is not None:
+        from odnn_sep.image.refmode import reference_mode
+
+        return reference_mode(image, reference, angle_range=angle_range, max_copies=max_marks, min_score=min_score,
+                              inpaint_lost=inpaint_lost, random_state=random_state)
     t0 = time.perf_counter()
     if min_score is None:
         min_score = MIN_SCORE

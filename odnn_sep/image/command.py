@@ -20,6 +20,9 @@ examples:
   odnn-sep unwatermark photo.jpg --text "(c) ACME 2024" -o clean.png
   odnn-sep unwatermark photo.png --text "SAMPLE" --font DejaVuSans-Bold -o out.png --report r.json --plot p.png
   odnn-sep unwatermark photo.png --mask area.png -o out.png
+  odnn-sep unwatermark photo.png --reference logo.png -o out.png
+exit codes: 0 removed, 1 bad input or mark not found, 3 mark still visible in the output (written only
+with --keep-partial)
 """
 
 
@@ -32,6 +35,11 @@ def register(subparsers) -> None:
     p.add_argument("--text", default=None, help="the watermark's visible text")
     p.add_argument("--font", default=None, metavar="PATH|NAME",
                    help="font file or name (e.g. DejaVuSans-Bold); default: try the common fonts found")
+    p.add_argument("--reference", default=None, metavar="LOGO.png",
+                   help="a logo or watermark image you own (with or without alpha channel): found at any position, "
+                        "scale 0.25-4x, rotation, single or tiled, and removed")
+    p.add_argument("--keep-partial", action="store_true",
+                   help="write the output even when the mark is still visible in it (exit code 3 all the same)")
     p.add_argument("--mask", default=None, metavar="MASK.png",
                    help="image of the same size, nonzero over the watermark's area (rough box or stroke)")
     pol = p.add_mutually_exclusive_group()
@@ -58,12 +66,15 @@ def run(args) -> int:
     from odnn_sep.image.io import EXTENSIONS, read_image, read_image_meta, write_image
     from odnn_sep.io_utils import check_input_path, check_output_path, write_json
 
-    if not args.text and not args.mask:
-        raise InputError("give the watermark's text (--text) or a mask of its area (--mask); got neither")
+    if not args.text and not args.mask and not args.reference:
+        raise InputError("give the watermark's text (--text), a logo image (--reference) or a mask of its area "
+                         "(--mask); got none")
+    if args.reference and (args.text or args.mask):
+        raise InputError("--reference is used on its own; drop --text/--mask")
     inp = check_input_path(args.input, what="input image")
     if Path(args.output).suffix.lower() not in EXTENSIONS:
         raise InputError(f"output {args.output!r} must end in one of {', '.join(EXTENSIONS)}")
-    check_output_path(args.output, inp, args.mask)
+    check_output_path(args.output, inp, args.mask, args.reference)
     outs = {"--output": Path(args.output)}
     for flag, p in (("--report", args.report), ("--plot", args.plot)):
         if p:
@@ -76,9 +87,20 @@ def run(args) -> int:
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
     img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
     mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
+    reference = read_image(args.reference) if args.reference else None
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
-                      inpaint_lost=not args.no_inpaint, mask_invert=args.mask_invert)
+                      inpaint_lost=not args.no_inpaint, mask_invert=args.mask_invert, reference=reference)
+    resid = res.report.get("residual_mark")
+    still_visible = isinstance(resid, dict) and bool(resid.get("visible"))
+    if still_visible and not args.keep_partial:
+        import sys
+
+        print(f"mark still visible after removal (residual edge correlation {resid.get('score')}, z {resid.get('z')} "
+              f"against chance); no output written; try --mask, or --keep-partial to write it anyway", file=sys.stderr)
+        if args.report:
+            write_json(args.report, {"input": str(inp), "output": None, **res.report})
+        return 3
     write_image(args.output, res.image, inp, meta=meta)
     report = {"input": str(inp), "output": str(args.output), **res.report}
     if args.report:
@@ -90,6 +112,6 @@ def run(args) -> int:
     if not args.quiet:
         where = f"font {Path(report['font']).name} {report['font_size_px']:.1f} px, angle {report['angle_deg']:.1f} deg, " \
             if "font" in report else ""
-        print(f"removed watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
+        print(f"{'partly removed (mark still visible)' if still_visible else 'removed'} watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
               f"{report['lost_pixels']} lost pixel(s) inpainted -> {args.output}")
-    return 0
+    return 3 if still_visible else 0
