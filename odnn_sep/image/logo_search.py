@@ -19,6 +19,10 @@ COARSE_PX = 320
 FINE_PX = 1024
 SCALE_STEP = 2 ** 0.25
 MIN_TEMPLATE_PX = 8
+# The coarse search of a scale runs on a finer copy when the logo's short side would be under this.
+MIN_SHORT_PX = 24
+# Local maxima kept per correlation map (the logo need not be any template's global maximum).
+PEAKS_PER_MAP = 3
 # Upper scale (px) of the band-pass applied before the gradient.
 BAND_SIGMA = 3.0
 # A tiled copy is a peak of the best template's correlation map at this share of the best peak.
@@ -121,18 +125,26 @@ def rank_neff(v, R, T) -> float:
     return v * float(np.sqrt(e.sum() ** 2 / max(float(e @ e), 1e-12)))
 
 
-def coarse(grey: np.ndarray, logo: Logo, f: float, scales, angle_range: float, sigma: float = 1.5):
-    """(rank_z, rank_neff, Placement in full-resolution coordinates) of the best position per (scale,
-    angle) of the grid on the reduced copy ``grey`` (full size times ``f``). The two ranks favour
-    small and large templates respectively; candidates are taken from both."""
-    import cv2
+def coarse(level, logo: Logo, f: float, scales, angle_range: float, sigma: float = 1.5):
+    """(rank_z, rank_neff, Placement in full-resolution coordinates, level) of the best position per
+    (scale, angle) of a grid. ``level(g)`` gives the photo reduced to ``g`` times full size; the search runs
+    at ``f`` unless the logo's short side would be under ``MIN_SHORT_PX`` there, then at 2f, 4f, ...
+    up to full size (a small logo's strokes vanish on the coarse copy). The two ranks favour small
+    and large templates respectively; candidates are taken from both."""
 
-    E = orientation(grey, sigma)
-    h, w = grey.shape[:2]
+    fields: dict = {}
     out = []
     r_logo = 0.5 * np.hypot(*logo.M.shape)
+    short = min(logo.M.shape)
     for s in scales:
-        sf = s * f
+        fl = f
+        while s * fl * short < MIN_SHORT_PX and fl < 1.0:
+            fl = min(1.0, 2 * fl)
+        if fl not in fields:
+            fields[fl] = orientation(level(fl), sigma)
+        E = fields[fl]
+        h, w = E[0].shape
+        sf = s * fl
         r = r_logo * sf
         if 2 * r < MIN_TEMPLATE_PX:
             continue
@@ -143,11 +155,24 @@ def coarse(grey: np.ndarray, logo: Logo, f: float, scales, angle_range: float, s
             if T is None or T[0].shape[0] >= h or T[0].shape[1] >= w or not np.any(T[0]):
                 continue
             R = match_orientation(E, T)
-            _, v, _, (px, py) = cv2.minMaxLoc(R)
-            # rank by the peak's height over the map's own spread: small templates correlate
-            # highly by chance everywhere, and their maps say so
-            out.append((rank_z(v, R, T), rank_neff(v, R, T),
-                        Placement((px + tx) / f, (py + ty) / f, float(s), float(a), float(v))))
+            for v, px, py in _peaks(R, PEAKS_PER_MAP, max(3, int(0.5 * min(T[0].shape)))):
+                out.append((rank_z(v, R, T), rank_neff(v, R, T),
+                            Placement((px + tx) / fl, (py + ty) / fl, float(s), float(a), float(v)), fl))
+    return out
+
+
+def _peaks(R: np.ndarray, n: int, sep: int):
+    """The ``n`` highest local maxima of ``R`` at least ``sep`` px apart, as (value, x, y)."""
+    import cv2
+
+    R = R.copy()
+    out = []
+    for _ in range(n):
+        _, v, _, (px, py) = cv2.minMaxLoc(R)
+        if not np.isfinite(v) or v <= 0:
+            break
+        out.append((float(v), px, py))
+        R[max(0, py - sep):py + sep + 1, max(0, px - sep):px + sep + 1] = -np.inf
     return out
 
 

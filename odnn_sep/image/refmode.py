@@ -25,8 +25,8 @@ log = logging.getLogger(__name__)
 # reaches this (chosen on development seeds of recipes/bench_logo.py: clean photos searched for
 # absent logos vs watermarked ones).
 MIN_SCORE = 0.19
-# Coarse matches refined and judged by the blend model.
-N_CANDIDATES = 8
+# Coarse matches refined and judged by the blend model, per level of the pyramid (half by each rank).
+N_CANDIDATES = 6
 
 
 class ColouredProfile:
@@ -125,25 +125,29 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
 
     H, W = y.shape[:2]
     f = min(1.0, ls.COARSE_PX / max(H, W))
-    small = y.reduced(max(1, round(W * f)), max(1, round(H * f))) if hasattr(y, "reduced") else _resize(y, f)
-    grey_c = ls.luminance(small)
-    cands = ls.coarse(grey_c, logo, f, ls.scale_grid(logo, (H, W)), angle_range)
+
+    def level(g):
+        if g >= 1.0 and hasattr(y, "full"):
+            return ls.luminance(y.full())
+        return ls.luminance(y.reduced(max(1, round(W * g)), max(1, round(H * g))) if hasattr(y, "reduced")
+                            else _resize(y, g))
+
+    grey_c = level(f)
+    cands = ls.coarse(level, logo, f, ls.scale_grid(logo, (H, W)), angle_range)
     g = min(1.0, ls.FINE_PX / max(H, W))
-    if g == 1.0:
-        grey_g = ls.luminance(y.full() if hasattr(y, "full") else y)
-    else:
-        grey_g = ls.luminance(y.reduced(round(W * g), round(H * g)) if hasattr(y, "reduced") else _resize(y, g))
+    grey_g = level(g)
     picked: list[Placement] = []
-    for col in (0, 1):  # the best distinct matches under each ranking
-        n = 0
-        for c in sorted(cands, key=lambda t: -t[col]):
-            p = c[2]
-            if n >= N_CANDIDATES // 2:
-                break
-            if all(np.hypot(p.cx - q.cx, p.cy - q.cy) > 6 / f or abs(np.log(p.scale / q.scale)) > 0.3
-                   for q in picked):
-                picked.append(p)
-                n += 1
+    for lv in sorted({c[3] for c in cands}):  # ranks compare within a level of the pyramid only
+        for col in (0, 1):  # the best distinct matches under each ranking
+            n = 0
+            for c in sorted((c for c in cands if c[3] == lv), key=lambda t: -t[col]):
+                p = c[2]
+                if n >= N_CANDIDATES // 2:
+                    break
+                if all(np.hypot(p.cx - q.cx, p.cy - q.cy) > 6 / f or abs(np.log(p.scale / q.scale)) > 0.3
+                       for q in picked):
+                    picked.append(p)
+                    n += 1
     judged = []
     for p in picked:
         r = ls.refine(grey_g, logo, p, g, 1.0, (0.6 * g / f, 0.6 * g / f, 0.06, 3.0))
