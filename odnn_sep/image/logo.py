@@ -2,8 +2,8 @@
 
 With an alpha channel, ``M`` is the alpha and ``L`` the colour. Without one, the logo is cut out of
 its background, the median colour of its border: ``M`` is the colour distance to the background
-over the distance of the logo's solid ink, and ``L`` is the colour the anti-aliased edge pixels were
-mixed from (``L = bg + (logo - bg) / M``). A placement is a similarity transform: centre (x, y) in
+over the largest such distance within 2 px (the nearby solid ink), and ``L`` is the colour the
+anti-aliased edge pixels were mixed from (``L = bg + (logo - bg) / M``). A placement is a similarity transform: centre (x, y) in
 the photo, scale and angle (degrees, counter-clockwise, as OpenCV).
 """
 from __future__ import annotations
@@ -104,8 +104,12 @@ def _cut_out(f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if d.max() < 0.05:
         raise InputError("reference image shows no logo (it is uniform, or equals its background colour); "
                          "pass the logo with an alpha channel or on a plain background")
-    ink = float(np.median(d[d > 0.5 * d.max()]))
-    M = np.clip(d / ink, 0.0, 1.0)
+    import cv2
+
+    # each pixel against the strongest ink near it: a logo's inks differ in contrast with the ground
+    # (all of them are solid), while an anti-aliased edge pixel is a partial mix with its own ink
+    near = cv2.dilate(np.ascontiguousarray(d, np.float32), np.ones((5, 5), np.uint8)).astype(np.float64)
+    M = np.where(near > 0.05, np.clip(d / np.maximum(near, 1e-6), 0.0, 1.0), 0.0)
     M[M < 0.1] = 0.0  # the background's own noise and JPEG ringing are not logo
     L = np.clip(bg + (f - bg) / np.maximum(M, 1e-6)[:, :, None], 0.0, 1.0)
     L[M == 0] = bg

@@ -135,11 +135,8 @@ def coarse(level, logo: Logo, f: float, scales, angle_range: float, sigma: float
     fields: dict = {}
     out = []
     r_logo = 0.5 * np.hypot(*logo.M.shape)
-    short = min(logo.M.shape)
     for s in scales:
-        fl = f
-        while s * fl * short < MIN_SHORT_PX and fl < 1.0:
-            fl = min(1.0, 2 * fl)
+        fl = level_for(s, logo, f)
         if fl not in fields:
             fields[fl] = orientation(level(fl), sigma)
         E = fields[fl]
@@ -176,7 +173,8 @@ def _peaks(R: np.ndarray, n: int, sep: int):
     return out
 
 
-def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, steps) -> Placement:
+def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, steps, maxiter: int = 200
+           ) -> Placement:
     """Nelder-Mead on (x, y, log scale, angle) maximising the edge correlation in a crop of ``grey``
     (the photo at ``g`` times full size); returns the placement in full-resolution coordinates."""
     from scipy.optimize import minimize
@@ -200,18 +198,29 @@ def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, s
     v0 = np.array([p.cx * g - x0, p.cy * g - y0, np.log(p.scale * g), p.angle])
     simplex = [v0] + [v0 + np.eye(4)[i] * steps[i] for i in range(4)]
     res = minimize(ncc, v0, method="Nelder-Mead",
-                   options={"initial_simplex": np.array(simplex), "xatol": 0.02, "fatol": 1e-5, "maxiter": 200})
+                   options={"initial_simplex": np.array(simplex), "xatol": 0.02, "fatol": 1e-5, "maxiter": maxiter})
     v = res.x
     return Placement((v[0] + x0) / g, (v[1] + y0) / g, float(np.exp(v[2]) / g), float(v[3]), -float(res.fun))
 
 
-def copies(grey: np.ndarray, logo: Logo, best: Placement, f: float, max_copies: int, sigma: float = 1.5):
-    """Other copies of the best template (same scale and angle): peaks of its correlation map on the
-    reduced copy at ``COPY_SHARE`` of the best peak, at least a logo apart; full-resolution centres."""
+def level_for(scale: float, logo: Logo, f: float) -> float:
+    """The pyramid level (times full size) the coarse search uses for a scale: ``f``, or finer for
+    a logo whose short side would be under ``MIN_SHORT_PX`` there."""
+    fl, short = f, min(logo.M.shape)
+    while scale * fl * short < MIN_SHORT_PX and fl < 1.0:
+        fl = min(1.0, 2 * fl)
+    return fl
+
+
+def copies(level, logo: Logo, best: Placement, f: float, max_copies: int, sigma: float = 1.5):
+    """Other copies of the best template (same scale and angle): peaks of its correlation map at its
+    pyramid level at ``COPY_SHARE`` of the best peak, at least half a logo apart; full-resolution
+    centres."""
     import cv2
 
+    f = level_for(best.scale, logo, f)
     T, (tx, ty) = _template(logo, best.scale * f, best.angle, sigma)
-    E = orientation(grey, sigma)
+    E = orientation(level(f), sigma)
     if T is None or T[0].shape[0] >= E[0].shape[0] or T[0].shape[1] >= E[0].shape[1]:
         return []
     T0 = T[0]

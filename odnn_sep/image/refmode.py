@@ -132,7 +132,6 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
         return ls.luminance(y.reduced(max(1, round(W * g)), max(1, round(H * g))) if hasattr(y, "reduced")
                             else _resize(y, g))
 
-    grey_c = level(f)
     cands = ls.coarse(level, logo, f, ls.scale_grid(logo, (H, W)), angle_range)
     g = min(1.0, ls.FINE_PX / max(H, W))
     grey_g = level(g)
@@ -158,11 +157,14 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
     best = judged[0][0]
     out = [judged[0]]
     if max_copies > 1:
-        for c in ls.copies(grey_c, logo, best, f, 4 * max_copies):
+        fl = ls.level_for(best.scale, logo, f)
+        for c in ls.copies(level, logo, best, f, 4 * max_copies):
             if len(out) >= max_copies:
                 break
             if all(np.hypot(c.cx - o.cx, c.cy - o.cy) > 0.5 * min(logo.M.shape) * best.scale for o, _ in out):
-                r = ls.refine(grey_g, logo, c, g, 1.0, (0.6 * g / f, 0.6 * g / f, 0.02, 1.0))
+                # same scale and angle as the best copy: a short refinement of the position
+                c = Placement(c.cx, c.cy, best.scale, best.angle, c.score)
+                r = ls.refine(grey_g, logo, c, g, 1.0, (0.6 * g / fl, 0.6 * g / fl, 0.01, 0.5), maxiter=80)
                 out.append((r, judge(r)))
     return out
 
