@@ -240,9 +240,12 @@ def summarise(rows, fa, real, args) -> str:
         if not rs:
             continue
         table = []
-        for m in methods:
-            v = {k: np.array([r["scores"][m][k] for r in rs]) for k in ("psnr", "psnr_mark", "ssim", "resid_z")}
-            table.append([m, f"{np.median(v['psnr']):.2f} / {v['psnr'].min():.2f}",
+        found_rs = [r for r in rs if r["found"]]
+        for m, sel in [(m, rs) for m in methods] + ([(TOOL, found_rs), ("cv2.inpaint TELEA, true mask", found_rs)]
+                                                      if found_rs else []):
+            v = {k: np.array([r["scores"][m][k] for r in sel]) for k in ("psnr", "psnr_mark", "ssim", "resid_z")}
+            label = m if sel is rs else f"{m} (only the {len(sel)} found)"
+            table.append([label, f"{np.median(v['psnr']):.2f} / {v['psnr'].min():.2f}",
                           f"{np.median(v['psnr_mark']):.2f} / {v['psnr_mark'].min():.2f}",
                           f"{np.median(v['ssim']):.4f} / {v['ssim'].min():.4f}",
                           f"{np.median(v['resid_z']):.1f} / {v['resid_z'].max():.1f}"])
@@ -254,6 +257,8 @@ def summarise(rows, fa, real, args) -> str:
                  f"(shared machine, under load).\n\n")
         text += md_table(["method", "PSNR dB median / worst", "PSNR in mark", "SSIM median / worst",
                           "residual-mark z median / worst"], table)
+    text += ("\nDevelopment seeds 7 and 11 (same recipe, --trials 1): 7 and 10 of 18 logos found; 0 of 9 false "
+             "alarms each, largest clean-photo scores 0.163 and 0.069 (the threshold is text mode's 0.19, kept).\n")
     text += (f"\nFalse alarms: {sum(f for f, _ in fa)} of {len(fa)} clean photos searched for a logo that is not "
              f"there (largest best-match score {max(e for _, e in fa):.3f}; threshold {MIN_SCORE}).\n")
     if real:
