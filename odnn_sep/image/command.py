@@ -67,8 +67,8 @@ def run(args) -> int:
     from odnn_sep.io_utils import check_input_path, check_output_path, write_json
 
     if not args.text and not args.mask and not args.reference:
-        raise InputError("give the watermark's text (--text), a logo image (--reference) or a mask of its area "
-                         "(--mask); got none")
+        raise InputError("give the watermark's text (--text) or a mask of its area (--mask), or a logo image "
+                         "(--reference); got none")
     if args.reference and (args.text or args.mask):
         raise InputError("--reference is used on its own; drop --text/--mask")
     inp = check_input_path(args.input, what="input image")
