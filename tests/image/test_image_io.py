@@ -63,14 +63,15 @@ def test_png_text_chunks_and_16bit_kept(tmp_path):
     info = PngImagePlugin.PngInfo()
     info.add_text("Author", "Ada")
     info.add_itxt("Description", "caf\u00e9 photo")
-    Image.fromarray(_photo()).save(src, pnginfo=info, icc_profile=_icc())
+    icc = _icc()
+    Image.fromarray(_photo()).save(src, pnginfo=info, icc_profile=icc)
     img, meta = read_image_meta(src)
     a16 = img.astype(np.uint16) * 257
     out = tmp_path / "o.png"
     write_image(out, a16, src, meta=meta)
     with Image.open(out) as im:
         assert im.text["Author"] == "Ada" and im.text["Description"] == "caf\u00e9 photo"
-        assert im.info.get("icc_profile") == _icc()
+        assert im.info.get("icc_profile") == icc
     back = read_image(out)
     assert back.dtype == np.uint16 and np.array_equal(back, a16)
 
@@ -106,3 +107,23 @@ def test_animated_gif_refused(tmp_path):
     frames[0].save(src, save_all=True, append_images=frames[1:])
     with pytest.raises(FormatError, match="animated"):
         read_image(src)
+
+
+def test_cli_keeps_orientation_exif_and_icc(tmp_path):
+    """A phone JPEG (orientation 6, ICC) through ``unwatermark --mask``: upright output, EXIF and ICC kept."""
+    from odnn_sep.cli import main
+    from odnn_sep.image.synth import add_text_watermark, photo_like
+
+    clean = photo_like((120, 200), random_state=3)  # upright: 200 wide
+    y, M = add_text_watermark(clean, "EXIF", size=40, center=(100, 60), alpha=0.5, color=(255, 255, 255))
+    stored = np.ascontiguousarray(np.rot90(y, 1))  # the sensor's orientation; EXIF 6 turns it upright
+    ex = Image.Exif()
+    ex[0x0112] = 6
+    src, mask, out = tmp_path / "phone.jpg", tmp_path / "m.png", tmp_path / "o.jpg"
+    icc = _icc()
+    Image.fromarray(stored).save(src, quality=98, exif=ex.tobytes(), icc_profile=icc)
+    write_image(mask, ((M > 0.05) * 255).astype(np.uint8))  # drawn on the upright image
+    assert main(["unwatermark", str(src), "--mask", str(mask), "-o", str(out), "--quiet"]) == 0
+    with Image.open(out) as im:
+        assert im.size == (200, 120) and im.getexif().get(0x0112) == 1
+        assert im.info.get("icc_profile") == icc
