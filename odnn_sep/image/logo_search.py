@@ -125,18 +125,18 @@ def rank_neff(v, R, T) -> float:
     return v * float(np.sqrt(e.sum() ** 2 / max(float(e @ e), 1e-12)))
 
 
-def coarse(level, logo: Logo, f: float, scales, angle_range: float, sigma: float = 1.5):
+def coarse(level, logo: Logo, f: float, scales, angle_range: float, sigma: float = 1.5, cap: float = 1.0):
     """(rank_z, rank_neff, Placement in full-resolution coordinates, level) of the best position per
     (scale, angle) of a grid. ``level(g)`` gives the photo reduced to ``g`` times full size; the search runs
     at ``f`` unless the logo's short side would be under ``MIN_SHORT_PX`` there, then at 2f, 4f, ...
-    up to full size (a small logo's strokes vanish on the coarse copy). The two ranks favour small
+    up to ``cap`` (a small logo's strokes vanish on the coarse copy). The two ranks favour small
     and large templates respectively; candidates are taken from both."""
 
     fields: dict = {}
     out = []
     r_logo = 0.5 * np.hypot(*logo.M.shape)
     for s in scales:
-        fl = level_for(s, logo, f)
+        fl = level_for(s, logo, f, cap)
         if fl not in fields:
             fields[fl] = orientation(level(fl), sigma)
         E = fields[fl]
@@ -203,22 +203,22 @@ def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, s
     return Placement((v[0] + x0) / g, (v[1] + y0) / g, float(np.exp(v[2]) / g), float(v[3]), -float(res.fun))
 
 
-def level_for(scale: float, logo: Logo, f: float) -> float:
-    """The pyramid level (times full size) the coarse search uses for a scale: ``f``, or finer for
-    a logo whose short side would be under ``MIN_SHORT_PX`` there."""
+def level_for(scale: float, logo: Logo, f: float, cap: float = 1.0) -> float:
+    """The pyramid level (times full size) the coarse search uses for a scale: ``f``, or finer (up to
+    ``cap``) for a logo whose short side would be under ``MIN_SHORT_PX`` there."""
     fl, short = f, min(logo.M.shape)
-    while scale * fl * short < MIN_SHORT_PX and fl < 1.0:
-        fl = min(1.0, 2 * fl)
+    while scale * fl * short < MIN_SHORT_PX and fl < cap:
+        fl = min(cap, 2 * fl)
     return fl
 
 
-def copies(level, logo: Logo, best: Placement, f: float, max_copies: int, sigma: float = 1.5):
+def copies(level, logo: Logo, best: Placement, f: float, max_copies: int, sigma: float = 1.5, cap: float = 1.0):
     """Other copies of the best template (same scale and angle): peaks of its correlation map at its
     pyramid level at ``COPY_SHARE`` of the best peak, at least half a logo apart; full-resolution
     centres."""
     import cv2
 
-    f = level_for(best.scale, logo, f)
+    f = level_for(best.scale, logo, f, cap)
     T, (tx, ty) = _template(logo, best.scale * f, best.angle, sigma)
     E = orientation(level(f), sigma)
     if T is None or T[0].shape[0] >= E[0].shape[0] or T[0].shape[1] >= E[0].shape[1]:

@@ -132,8 +132,9 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
         return ls.luminance(y.reduced(max(1, round(W * g)), max(1, round(H * g))) if hasattr(y, "reduced")
                             else _resize(y, g))
 
-    cands = ls.coarse(level, logo, f, ls.scale_grid(logo, (H, W)), angle_range)
     g = min(1.0, ls.FINE_PX / max(H, W))
+    # on a large photo the search looks no finer than the refinement level (FINE_PX)
+    cands = ls.coarse(level, logo, f, ls.scale_grid(logo, (H, W)), angle_range, cap=g)
     grey_g = level(g)
     picked: list[Placement] = []
     for lv in sorted({c[3] for c in cands}):  # ranks compare within a level of the pyramid only
@@ -154,11 +155,14 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
     if not judged:
         return []
     judged.sort(key=lambda t: -t[1])
+    if g < 1.0:  # a last refinement at full resolution, in a crop around the mark
+        q = _refine_full(y, logo, judged[0][0])
+        judged[0] = (q, judge(q))
     best = judged[0][0]
     out = [judged[0]]
     if max_copies > 1:
-        fl = ls.level_for(best.scale, logo, f)
-        for c in ls.copies(level, logo, best, f, 4 * max_copies):
+        fl = ls.level_for(best.scale, logo, f, g)
+        for c in ls.copies(level, logo, best, f, 4 * max_copies, cap=g):
             if len(out) >= max_copies:
                 break
             if all(np.hypot(c.cx - o.cx, c.cy - o.cy) > 0.5 * min(logo.M.shape) * best.scale for o, _ in out):
@@ -167,6 +171,21 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
                 r = ls.refine(grey_g, logo, c, g, 1.0, (0.6 * g / fl, 0.6 * g / fl, 0.01, 0.5), maxiter=80)
                 out.append((r, judge(r)))
     return out
+
+
+def _refine_full(y, logo, p: Placement) -> Placement:
+    """``p`` refined on the full-resolution crop around it (a placement from a reduced copy is off by
+    a fraction of its pixels, which the blend inversion shows)."""
+    from odnn_sep.image import logo_search as ls
+
+    H, W = y.shape[:2]
+    half = 0.5 * np.hypot(*logo.M.shape) * p.scale * 1.15 + 8
+    x0, y0 = int(max(0, p.cx - half)), int(max(0, p.cy - half))
+    x1, y1 = int(min(W, p.cx + half + 1)), int(min(H, p.cy + half + 1))
+    grey = ls.luminance(y[y0:y1, x0:x1])
+    q = ls.refine(grey, logo, Placement(p.cx - x0, p.cy - y0, p.scale, p.angle), 1.0, 1.0, (0.7, 0.7, 0.01, 0.5),
+                  maxiter=120)
+    return Placement(q.cx + x0, q.cy + y0, q.scale, q.angle, q.score)
 
 
 def _resize(y, f):
