@@ -7,16 +7,13 @@ import time
 
 import numpy as np
 
-from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.errors import InputError
 from odnn_sep.image.detect import CLIP as SCORE_MAX
 from odnn_sep.image.detect import THRESHOLD as MIN_SCORE
 from odnn_sep.image.textmode import WORK_MAX_PX, text_mode
 
 log = logging.getLogger(__name__)
 
-# Mask mode: the blend fit replaces the shape estimate's opacity and colour only when the mark
-# explains at least this share of the edge patches' photo-only residual.
-MASK_MIN_EXPLAINED = 0.28
 # A watermark line longer than this is not a watermark (and would render to an unbounded template).
 MAX_TEXT_CHARS = 200
 
@@ -85,7 +82,7 @@ def _color_report(color, planes) -> dict:
 
 def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_score: float | None = None,
                 angle_range: float = 45.0, max_marks: int = 64, inpaint_lost: bool = True,
-                random_state=0) -> UnwatermarkResult:
+                random_state=0, mask_invert: bool | None = None, reference=None) -> UnwatermarkResult:
     """Remove a visible (alpha-blended) text watermark.
 
     Parameters
@@ -94,7 +91,13 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     text : the watermark's text; it is rendered and found in the image (position, size, angle, repeats)
     font : font file path or name (e.g. ``"DejaVuSans-Bold"``); default: try the common fonts found
     mask : (H, W) array, nonzero over the watermark's area; without ``text`` the mark's shape is
-        estimated inside it, with ``text`` the search is restricted to it
+        estimated inside it, with ``text`` the search is restricted to it. A greyscale mask with many
+        intermediate values is a soft prior on the coverage; see ``maskprep``
+    mask_invert : the mask is black on white (True), white on black (False); None: read as inverted
+        when it marks most of the image (with a warning)
+    reference : a logo image (array, with or without alpha channel) to find (position, scale 0.25-4x,
+        rotation within ``angle_range``, tiled copies) and remove; see ``refmode``. The report's
+        ``residual_mark`` says whether the mark is still visible in the output
     min_score : detection threshold of text mode (``detect.detection_score``: mean log-ratio of the
         edge patches' photo-only residual to their residual under the mark, predicted out of
         sample); default ``MIN_SCORE``, just above the best chance score on clean photos
@@ -111,9 +114,14 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     >>> abs(res.alpha - truth["alpha"]) < 0.02
     True
     """
-    from odnn_sep.image.estimate import fit_blend, invert
+    from odnn_sep.image.estimate import invert
     from odnn_sep.image.io import paste, split
 
+    if reference is not None:
+        from odnn_sep.image.refmode import reference_mode
+
+        return reference_mode(image, reference, angle_range=angle_range, max_copies=max_marks, min_score=min_score,
+                              inpaint_lost=inpaint_lost, random_state=random_state)
     t0 = time.perf_counter()
     if min_score is None:
         min_score = MIN_SCORE
@@ -123,17 +131,12 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     planes = split(image)
     y = planes.view  # float crops on demand: large images are never converted whole
     H, W = y.shape[:2]
-    region, prior = None, None
+    region = prepared = prior = None
     if mask is not None:
-        mk = np.asarray(mask)
-        if mk.ndim == 3:
-            mk = mk[:, :, :3].max(axis=2) if mk.shape[2] >= 3 else mk[:, :, 0]
-        if mk.shape[:2] != (H, W):
-            raise InputError(f"mask size {mk.shape[1]}x{mk.shape[0]} differs from the image size {W}x{H}; "
-                             f"pass a mask of the same size as the image")
-        region = mk > 0
-        if not region.any():
-            raise InputError("mask has no nonzero pixels; mark the watermark's area with nonzero values")
+        from odnn_sep.image.maskprep import prepare_mask
+
+        prepared = prepare_mask(mask, (H, W), invert=mask_invert)
+        region = prepared.region
     report: dict = {"mode": "text" if text else "mask", "image_size": [W, H], "channels": int(y.shape[2])
                     + (1 if planes.alpha is not None else 0), "bit_depth": int(planes.dtype.itemsize * 8)}
     if text:
@@ -143,27 +146,10 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
                                                   max_marks, random_state)
         report.update(info)
     else:
-        from odnn_sep.image.maskmode import estimate_shape
+        from odnn_sep.image.maskmode import mask_mode
 
-        ys, xs = np.nonzero(region)
-        pad = 8
-        x0, y0 = max(0, xs.min() - pad), max(0, ys.min() - pad)
-        x1, y1 = min(W, xs.max() + pad + 1), min(H, ys.max() + pad + 1)
-        crop = y[y0:y1, x0:x1]
-        m, col0 = estimate_shape(crop, region[y0:y1, x0:x1])
-        alpha = float(np.quantile(m[m > 0.05], 0.9)) if (m > 0.05).sum() >= 10 else float(m.max())
-        Mc = np.clip(m / max(alpha, 1e-6), 0.0, 1.0)
-        color = col0
-        try:
-            fit = fit_blend(crop, Mc, random_state=random_state)
-            if 0.02 < fit.alpha <= 1.0 and fit.explained > MASK_MIN_EXPLAINED:
-                alpha, color = fit.alpha, fit.color
-                Mc = np.clip(m / alpha, 0.0, 1.0)
-        except NotIdentifiableError:
-            pass
-        M = np.zeros((H, W), np.float32)
-        M[y0:y1, x0:x1] = Mc
-        report.update({"bbox": [int(x0), int(y0), int(x1), int(y1)], "marks": []})
+        M, alpha, color, info = mask_mode(y, prepared, random_state)
+        report.update(info)
     lost = np.zeros((H, W), bool)
     nz = np.nonzero(M > 0)
     restored = None

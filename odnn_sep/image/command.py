@@ -21,6 +21,7 @@ examples:
   odnn-sep unwatermark photo.jpg --text "(c) ACME 2024" -o clean.png
   odnn-sep unwatermark photo.png --text "SAMPLE" --font DejaVuSans-Bold -o out.png --report r.json --plot p.png
   odnn-sep unwatermark photo.png --mask area.png -o out.png
+  odnn-sep unwatermark photo.png --reference logo.png -o out.png
 
 exit codes: 0 removed (the mark is no longer detected in the output); 3 the mark was found and inverted
 but is still visible (the report's residual_mark says how much; no output unless --keep-partial);
@@ -41,8 +42,17 @@ def register(subparsers) -> None:
     p.add_argument("--text", default=None, help="the watermark's visible text")
     p.add_argument("--font", default=None, metavar="PATH|NAME",
                    help="font file or name (e.g. DejaVuSans-Bold); default: try the common fonts found")
+    p.add_argument("--reference", default=None, metavar="LOGO.png",
+                   help="a logo or watermark image you own (with or without alpha channel): found at any position, "
+                        "scale 0.25-4x, rotation, single or tiled, and removed")
     p.add_argument("--mask", default=None, metavar="MASK.png",
                    help="image of the same size, nonzero over the watermark's area (rough box or stroke)")
+    pol = p.add_mutually_exclusive_group()
+    pol.add_argument("--mask-invert", dest="mask_invert", action="store_const", const=True, default=None,
+                     help="the mask is black on white (black marks the watermark); default: a mask marking most "
+                          "of the image is read as inverted, with a warning")
+    pol.add_argument("--mask-as-is", dest="mask_invert", action="store_const", const=False,
+                     help="use the mask's polarity as it is, even when it marks most of the image")
     p.add_argument("--report", metavar="R.json", help="write a JSON report (alpha, colour, box, angle, font, ...)")
     p.add_argument("--plot", metavar="P.png", help="write a figure: input, found mark, output, difference")
     p.add_argument("--min-score", type=float, default=None, metavar="S",
@@ -61,15 +71,18 @@ def run(args) -> int:
 
     from odnn_sep.errors import InputError
     from odnn_sep.image.api import unwatermark
-    from odnn_sep.image.io import EXTENSIONS, read_image, write_image
+    from odnn_sep.image.io import EXTENSIONS, read_image, read_image_meta, write_image
     from odnn_sep.io_utils import check_input_path, check_output_path, write_json
 
-    if not args.text and not args.mask:
-        raise InputError("give the watermark's text (--text) or a mask of its area (--mask); got neither")
+    if not args.text and not args.mask and not args.reference:
+        raise InputError("give the watermark's text (--text) or a mask of its area (--mask), or a logo image "
+                         "(--reference); got none")
+    if args.reference and (args.text or args.mask):
+        raise InputError("--reference is used on its own; drop --text/--mask")
     inp = check_input_path(args.input, what="input image")
     if Path(args.output).suffix.lower() not in EXTENSIONS:
         raise InputError(f"output {args.output!r} must end in one of {', '.join(EXTENSIONS)}")
-    check_output_path(args.output, inp, args.mask)
+    check_output_path(args.output, inp, args.mask, args.reference)
     outs = {"--output": Path(args.output)}
     for flag, p in (("--report", args.report), ("--plot", args.plot)):
         if p:
@@ -80,16 +93,17 @@ def run(args) -> int:
             outs[flag] = Path(p)
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
-    img = read_image(inp)
+    img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
     mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
+    reference = read_image(args.reference) if args.reference else None
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
-                      inpaint_lost=not args.no_inpaint)
-    residual = res.report.get("residual_mark", {})
+                      inpaint_lost=not args.no_inpaint, mask_invert=args.mask_invert, reference=reference)
+    residual = res.report.get("residual_mark") or {}
     visible = bool(residual.get("visible"))
     written = not visible or args.keep_partial
     if written:
-        write_image(args.output, res.image, inp)
+        write_image(args.output, res.image, inp, meta=meta)
     report = {"input": str(inp), "output": str(args.output) if written else None,
               "outcome": "mark still visible" if visible else "removed", **res.report}
     if args.report:
@@ -101,9 +115,7 @@ def run(args) -> int:
     if visible:
         import sys
 
-        print(f"mark still visible after removal: {100 * residual['edge_left']:.0f} % of its edge energy left, "
-              f"detection score on the output {residual['score']:.3f} (threshold {residual['threshold']:g}), "
-              f"contrast {residual['contrast_levels']:.1f} grey levels; "
+        print(f"mark still visible after removal: {_residual_text(residual)}; "
               + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
                  "writes it)")
               + "; try --font with the mark's font file, or --mask over the mark", file=sys.stderr)
@@ -113,5 +125,15 @@ def run(args) -> int:
             if "font" in report else ""
         print(f"removed watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
               f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
-              f"{residual.get('score', 0.0):.3f} -> {args.output}")
+              f"{float(residual.get('score') or 0.0):.3f} -> {args.output}")
     return 0
+
+
+def _residual_text(residual: dict) -> str:
+    """One clause saying how much of the mark is left (text marks: edges and score; logos: edge correlation)."""
+    if "edge_left" in residual:
+        return (f"{100 * residual['edge_left']:.0f} % of its edge energy left, detection score on the output "
+                f"{residual['score']:.3f} (threshold {residual['threshold']:g}), contrast "
+                f"{residual['contrast_levels']:.1f} grey levels")
+    return (f"edge correlation with the registered logo {residual.get('score')}, "
+            f"z {residual.get('z')} against chance")

@@ -1,16 +1,24 @@
-"""Image files in and out (OpenCV): PNG, JPEG, TIFF, WebP; grey, RGB, RGBA; 8- and 16-bit.
+"""Image files in and out (OpenCV pixels, Pillow metadata): PNG, JPEG, TIFF, WebP; grey, grey+alpha, RGB,
+RGBA; 8- and 16-bit.
 
-Pixels are handled as floats in [0, 1] in RGB order; the alpha channel of an RGBA image is carried
-through untouched, and the output keeps the input's size, channels and bit depth.
+Pixels are handled as floats in [0, 1] in RGB order; the alpha channel of an RGBA or grey+alpha image is
+carried through untouched, and the output keeps the input's size, channels and bit depth. The EXIF
+orientation is applied on read; EXIF (orientation reset to 1), the ICC profile and PNG text chunks are
+written back (``io_meta``). Palette images are read as RGB (RGBA with transparency) and written so,
+with a warning: the restored colours do not fit a palette. Animated images (several frames) are
+refused.
 """
 from __future__ import annotations
 
 import dataclasses
+import logging
 from pathlib import Path
 
 import numpy as np
 
 from odnn_sep.errors import FormatError, InputError
+
+log = logging.getLogger(__name__)
 
 EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".bmp")
 
@@ -71,8 +79,9 @@ def split(image) -> Planes:
         raise InputError(f"image is empty (shape {a.shape}); pass an image with at least one pixel")
     if a.ndim == 3 and a.shape[2] == 1:
         a = a[:, :, 0]
-    if a.ndim not in (2, 3) or (a.ndim == 3 and a.shape[2] not in (3, 4)):
-        raise InputError(f"image must be (H, W) grey, (H, W, 3) RGB or (H, W, 4) RGBA; got shape {a.shape}")
+    if a.ndim not in (2, 3) or (a.ndim == 3 and a.shape[2] not in (2, 3, 4)):
+        raise InputError(f"image must be (H, W) grey, (H, W, 2) grey+alpha, (H, W, 3) RGB or (H, W, 4) RGBA; "
+                         f"got shape {a.shape}")
     if a.dtype == np.uint8:
         levels = 255
     elif a.dtype == np.uint16:
@@ -84,9 +93,9 @@ def split(image) -> Planes:
         check_finite("image", a)
     else:
         raise InputError(f"image dtype must be uint8, uint16 or float in [0, 1]; got {a.dtype}")
-    grey = a.ndim == 2
-    raw = a[:, :, None] if grey else a[:, :, :3]
-    alpha = a[:, :, 3] if (a.ndim == 3 and a.shape[2] == 4) else None
+    grey = a.ndim == 2 or a.shape[2] == 2
+    raw = a[:, :, None] if a.ndim == 2 else a[:, :, :1] if grey else a[:, :, :3]
+    alpha = a[:, :, -1] if (a.ndim == 3 and a.shape[2] in (2, 4)) else None
     view = FloatView(raw, 1.0 / levels if a.dtype.kind == "u" else 1.0)
     return Planes(a, view, alpha, a.dtype, levels, grey)
 
@@ -106,20 +115,32 @@ def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarra
         return out
     x0, y0, x1, y1 = box
     c = _to_dtype(planes, crop)
-    if planes.grey:
+    if planes.grey and out.ndim == 2:
         out[y0:y1, x0:x1] = c[:, :, 0]
+    elif planes.grey:
+        out[y0:y1, x0:x1, 0] = c[:, :, 0]
     else:
         out[y0:y1, x0:x1, :3] = c
     return out
 
 
 def read_image(path) -> np.ndarray:
-    """Read an image file as an RGB/RGBA/grey array of its own dtype (uint8 or uint16)."""
+    """Read an image file as an upright RGB/RGBA/grey/grey+alpha array of its own dtype (uint8 or uint16)."""
+    return read_image_meta(path)[0]
+
+
+def read_image_meta(path):
+    """(pixels, :class:`io_meta.ImageMeta`) of an image file; the EXIF orientation is applied."""
     import cv2
 
-    from odnn_sep.io_utils import check_input_path
+    from odnn_sep.image.io_meta import apply_orientation, read_meta
+    from odnn_sep.io_utils import check_input_path, ensure_readable
 
     p = check_input_path(path, what="input image")
+    meta = read_meta(p)
+    if meta.frames > 1:
+        raise FormatError(f"input image {str(p)!r} is animated ({meta.frames} frames); extract the one frame "
+                          f"to process (e.g. as PNG) and pass that")
 
     def _read(q):
         data = np.fromfile(str(q), dtype=np.uint8)
@@ -128,8 +149,6 @@ def read_image(path) -> np.ndarray:
             raise ValueError("not a readable PNG/JPEG/TIFF/WebP/BMP image")
         return img
 
-    from odnn_sep.io_utils import ensure_readable
-
     img = ensure_readable(p, _read, what="input image")
     if img.size == 0:
         raise FormatError(f"input image {str(p)!r} is empty (no pixels)")
@@ -137,31 +156,68 @@ def read_image(path) -> np.ndarray:
         img = cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
     elif img.ndim == 3 and img.shape[2] == 4:
         img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGBA)
-    return img
+        if meta.mode in ("LA", "La") and np.array_equal(img[:, :, 0], img[:, :, 1]) \
+                and np.array_equal(img[:, :, 0], img[:, :, 2]):
+            img = np.ascontiguousarray(img[:, :, [0, 3]])  # grey+alpha stays grey+alpha
+    if meta.mode in ("P", "PA"):
+        log.warning("%s is a palette image: read as %s and written so (restored colours do not fit a palette)",
+                    p.name, "RGBA" if img.ndim == 3 and img.shape[2] == 4 else "RGB")
+    if meta.orientation != 1:
+        img = apply_orientation(img, meta.orientation)
+    return img, meta
 
 
-def write_image(path, image: np.ndarray, *inputs, jpeg_quality: int = 95) -> None:
-    """Write an RGB/RGBA/grey array atomically; the format follows the extension; never an input."""
+def _encode_grey_alpha(a: np.ndarray, suffix: str):
+    """Encoded bytes of a (H, W, 2) grey+alpha array: 8-bit PNG through Pillow; otherwise the array
+    expanded to RGBA (the OpenCV encoders have no two-channel mode), with a warning."""
+    if a.dtype == np.uint8 and suffix == ".png":
+        import io as _io
+
+        from PIL import Image
+
+        b = _io.BytesIO()
+        Image.fromarray(np.ascontiguousarray(a), "LA").save(b, format="PNG")
+        return b.getvalue(), None
+    log.warning("grey+alpha written as RGBA: the %s %d-bit encoder has no grey+alpha mode", suffix,
+                a.dtype.itemsize * 8)
+    return None, np.ascontiguousarray(a[:, :, [0, 0, 0, 1]])
+
+
+def write_image(path, image: np.ndarray, *inputs, jpeg_quality: int = 95, meta=None) -> None:
+    """Write an RGB/RGBA/grey/grey+alpha array atomically; the format follows the extension; never an
+    input. ``meta`` (from :func:`read_image_meta`): EXIF, ICC and PNG text written back where the format
+    holds them."""
     import cv2
 
+    from odnn_sep.image.io_meta import add_metadata
     from odnn_sep.io_utils import atomic_output, check_output_path
 
     out = Path(path)
-    if out.suffix.lower() not in EXTENSIONS:
+    suffix = out.suffix.lower()
+    if suffix not in EXTENSIONS:
         raise InputError(f"output {str(out)!r} must end in one of {', '.join(EXTENSIONS)}")
     check_output_path(out, *inputs)
     a = np.asarray(image)
-    if a.ndim == 3 and a.shape[2] == 3:
-        a = cv2.cvtColor(a, cv2.COLOR_RGB2BGR)
-    elif a.ndim == 3 and a.shape[2] == 4:
-        a = cv2.cvtColor(a, cv2.COLOR_RGBA2BGRA)
-    if a.dtype == np.uint16 and out.suffix.lower() in (".jpg", ".jpeg", ".webp", ".bmp"):
-        a = np.round(a / 257.0).astype(np.uint8)  # these formats hold 8 bits only
-    params = [cv2.IMWRITE_JPEG_QUALITY, int(jpeg_quality)] if out.suffix.lower() in (".jpg", ".jpeg") else []
-    if out.suffix.lower() == ".webp":
-        params = [cv2.IMWRITE_WEBP_QUALITY, 101]  # lossless
-    with atomic_output(out) as tmp:
-        ok, buf = cv2.imencode(out.suffix.lower(), a, params)
+    encoded = None
+    if a.ndim == 3 and a.shape[2] == 2:
+        encoded, a = _encode_grey_alpha(a, suffix)
+    if encoded is None:
+        if a.ndim == 3 and a.shape[2] == 4 and suffix in (".jpg", ".jpeg"):
+            log.warning("JPEG holds no alpha channel: the alpha channel is dropped from %s", out.name)
+            a = a[:, :, :3]
+        if a.ndim == 3 and a.shape[2] == 3:
+            a = cv2.cvtColor(a, cv2.COLOR_RGB2BGR)
+        elif a.ndim == 3 and a.shape[2] == 4:
+            a = cv2.cvtColor(a, cv2.COLOR_RGBA2BGRA)
+        if a.dtype == np.uint16 and suffix in (".jpg", ".jpeg", ".webp", ".bmp"):
+            a = np.round(a / 257.0).astype(np.uint8)  # these formats hold 8 bits only
+        params = [cv2.IMWRITE_JPEG_QUALITY, int(jpeg_quality)] if suffix in (".jpg", ".jpeg") else []
+        if suffix == ".webp":
+            params = [cv2.IMWRITE_WEBP_QUALITY, 101]  # lossless
+        ok, buf = cv2.imencode(suffix, a, params)
         if not ok:
             raise FormatError(f"could not encode the output image as {out.suffix}")
-        buf.tofile(str(tmp))
+        encoded = buf.tobytes()
+    encoded = add_metadata(encoded, suffix, meta)
+    with atomic_output(out) as tmp:
+        Path(tmp).write_bytes(encoded)

@@ -1,0 +1,129 @@
+"""What a photo file carries besides its pixels: EXIF (orientation), ICC profile, PNG text chunks.
+
+OpenCV decodes and encodes the pixels (fast, 16-bit) but ignores the EXIF orientation and drops
+the metadata. Pillow reads the metadata without decoding the pixels; on write the metadata are
+put back into OpenCV's encoded bytes (PNG chunks after IHDR, JPEG APP segments after SOI), so the
+pixel path stays the same for 8- and 16-bit images. EXIF is kept with its orientation reset to 1,
+because the pixels are written upright.
+"""
+from __future__ import annotations
+
+import dataclasses
+import logging
+import struct
+import zlib
+
+import numpy as np
+
+from odnn_sep.errors import FormatError
+
+log = logging.getLogger(__name__)
+
+ORIENTATION_TAG = 0x0112
+ICC_CHUNK = 65519  # ICC bytes per JPEG APP2 segment (64 KiB less the headers)
+
+
+@dataclasses.dataclass
+class ImageMeta:
+    """Metadata of a read image. ``exif``: TIFF-structure EXIF bytes with orientation reset to 1 (no
+    ``Exif\\0\\0`` header); ``icc``: ICC profile bytes; ``text``: PNG text chunks; ``orientation``:
+    the EXIF orientation that was applied on read (1 = none); ``mode``: Pillow's mode of the file."""
+
+    exif: bytes | None = None
+    icc: bytes | None = None
+    text: dict = dataclasses.field(default_factory=dict)
+    orientation: int = 1
+    mode: str = ""
+    frames: int = 1
+
+
+def read_meta(path) -> ImageMeta:
+    """The metadata of an image file (Pillow, pixels not decoded); an empty ``ImageMeta`` when
+    Pillow cannot open the file (OpenCV may still read its pixels)."""
+    try:
+        from PIL import Image, UnidentifiedImageError
+    except ImportError:  # pragma: no cover - Pillow ships with the image extra
+        return ImageMeta()
+    try:
+        with Image.open(path) as im:
+            meta = ImageMeta(mode=im.mode, frames=int(getattr(im, "n_frames", 1) or 1))
+            meta.icc = im.info.get("icc_profile") or None
+            meta.text = {str(k): str(v) for k, v in getattr(im, "text", {}).items()} if im.format == "PNG" else {}
+            exif = im.getexif()
+            if len(exif):
+                meta.orientation = int(exif.get(ORIENTATION_TAG, 1) or 1)
+                if meta.orientation not in range(1, 9):
+                    meta.orientation = 1
+                exif[ORIENTATION_TAG] = 1
+                b = exif.tobytes()
+                meta.exif = b[6:] if b.startswith(b"Exif\x00\x00") else b
+    except (UnidentifiedImageError, OSError, ValueError, SyntaxError) as exc:
+        log.debug("no metadata read from %s: %s", path, exc)
+        return ImageMeta()
+    return meta
+
+
+def apply_orientation(a: np.ndarray, orientation: int) -> np.ndarray:
+    """The pixels ``a`` (H, W[, C]) turned upright as EXIF ``orientation`` (1-8) says."""
+    ops = {1: lambda x: x, 2: lambda x: x[:, ::-1], 3: lambda x: x[::-1, ::-1], 4: lambda x: x[::-1],
+           5: lambda x: np.swapaxes(x, 0, 1), 6: lambda x: np.rot90(x, -1),
+           7: lambda x: np.rot90(x, 2).swapaxes(0, 1), 8: lambda x: np.rot90(x, 1)}
+    return np.ascontiguousarray(ops.get(int(orientation), ops[1])(a))
+
+
+def _png_chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+
+def _png_text(key: str, value: str) -> bytes:
+    """An iTXt chunk (UTF-8 text; keywords are 1-79 Latin-1 characters)."""
+    k = key.encode("latin-1", "replace")[:79] or b"Comment"
+    return _png_chunk(b"iTXt", k + b"\x00\x00\x00\x00\x00" + value.encode("utf-8"))
+
+
+def add_to_png(buf: bytes, meta: ImageMeta) -> bytes:
+    """PNG bytes with iCCP, eXIf and text chunks inserted after IHDR."""
+    if not buf.startswith(b"\x89PNG\r\n\x1a\n"):
+        raise FormatError("internal: the encoder did not return a PNG stream")
+    ihdr_end = 8 + 12 + struct.unpack(">I", buf[8:12])[0]
+    extra = b""
+    if meta.icc:
+        extra += _png_chunk(b"iCCP", b"ICC profile\x00\x00" + zlib.compress(meta.icc))
+    if meta.exif:
+        extra += _png_chunk(b"eXIf", meta.exif)
+    for k, v in meta.text.items():
+        extra += _png_text(k, v)
+    return buf[:ihdr_end] + extra + buf[ihdr_end:]
+
+
+def add_to_jpeg(buf: bytes, meta: ImageMeta) -> bytes:
+    """JPEG bytes with the EXIF (APP1) and ICC (APP2) segments inserted after SOI and JFIF."""
+    if not buf.startswith(b"\xff\xd8"):
+        raise FormatError("internal: the encoder did not return a JPEG stream")
+    pos = 2
+    if buf[2:4] == b"\xff\xe0":  # keep JFIF's APP0 first
+        pos = 4 + struct.unpack(">H", buf[4:6])[0]
+    segs = b""
+    if meta.exif and len(meta.exif) + 8 <= 65535:
+        segs += b"\xff\xe1" + struct.pack(">H", len(meta.exif) + 8) + b"Exif\x00\x00" + meta.exif
+    if meta.icc:
+        parts = [meta.icc[i:i + ICC_CHUNK] for i in range(0, len(meta.icc), ICC_CHUNK)]
+        if len(parts) <= 255:
+            for i, p in enumerate(parts):
+                body = b"ICC_PROFILE\x00" + bytes([i + 1, len(parts)]) + p
+                segs += b"\xff\xe2" + struct.pack(">H", len(body) + 2) + body
+    return buf[:pos] + segs + buf[pos:]
+
+
+def add_metadata(buf: bytes, suffix: str, meta: ImageMeta | None) -> bytes:
+    """Encoded image bytes with ``meta`` added where the format holds it (PNG, JPEG); other formats
+    are returned unchanged, with a warning if metadata are dropped."""
+    if meta is None or not (meta.exif or meta.icc or meta.text):
+        return buf
+    s = suffix.lower()
+    if s == ".png":
+        return add_to_png(buf, meta)
+    if s in (".jpg", ".jpeg"):
+        return add_to_jpeg(buf, meta)
+    log.warning("EXIF/ICC metadata are not written to %s files; write PNG or JPEG to keep them", s)
+    return buf

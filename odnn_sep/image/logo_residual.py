@@ -1,0 +1,46 @@
+"""What is left of a logo in the output: edge correlation with the registered logo, against chance.
+
+The output's gradient magnitude is correlated (Pearson, over the mark's box) with the edge map of
+the logo at its registered placement. Chance: the same correlation with the logo's edge map shifted
+circularly by a quarter to three quarters of the box (same edge statistics, wrong layout). The mark
+counts as still visible when the correlation exceeds the chance mean by ``VISIBLE_SD`` chance
+standard deviations and by at least ``VISIBLE_MIN`` in correlation.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+# Chosen on development seeds of recipes/bench_logo.py (outputs with the logo removed vs inputs).
+VISIBLE_SD = 4.0
+VISIBLE_MIN = 0.1
+N_CHANCE = 16
+
+
+def _corr(a: np.ndarray, b: np.ndarray) -> float:
+    a = a.ravel() - a.mean()
+    b = b.ravel() - b.mean()
+    return float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b) + 1e-12))
+
+
+def residual_mark(y: np.ndarray, out: np.ndarray, M: np.ndarray, L: np.ndarray, *, random_state=0) -> dict:
+    """Edge correlation of ``out`` (and of the input ``y``) with the logo placed as ``M``, ``L``.
+
+    All arrays cover the same box: ``y``, ``out`` (h, w, C) floats, ``M`` (h, w), ``L`` (h, w, C).
+    Returns a JSON-ready dict: ``score`` (output), ``input_score``, ``chance`` and ``chance_sd``,
+    ``z`` and ``visible``."""
+    from odnn_sep.image.logo_search import edges, logo_edges, luminance
+
+    T = logo_edges(M, L, 1.0)
+    E_out = edges(luminance(out), 1.0)
+    E_in = edges(luminance(y), 1.0)
+    h, w = T.shape
+    rng = np.random.default_rng(random_state)
+    chance = []
+    for _ in range(N_CHANCE):
+        dy, dx = int(rng.uniform(0.25, 0.75) * h), int(rng.uniform(0.25, 0.75) * w)
+        chance.append(_corr(np.roll(T, (dy, dx), axis=(0, 1)), E_out))
+    score, mean, sd = _corr(T, E_out), float(np.mean(chance)), float(np.std(chance) + 1e-6)
+    z = (score - mean) / sd
+    return {"score": round(score, 4), "input_score": round(_corr(T, E_in), 4), "chance": round(mean, 4),
+            "chance_sd": round(sd, 4), "z": round(z, 2),
+            "visible": bool(z > VISIBLE_SD and score - mean > VISIBLE_MIN)}

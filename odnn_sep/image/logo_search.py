@@ -1,0 +1,249 @@
+"""Where is the logo? Coarse-to-fine search over position, scale (0.25-4x) and rotation, single or tiled.
+
+A blended logo shows in the photo as edges: its outline (a step of ``alpha (L - I)``) and the colour
+edges inside it. Edge magnitudes do not depend on whether the mark is lighter or darker than the
+photo under it, so the photo's gradient magnitude is compared with the logo's. Coarse: on a reduced
+copy (longest side ``COARSE_PX``), the logo's edge map at every scale and angle of a grid is matched
+by FFT normalised cross-correlation (OpenCV ``matchTemplate``), edges blurred so that half a grid
+step still overlaps. Fine: the best few candidates are refined by Nelder-Mead on (x, y, scale,
+angle), maximising the correlation of edge maps in a crop, at up to ``FINE_PX`` and then at full
+resolution. Tiled copies: the peaks of the best template's correlation map near the best score.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.image.logo import Logo, Placement, render
+
+COARSE_PX = 320
+FINE_PX = 1024
+SCALE_STEP = 2 ** 0.25
+MIN_TEMPLATE_PX = 8
+# The coarse search of a scale runs on a finer copy when the logo's short side would be under this.
+MIN_SHORT_PX = 24
+# Local maxima kept per correlation map (the logo need not be any template's global maximum).
+PEAKS_PER_MAP = 3
+# Upper scale (px) of the band-pass applied before the gradient.
+BAND_SIGMA = 3.0
+# A tiled copy is a peak of the best template's correlation map at this share of the best peak.
+COPY_SHARE = 0.6
+
+
+def luminance(a: np.ndarray) -> np.ndarray:
+    """(h, w, C) float32 (colour kept: edges are summed over channels); (h, w) becomes (h, w, 1)."""
+    a = np.asarray(a, dtype=np.float32)
+    return a[:, :, None] if a.ndim == 2 else a
+
+
+def edges(img: np.ndarray, sigma: float) -> np.ndarray:
+    """Gradient magnitude after a Gaussian blur of ``sigma`` px, summed over channels (float32 (h, w))."""
+    import cv2
+
+    a = np.asarray(img, np.float32)
+    a = a[:, :, None] if a.ndim == 2 else a
+    out = np.zeros(a.shape[:2], np.float32)
+    for c in range(a.shape[2]):
+        g = cv2.GaussianBlur(np.ascontiguousarray(a[:, :, c]), (0, 0), sigma)
+        g -= cv2.GaussianBlur(g, (0, 0), BAND_SIGMA)  # band-pass: smooth photo shading is not a logo
+        out += cv2.magnitude(cv2.Sobel(g, cv2.CV_32F, 1, 0, ksize=3), cv2.Sobel(g, cv2.CV_32F, 0, 1, ksize=3))
+    return out
+
+
+def orientation(img: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """Doubled-angle gradient field (re, im) = |g| (cos 2t, sin 2t) of the band-passed image, summed
+    over channels: an edge's orientation without its sign (a mark lighter or darker than the photo
+    under it gives the same field), and photo edges of random orientation cancel in a correlation."""
+    import cv2
+
+    a = np.asarray(img, np.float32)
+    a = a[:, :, None] if a.ndim == 2 else a
+    re = np.zeros(a.shape[:2], np.float32)
+    im = np.zeros(a.shape[:2], np.float32)
+    for c in range(a.shape[2]):
+        g = cv2.GaussianBlur(np.ascontiguousarray(a[:, :, c]), (0, 0), sigma)
+        g -= cv2.GaussianBlur(g, (0, 0), BAND_SIGMA)
+        gx, gy = cv2.Sobel(g, cv2.CV_32F, 1, 0, ksize=3), cv2.Sobel(g, cv2.CV_32F, 0, 1, ksize=3)
+        mag = np.sqrt(gx * gx + gy * gy) + 1e-12
+        re += (gx * gx - gy * gy) / mag
+        im += 2 * gx * gy / mag
+    return re, im
+
+
+def logo_orientation(M: np.ndarray, L: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """Doubled-angle field of a placed logo: outline plus colour edges (as ``logo_edges``)."""
+    r1, i1 = orientation(M, sigma)
+    r2, i2 = orientation(M[:, :, None] * luminance(L), sigma)
+    k = 1.0 / max(1, luminance(L).shape[2])
+    return r1 + k * r2, i1 + k * i2
+
+
+def match_orientation(G, T) -> np.ndarray:
+    """Normalised correlation of template field T = (re, im) with image field G at every position:
+    Re(sum conj(T) G) / (|T| |G window|) (OpenCV's FFT correlation, window energy from a box sum)."""
+    import cv2
+
+    num = cv2.matchTemplate(G[0], T[0], cv2.TM_CCORR) + cv2.matchTemplate(G[1], T[1], cv2.TM_CCORR)
+    e = G[0] * G[0] + G[1] * G[1]
+    h, w = T[0].shape
+    win = cv2.boxFilter(e, -1, (w, h), anchor=(0, 0), normalize=False, borderType=cv2.BORDER_CONSTANT)
+    win = win[: num.shape[0], : num.shape[1]]
+    tn = float(np.sqrt(np.sum(T[0] ** 2 + T[1] ** 2)))
+    return num / (tn * np.sqrt(np.maximum(win, 1e-12)))
+
+
+def logo_edges(M: np.ndarray, L: np.ndarray, sigma: float) -> np.ndarray:
+    """Edge map of a placed logo: its outline (whatever the photo's colour under it) plus the edges of
+    its colours."""
+    return edges(M, sigma) + edges(M[:, :, None] * luminance(L), sigma) / max(1, luminance(L).shape[2])
+
+
+def _template(logo: Logo, scale: float, angle: float, sigma: float):
+    big = int(np.ceil(np.hypot(*logo.M.shape) * scale)) + 6
+    M, L, (bx, by, _, _) = render(logo, Placement(big / 2.0, big / 2.0, scale, angle), (big, big))
+    on = np.nonzero(M > 0.02)
+    if on[0].size == 0:
+        return None, (0, 0)
+    y0, y1, x0, x1 = on[0].min(), on[0].max() + 1, on[1].min(), on[1].max() + 1
+    pad = int(np.ceil(2 * sigma)) + 1
+    y0, x0 = max(0, y0 - pad), max(0, x0 - pad)
+    y1, x1 = min(M.shape[0], y1 + pad), min(M.shape[1], x1 + pad)
+    re, im = logo_orientation(M, L, sigma)
+    T = (np.ascontiguousarray(re[y0:y1, x0:x1]), np.ascontiguousarray(im[y0:y1, x0:x1]))
+    # the template's centre (the logo's centre, at big / 2 on the canvas) relative to its top-left corner
+    return T, (big / 2.0 - bx - x0, big / 2.0 - by - y0)
+
+
+def rank_z(v, R, T) -> float:
+    """The peak over its map's spread: fair to small templates, which correlate highly by chance."""
+    return (v - float(R.mean())) / (float(R.std()) + 1e-9)
+
+
+def rank_neff(v, R, T) -> float:
+    """The peak times the square root of the template's effective number of edge pixels: the z-score
+    of a correlation under random orientations; fair to large templates, whose maps are smooth."""
+    e = np.hypot(T[0], T[1]).ravel()
+    return v * float(np.sqrt(e.sum() ** 2 / max(float(e @ e), 1e-12)))
+
+
+def coarse(level, logo: Logo, f: float, scales, angle_range: float, sigma: float = 1.5, cap: float = 1.0):
+    """(rank_z, rank_neff, Placement in full-resolution coordinates, level) of the best position per
+    (scale, angle) of a grid. ``level(g)`` gives the photo reduced to ``g`` times full size; the search runs
+    at ``f`` unless the logo's short side would be under ``MIN_SHORT_PX`` there, then at 2f, 4f, ...
+    up to ``cap`` (a small logo's strokes vanish on the coarse copy). The two ranks favour small
+    and large templates respectively; candidates are taken from both."""
+
+    fields: dict = {}
+    out = []
+    r_logo = 0.5 * np.hypot(*logo.M.shape)
+    for s in scales:
+        fl = level_for(s, logo, f, cap)
+        if fl not in fields:
+            fields[fl] = orientation(level(fl), sigma)
+        E = fields[fl]
+        h, w = E[0].shape
+        sf = s * fl
+        r = r_logo * sf
+        if 2 * r < MIN_TEMPLATE_PX:
+            continue
+        step = float(np.clip(np.rad2deg(3.0 / max(r, 1.0)), 3.0, 10.0))
+        n = int(np.ceil(angle_range / step))
+        for a in (np.linspace(-angle_range, angle_range, 2 * n + 1) if angle_range > 0 else [0.0]):
+            T, (tx, ty) = _template(logo, sf, float(a), sigma)
+            if T is None or T[0].shape[0] >= h or T[0].shape[1] >= w or not np.any(T[0]):
+                continue
+            R = match_orientation(E, T)
+            for v, px, py in _peaks(R, PEAKS_PER_MAP, max(3, int(0.5 * min(T[0].shape)))):
+                out.append((rank_z(v, R, T), rank_neff(v, R, T),
+                            Placement((px + tx) / fl, (py + ty) / fl, float(s), float(a), float(v)), fl))
+    return out
+
+
+def _peaks(R: np.ndarray, n: int, sep: int):
+    """The ``n`` highest local maxima of ``R`` at least ``sep`` px apart, as (value, x, y)."""
+    import cv2
+
+    R = R.copy()
+    out = []
+    for _ in range(n):
+        _, v, _, (px, py) = cv2.minMaxLoc(R)
+        if not np.isfinite(v) or v <= 0:
+            break
+        out.append((float(v), px, py))
+        R[max(0, py - sep):py + sep + 1, max(0, px - sep):px + sep + 1] = -np.inf
+    return out
+
+
+def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, steps, maxiter: int = 200
+           ) -> Placement:
+    """Nelder-Mead on (x, y, log scale, angle) maximising the edge correlation in a crop of ``grey``
+    (the photo at ``g`` times full size); returns the placement in full-resolution coordinates."""
+    from scipy.optimize import minimize
+
+    H, W = grey.shape[:2]
+    half = 0.5 * np.hypot(*logo.M.shape) * p.scale * g * 1.15 + 6
+    x0, y0 = int(max(0, p.cx * g - half)), int(max(0, p.cy * g - half))
+    x1, y1 = int(min(W, p.cx * g + half + 1)), int(min(H, p.cy * g + half + 1))
+    E = edges(grey[y0:y1, x0:x1], sigma)
+
+    def ncc(v):
+        q = Placement(v[0], v[1], float(np.exp(v[2])), v[3])
+        M, L, (a0, b0, a1, b1) = render(logo, q, E.shape)
+        if M.size == 0 or M.max() < 0.1:
+            return 1.0
+        T = logo_edges(M, L, sigma).ravel()
+        e = E[b0:b1, a0:a1].ravel()
+        T, e = T - T.mean(), e - e.mean()
+        return -float(T @ e / (np.linalg.norm(T) * np.linalg.norm(e) + 1e-12))
+
+    v0 = np.array([p.cx * g - x0, p.cy * g - y0, np.log(p.scale * g), p.angle])
+    simplex = [v0] + [v0 + np.eye(4)[i] * steps[i] for i in range(4)]
+    res = minimize(ncc, v0, method="Nelder-Mead",
+                   options={"initial_simplex": np.array(simplex), "xatol": 0.02, "fatol": 1e-5, "maxiter": maxiter})
+    v = res.x
+    return Placement((v[0] + x0) / g, (v[1] + y0) / g, float(np.exp(v[2]) / g), float(v[3]), -float(res.fun))
+
+
+def level_for(scale: float, logo: Logo, f: float, cap: float = 1.0) -> float:
+    """The pyramid level (times full size) the coarse search uses for a scale: ``f``, or finer (up to
+    ``cap``) for a logo whose short side would be under ``MIN_SHORT_PX`` there."""
+    fl, short = f, min(logo.M.shape)
+    while scale * fl * short < MIN_SHORT_PX and fl < cap:
+        fl = min(cap, 2 * fl)
+    return fl
+
+
+def copies(level, logo: Logo, best: Placement, f: float, max_copies: int, sigma: float = 1.5, cap: float = 1.0):
+    """Other copies of the best template (same scale and angle): peaks of its correlation map at its
+    pyramid level at ``COPY_SHARE`` of the best peak, at least half a logo apart; full-resolution
+    centres."""
+    import cv2
+
+    f = level_for(best.scale, logo, f, cap)
+    T, (tx, ty) = _template(logo, best.scale * f, best.angle, sigma)
+    E = orientation(level(f), sigma)
+    if T is None or T[0].shape[0] >= E[0].shape[0] or T[0].shape[1] >= E[0].shape[1]:
+        return []
+    T0 = T[0]
+    R = match_orientation(E, T)
+    top = float(R.max())
+    k = max(3, int(0.5 * min(T0.shape)) | 1)
+    peaks = (R >= cv2.dilate(R, np.ones((k, k), np.uint8))) & (R >= COPY_SHARE * top)
+    py, px = np.nonzero(peaks)
+    order = np.argsort(-R[py, px])[: 4 * max_copies]
+    out: list[Placement] = []
+    for i in order:
+        c = Placement((px[i] + tx) / f, (py[i] + ty) / f, best.scale, best.angle, float(R[py[i], px[i]]))
+        if all(np.hypot(c.cx - o.cx, c.cy - o.cy) > 0.5 * min(T0.shape) / f for o in out):
+            out.append(c)
+        if len(out) >= max_copies:
+            break
+    return out
+
+
+def scale_grid(logo: Logo, shape, lo: float = 0.25, hi: float = 4.0) -> list[float]:
+    """Scales from ``lo`` to ``hi`` (geometric, ``SCALE_STEP``) at which the logo fits in the photo."""
+    H, W = shape
+    h, w = logo.M.shape
+    n = int(np.floor(np.log(hi / lo) / np.log(SCALE_STEP) + 1e-9)) + 1
+    s = lo * SCALE_STEP ** np.arange(n)
+    return [float(v) for v in s if v * max(h, w) <= max(H, W) and v * min(h, w) <= min(H, W)]

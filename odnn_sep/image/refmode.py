@@ -1,0 +1,278 @@
+"""Reference-image (logo) mode of ``unwatermark``: find the user's logo, fit its opacity, undo the blend.
+
+The blend is ``y = (1 - alpha M) I + alpha M L``. For a one-colour logo, ``L`` is a colour fitted as
+in text mode (``estimate.fit_blend``: the photo a plane per edge patch, projected out). For a logo
+with several colours, ``L`` is the logo's own colours and only ``alpha`` is fitted, by the same
+likelihood of the restored photo (``ColouredProfile``). The logo counts as found when the blend
+predicts the edge patches out of sample (``detect.detection_score``: the opacity fitted on one half
+of the mark predicts the other half) with a score of at least ``MIN_SCORE``; then the blend is
+inverted and only pixels whose information is gone are inpainted. What is left of the mark in the
+output is measured by ``residual.residual_mark``.
+"""
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+
+from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.image.logo import Placement, prepare_logo, render
+
+log = logging.getLogger(__name__)
+
+# Found: the held-out detection score (``detect.detection_score``, or ``coloured_detection_score``)
+# reaches this (chosen on development seeds of recipes/bench_logo.py: clean photos searched for
+# absent logos vs watermarked ones).
+MIN_SCORE = 0.19
+# Coarse matches refined and judged by the blend model, per level of the pyramid (half by each rank).
+N_CANDIDATES = 6
+
+
+class ColouredProfile:
+    """Negative log-likelihood(alpha) of the restored photo for a logo of known colours ``L``: the
+    patches ``(y - alpha M L) / (1 - alpha M)`` with a plane per patch projected out (``plane_rss``),
+    plus the change of variables ``sum log(1 - alpha M)`` (as ``profile.PhotoProfile``)."""
+
+    def __init__(self, Yp, Mp, Lp, Phi):
+        self.Yp, self.Mp, self.MLp = Yp, Mp, Mp[:, :, None] * Lp
+        self.Q = np.linalg.qr(Phi)[0]
+        self.k = Phi.shape[1]
+
+    def rss(self, alpha: float) -> np.ndarray:
+        from odnn_sep.image.profile import plane_rss
+
+        u = 1.0 - alpha * self.Mp
+        return plane_rss((self.Yp - alpha * self.MLp) / u[:, :, None], self.Q)
+
+    def __call__(self, alpha: float) -> float:
+        C = self.Yp.shape[2]
+        n_eff = len(self.Mp) * (self.Mp.shape[1] - self.k) * C
+        rss = float(np.sum(self.rss(alpha)))
+        return 0.5 * n_eff * np.log(max(rss, 1e-300) / n_eff) + C * float(np.sum(np.log(1.0 - alpha * self.Mp)))
+
+
+def fit_coloured(y, M, L, *, patch: int = 8, random_state=0) -> tuple[float, float]:
+    """(alpha, explained) of a logo with its own colours ``L`` (h, w, C) and coverage ``M`` in crop ``y``."""
+    from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, take_patches
+    from odnn_sep.image.profile import DataProfile, design, plane_rss
+
+    py, px, ps = patch_grid(M, patch, 800, np.random.default_rng(random_state))
+    Yp, Mp, Lp = take_patches(y, py, px, ps), take_patches(M, py, px, ps)[:, :, 0], take_patches(L, py, px, ps)
+    Yp, Mp, Lp = drop_clipped(Yp, Mp, Lp)
+    if len(Mp) < 4:
+        raise NotIdentifiableError("the logo has too few sharp edges inside the photo to fit its opacity")
+    Phi = design(ps, 1)
+    prof = ColouredProfile(Yp, Mp, Lp, Phi)
+    alpha = float(minimise_profile(prof, 0.995, 17, 1e-5).x)
+    rss0 = plane_rss(Yp, prof.Q)
+    # image-domain residual of the mark model at that alpha: y - alpha M L = P (1 - alpha M)
+    rss1 = DataProfile(Yp - alpha * prof.MLp, Mp, Phi).parts(alpha, np.zeros(Yp.shape[2]))[1]
+    return alpha, max(0.0, 1.0 - float(np.sum(rss1)) / max(float(np.sum(rss0)), 1e-300))
+
+
+def coloured_detection_score(y, M, L, *, random_state=0) -> float:
+    """``detect.detection_score`` for a logo of known colours: the opacity fitted on one half of the
+    edge patches (along the mark's principal axis) predicts the other half; the score is the mean
+    clipped log-ratio of photo-only to predicted residual, discounted for few patches."""
+    from odnn_sep.image.detect import CLIP, FULL_WEIGHT_PATCHES
+    from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, stroke_width, take_patches
+    from odnn_sep.image.profile import DataProfile, design, plane_rss
+
+    patch = int(np.clip(round(2.5 * stroke_width(M) + 4), 8, 32))
+    n_max = int(np.clip(150_000 // patch**2, FULL_WEIGHT_PATCHES, 600))
+    py, px, ps = patch_grid(M, patch, n_max, np.random.default_rng(random_state))
+    Yp, Mp, Lp = take_patches(y, py, px, ps), take_patches(M, py, px, ps)[:, :, 0], take_patches(L, py, px, ps)
+    Yp, Mp, Lp, py, px = drop_clipped(Yp, Mp, Lp, py, px)
+    yy, xx = np.nonzero(M > 0.5)
+    if len(Mp) < 4 or len(yy) < 2:
+        return 0.0
+    Phi = design(ps, 1)
+    prof = ColouredProfile(Yp, Mp, Lp, Phi)
+    rss0 = plane_rss(Yp, prof.Q)
+    d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
+    pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]
+    low = pos <= np.median(pos)
+    if low.sum() < 2 or (~low).sum() < 2:
+        return 0.0
+    rss1 = np.empty_like(rss0)
+    for fit_on in (low, ~low):
+        a = float(minimise_profile(ColouredProfile(Yp[fit_on], Mp[fit_on], Lp[fit_on], Phi), 0.995, 9, 1e-3).x)
+        other = ~fit_on
+        # image-domain residual of the other half under that opacity: y - a M L = P (1 - a M)
+        rss1[other] = DataProfile(Yp[other] - a * prof.MLp[other], Mp[other], Phi).parts(a, np.zeros(Yp.shape[2]))[1]
+    votes = np.clip(np.log((rss0 + 1e-12) / (rss1 + 1e-12)), -CLIP, CLIP)
+    return float(np.mean(votes) * min(1.0, np.sqrt(len(votes) / FULL_WEIGHT_PATCHES)))
+
+
+def _fit(crop, M, L, coloured, random_state):
+    """(alpha, colour (C,) or None for the logo's own colours, explained)."""
+    from odnn_sep.image.estimate import fit_blend
+
+    if coloured:
+        a, e = fit_coloured(crop, M, L, random_state=random_state)
+        return a, None, e
+    f = fit_blend(crop, M, random_state=random_state)
+    return f.alpha, f.color, f.explained
+
+
+def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Placement, float]]:
+    """Placements of the logo in ``y`` (float array or ``io.FloatView``) with ``judge(placement)``
+    (the blend's explained share), best first. The best ``N_CANDIDATES`` distinct coarse matches are
+    refined and judged by the blend model, not by the edge correlation alone (small templates reach
+    high correlations by chance); tiled copies of the winner are refined and judged too."""
+    from odnn_sep.image import logo_search as ls
+
+    H, W = y.shape[:2]
+    f = min(1.0, ls.COARSE_PX / max(H, W))
+
+    def level(g):
+        if g >= 1.0 and hasattr(y, "full"):
+            return ls.luminance(y.full())
+        return ls.luminance(y.reduced(max(1, round(W * g)), max(1, round(H * g))) if hasattr(y, "reduced")
+                            else _resize(y, g))
+
+    g = min(1.0, ls.FINE_PX / max(H, W))
+    # on a large photo the search looks no finer than the refinement level (FINE_PX)
+    cands = ls.coarse(level, logo, f, ls.scale_grid(logo, (H, W)), angle_range, cap=g)
+    grey_g = level(g)
+    picked: list[Placement] = []
+    for lv in sorted({c[3] for c in cands}):  # ranks compare within a level of the pyramid only
+        for col in (0, 1):  # the best distinct matches under each ranking
+            n = 0
+            for c in sorted((c for c in cands if c[3] == lv), key=lambda t: -t[col]):
+                p = c[2]
+                if n >= N_CANDIDATES // 2:
+                    break
+                if all(np.hypot(p.cx - q.cx, p.cy - q.cy) > 6 / f or abs(np.log(p.scale / q.scale)) > 0.3
+                       for q in picked):
+                    picked.append(p)
+                    n += 1
+    judged = []
+    for p in picked:
+        r = ls.refine(grey_g, logo, p, g, 1.0, (0.6 * g / f, 0.6 * g / f, 0.06, 3.0))
+        judged.append((r, judge(r)))
+    if not judged:
+        return []
+    judged.sort(key=lambda t: -t[1])
+    if g < 1.0:  # a last refinement at full resolution, in a crop around the mark
+        q = _refine_full(y, logo, judged[0][0])
+        judged[0] = (q, judge(q))
+    best = judged[0][0]
+    out = [judged[0]]
+    if max_copies > 1:
+        fl = ls.level_for(best.scale, logo, f, g)
+        for c in ls.copies(level, logo, best, f, 4 * max_copies, cap=g):
+            if len(out) >= max_copies:
+                break
+            if all(np.hypot(c.cx - o.cx, c.cy - o.cy) > 0.5 * min(logo.M.shape) * best.scale for o, _ in out):
+                # same scale and angle as the best copy: a short refinement of the position
+                c = Placement(c.cx, c.cy, best.scale, best.angle, c.score)
+                r = ls.refine(grey_g, logo, c, g, 1.0, (0.6 * g / fl, 0.6 * g / fl, 0.01, 0.5), maxiter=80)
+                out.append((r, judge(r)))
+    return out
+
+
+def _refine_full(y, logo, p: Placement) -> Placement:
+    """``p`` refined on the full-resolution crop around it (a placement from a reduced copy is off by
+    a fraction of its pixels, which the blend inversion shows)."""
+    from odnn_sep.image import logo_search as ls
+
+    H, W = y.shape[:2]
+    half = 0.5 * np.hypot(*logo.M.shape) * p.scale * 1.15 + 8
+    x0, y0 = int(max(0, p.cx - half)), int(max(0, p.cy - half))
+    x1, y1 = int(min(W, p.cx + half + 1)), int(min(H, p.cy + half + 1))
+    grey = ls.luminance(y[y0:y1, x0:x1])
+    q = ls.refine(grey, logo, Placement(p.cx - x0, p.cy - y0, p.scale, p.angle), 1.0, 1.0, (0.7, 0.7, 0.01, 0.5),
+                  maxiter=120)
+    return Placement(q.cx + x0, q.cy + y0, q.scale, q.angle, q.score)
+
+
+def _resize(y, f):
+    import cv2
+
+    a = np.asarray(y, np.float32)
+    r = cv2.resize(a, (max(1, round(a.shape[1] * f)), max(1, round(a.shape[0] * f))), interpolation=cv2.INTER_AREA)
+    return r[:, :, None] if r.ndim == 2 else r
+
+
+def place_all(logo, placements, shape):
+    """(M (H, W), L (H, W, C)) of all placements (overlaps: the larger coverage wins)."""
+    H, W = shape
+    M = np.zeros((H, W))
+    L = np.zeros((H, W, logo.L.shape[2]))
+    for p in placements:
+        m, lc, (x0, y0, x1, y1) = render(logo, p, (H, W))
+        if m.size == 0:
+            continue
+        sub = M[y0:y1, x0:x1]
+        take = m > sub
+        sub[take] = m[take]
+        L[y0:y1, x0:x1][take] = lc[take]
+    return M, L
+
+
+def reference_mode(image, reference, *, angle_range: float = 45.0, max_copies: int = 64,
+                   min_score: float | None = None, inpaint_lost: bool = True, random_state=0):
+    """Find the logo ``reference`` in ``image`` and remove it; see ``api.unwatermark``.
+
+    Returns an ``api.UnwatermarkResult``; its report has ``residual_mark`` (``residual.residual_mark``)."""
+    from odnn_sep.image.api import UnwatermarkResult, _color_report
+    from odnn_sep.image.estimate import invert
+    from odnn_sep.image.io import paste, split
+    from odnn_sep.image.logo_residual import residual_mark
+
+    t0 = time.perf_counter()
+    min_score = MIN_SCORE if min_score is None else float(min_score)
+    planes = split(image)
+    y = planes.view
+    H, W, C = y.shape
+    logo = prepare_logo(reference, (H, W), C)
+    fits: dict = {}
+
+    def judge(p):
+        from odnn_sep.image.detect import detection_score
+
+        m, lc, (x0, y0, x1, y1) = render(logo, p, (H, W))
+        if m.size == 0:
+            fits[p] = 0.0
+            return 0.0
+        crop = y[y0:y1, x0:x1]
+        fits[p] = (coloured_detection_score(crop, m, lc, random_state=random_state) if logo.coloured
+                   else detection_score(crop, m, random_state=random_state))
+        return fits[p]
+
+    found = locate(y, logo, angle_range, max_copies, judge)
+    best_score = found[0][1] if found else 0.0
+    kept = [p for p, e in found if e >= min_score]
+    if not kept:
+        raise InputError(f"logo not found in the image (best match score {best_score:.3f}, needs >= {min_score:g}); "
+                         f"check --reference or give --mask")
+    M, L = place_all(logo, kept, (H, W))
+    ys, xs = np.nonzero(M > 0)
+    b = (max(0, xs.min() - 4), max(0, ys.min() - 4), min(W, xs.max() + 5), min(H, ys.max() + 5))
+    yc, Mc, Lc = y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], L[b[1]:b[3], b[0]:b[2]]
+    alpha, colour, explained = _fit(yc, Mc, Lc, logo.coloured, random_state)
+    if colour is None:  # the logo's own colours: y' = y - alpha M (L - c0) is a one-colour blend with c0
+        c0 = np.full(C, 0.5)
+        o, lost = invert(yc - alpha * Mc[:, :, None] * (Lc - c0), Mc, alpha, c0, levels=planes.levels,
+                         inpaint=inpaint_lost)
+        w = (Mc > 0.5)[:, :, None]
+        colour = (Lc * w).sum(axis=(0, 1)) / max(1, int(w.sum()))
+    else:
+        o, lost = invert(yc, Mc, alpha, colour, levels=planes.levels, inpaint=inpaint_lost)
+    restored = paste(planes, o, b)
+    lost_full = np.zeros((H, W), bool)
+    lost_full[b[1]:b[3], b[0]:b[2]] = lost
+    resid = residual_mark(yc, o, Mc, Lc)
+    report = {"mode": "reference", "image_size": [W, H], "channels": C + (1 if planes.alpha is not None else 0),
+              "bit_depth": int(planes.dtype.itemsize * 8), "bbox": [int(v) for v in b],
+              "logo_colours": "own" if logo.coloured else "fitted", "logo_alpha_channel": logo.has_alpha,
+              "score": round(float(best_score), 4), "explained": round(float(explained), 4),
+              "marks": [{"center": [round(p.cx, 2), round(p.cy, 2)], "scale": round(p.scale, 4),
+                         "angle_deg": round(p.angle, 2), "edge_ncc": round(p.score, 4),
+                         "score": round(float(fits[p]), 4)} for p in kept],
+              "alpha": round(float(alpha), 5), **_color_report(colour, planes),
+              "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost_full.sum()),
+              "residual_mark": resid, "runtime_s": round(time.perf_counter() - t0, 3)}
+    return UnwatermarkResult(restored, float(alpha), np.asarray(colour), M.astype(np.float32), lost_full, report)
