@@ -36,7 +36,7 @@ def identify(kind: str, seeds, *, snr_db: float, epochs: int, size: dict) -> dic
     from odnn_sep.core.baselines import ols, pinn_penalty, regular_dnn
     from odnn_sep.signals import make_dataset
 
-    out = {m: [] for m in ("odnn", "ols", "regular_dnn", "pinn_penalty")}
+    out = {m: [] for m in ("odnn", "ols", "regular_dnn", "pinn_penalty", "tau")}
     for s in seeds:
         ds = make_dataset("humanoid", disturbance=kind, snr_db=snr_db, random_state=s, **size)
         pr = ds.problem
@@ -45,6 +45,7 @@ def identify(kind: str, seeds, *, snr_db: float, epochs: int, size: dict) -> dic
             warnings.simplefilter("ignore")
             r = Separator(pr.basis, disturbance=pr.disturbance).fit(pr.x, pr.y).result_
         out["odnn"].append(mape(r.theta, th))
+        out["tau"].append(ranking(ds, r.theta))
         F = pr.design()
         out["ols"].append(mape(ols(F, pr.y), th))
         xin = np.c_[ds.z_after, pr.x / pr.x.max()]
@@ -54,19 +55,12 @@ def identify(kind: str, seeds, *, snr_db: float, epochs: int, size: dict) -> dic
     return out
 
 
-def ranking(kind: str, seed: int, *, snr_db: float, size: dict) -> tuple[float, float, int]:
+def ranking(ds, theta_hat) -> tuple[float, float]:
     """Kendall tau of the policy ranking by corrupted and by cleaned return against the true return."""
     from scipy.stats import kendalltau
 
-    from odnn_sep.core import Separator
-    from odnn_sep.signals import make_dataset
-
-    ds = make_dataset("humanoid", disturbance=kind, snr_db=snr_db, random_state=seed, **size)
     pr = ds.problem
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        r = Separator(pr.basis, disturbance=pr.disturbance).fit(pr.x, pr.y).result_
-    cleaned = pr.design() @ r.theta
+    cleaned = pr.design() @ theta_hat
     k = len(ds.policy_names)
 
     def per_policy(rew):
@@ -74,7 +68,7 @@ def ranking(kind: str, seed: int, *, snr_db: float, size: dict) -> tuple[float, 
 
     true = per_policy(pr.physics)
     return (float(kendalltau(true, per_policy(pr.y)).statistic),
-            float(kendalltau(true, per_policy(cleaned)).statistic), k)
+            float(kendalltau(true, per_policy(cleaned)).statistic))
 
 
 def policy_search(seed: int, *, iters: int, pop: int, steps: int, snr_db: float, size: dict) -> dict:
@@ -135,7 +129,6 @@ def main(argv=None) -> int:
     epochs = 20 if q else 500
     t0 = time.time()
     ident = {k: identify(k, seeds, snr_db=args.snr_db, epochs=epochs, size=size) for k in KINDS}
-    ranks = {k: [ranking(k, s, snr_db=args.snr_db, size=size) for s in seeds] for k in KINDS}
     search = policy_search(100, iters=2 if q else 6, pop=4 if q else 12, steps=30 if q else 80,
                            snr_db=args.snr_db, size=size)
     from _bench_md import md_table, write_section
@@ -143,8 +136,8 @@ def main(argv=None) -> int:
     rows = []
     for k in KINDS:
         e = ident[k]
-        tc = [r[0] for r in ranks[k]]
-        tl = [r[1] for r in ranks[k]]
+        tc = [r[0] for r in e["tau"]]
+        tl = [r[1] for r in e["tau"]]
         met = "met" if max(e["odnn"]) <= TARGET else "not met"
         rows.append([k, len(seeds), med_worst(e["odnn"]), f"{met} (worst {max(e['odnn']):.3g})",
                      med_worst(e["ols"]), med_worst(e["regular_dnn"]), med_worst(e["pinn_penalty"]),

@@ -19,13 +19,15 @@ POINT_WIDTH = 0.05
 
 @dataclass(frozen=True)
 class GridFit:
-    """Per-coefficient estimates for every usable bus row.
+    """Estimates for every candidate line quantity (G and B of each measured pair, i < k).
 
-    ``table`` rows: (name, bus i, bus k, true value, estimate, lo, hi, line present, point-identified).
+    ``table`` rows: (name, bus i, bus k, true value, estimate, lo, hi, line present, point-identified),
+    both ends combined (:func:`combine_ends`); ``per_row`` holds the single-equation rows.
     """
 
     table: tuple
     seconds: float
+    per_row: tuple = ()
 
     def lines_found(self) -> set:
         """Candidate pairs (i, k) whose G or B interval excludes zero."""
@@ -34,6 +36,12 @@ class GridFit:
             if not lo <= 0 <= hi:
                 out.add((i, k))
         return out
+
+    def topology_errors(self) -> list:
+        """Candidate pairs reported wrongly: (i, k, truly present)."""
+        pairs = {(i, k): present for _n, i, k, _t, _e, _lo, _hi, present, _pt in self.table}
+        found = self.lines_found()
+        return [(i, k, p) for (i, k), p in sorted(pairs.items()) if ((i, k) in found) != p]
 
     def topology_exact(self) -> bool:
         """Every true line found, no absent candidate reported."""
@@ -57,6 +65,30 @@ class GridFit:
         """Numbers of true-line coefficients that are point- and set-identified."""
         true = [r for r in self.table if r[7] and abs(r[3]) > 0]
         return {"point": sum(r[8] for r in true), "set": sum(not r[8] for r in true)}
+
+
+def combine_ends(table) -> tuple:
+    """One row per line quantity: the two bus equations of a line (i, k) both constrain G_ik = G_ki and
+    B_ik = B_ki, so the identified set is the **intersection** of their intervals (centre reported).
+
+    Where the two intervals do not overlap (noise), the hull between them is kept and the estimate is
+    the mean of the two. Rows: (name, i, k, true, estimate, lo, hi, present, point-identified).
+    """
+    by_key = {}
+    for name, i, k, t, e, lo, hi, present, _pt in table:
+        by_key.setdefault((name[0], min(i, k), max(i, k)), []).append((t, e, lo, hi, present))
+    out = []
+    for (q, i, k), ends in sorted(by_key.items()):
+        t, present = ends[0][0], ends[0][4]
+        lo, hi = max(x[2] for x in ends), min(x[3] for x in ends)
+        if lo <= hi:
+            est = 0.5 * (lo + hi) if np.isfinite(lo) and np.isfinite(hi) else float(np.mean([x[1] for x in ends]))
+        else:
+            lo, hi = hi, lo
+            est = float(np.mean([x[1] for x in ends]))
+        width = (hi - lo) / max(abs(est), 1e-300)
+        out.append((f"{q}[{i}-{k}]", i, k, t, est, lo, hi, present, bool(np.isfinite(width) and width <= POINT_WIDTH)))
+    return tuple(out)
 
 
 def _parse(name: str) -> tuple[int, int]:
@@ -95,4 +127,4 @@ def identify_grid(ds, *, solver: str = "exact", random_state: int = 0) -> GridFi
             width = (hi - lo) / max(abs(est), 1e-300)
             rows.append((name, i, k, float(pr.theta_true[name]), float(est), float(lo), float(hi), k in lines,
                          bool(np.isfinite(width) and width <= POINT_WIDTH)))
-    return GridFit(table=tuple(rows), seconds=time.perf_counter() - t0)
+    return GridFit(table=combine_ends(rows), seconds=time.perf_counter() - t0, per_row=tuple(rows))
