@@ -8,7 +8,8 @@ input v_i) and a PINN-style penalty on the same columns.
 
 Reported per case: MAPE on the point-identified coefficients of true lines (interval narrower than
 5 % of the value) and on all true-line coefficients, how many are point-/set-identified, whether the
-topology (every candidate pair: present iff an interval excludes zero) is exact, median and worst draw.
+topology (every candidate pair: present iff an interval excludes zero, Bonferroni over the
+candidates) is exact, median and worst draw.
 
 Run ``python recipes/power_grid.py`` (writes BENCHMARKS.md and docs/power_grid.png) or ``--quick``.
 """

@@ -30,10 +30,22 @@ class GridFit:
     per_row: tuple = ()
 
     def lines_found(self) -> set:
-        """Candidate pairs (i, k) whose G or B interval excludes zero."""
+        """Candidate pairs (i, k) whose G or B interval, at a family-wise 5 % level, excludes zero.
+
+        Every candidate pair is a test; with m pairs, chance alone would put some 95 % intervals of
+        absent lines off zero, so the intervals are widened about their centres by
+        ``z(1 - 0.025 / m) / z(0.975)`` (Bonferroni).
+        """
+        from scipy.stats import norm
+
+        m = max(len({(r[1], r[2]) for r in self.table}), 1)
+        factor = float(norm.ppf(1 - 0.025 / m) / norm.ppf(0.975))
         out = set()
         for _name, i, k, _t, _e, lo, hi, _present, _pt in self.table:
-            if not lo <= 0 <= hi:
+            if not (np.isfinite(lo) and np.isfinite(hi)):
+                continue
+            c, h = 0.5 * (lo + hi), 0.5 * (hi - lo) * factor
+            if not c - h <= 0 <= c + h:
                 out.add((i, k))
         return out
 
