@@ -21,7 +21,7 @@ The recorded reward is corrupted by a disturbance a user would meet:
 Contrast: the physics column is a *change* of height between consecutive frames (and the action
 energy); the disturbances are smooth functions of the height, of the time, or periodic in time.
 Each class is a linear subspace (``Subspace``): Legendre polynomials of z_after up to degree 9
-(sin z is inside to ~1e-9 on the reachable range), of time up to degree 5, and the indicator
+(sin z is inside to better than 1e-6 of its size on the reachable range), of time up to degree 5, and the indicator
 columns of the calibration phase. Subspace classes **point-identify** the coefficients.
 
 Noise: white Gaussian on the recorded reward at ``snr_db`` relative to the true reward's power.
