@@ -141,6 +141,52 @@ def figure(ds, fit, path: Path) -> None:
     plt.close(fig)
 
 
+def line_table(ds, fit) -> str:
+    """Markdown: every candidate line quantity of one draw with truth, estimate, interval and status."""
+    from _bench_md import md_table
+
+    rows = []
+    for name, i, k, t, e, lo, hi, present, pt in fit.table:
+        found = (i, k) in fit.lines_found()
+        status = "point" if pt else ("set" if np.isfinite(lo) and np.isfinite(hi) else "unbounded")
+        err = f"{abs(e - t) / abs(t) * 100:.3g}" if present and abs(t) > 0 else "—"
+        rows.append([name, "line" if present else "absent", f"{t:.4g}", f"{e:.4g}", f"[{lo:.4g}, {hi:.4g}]",
+                     status, err, "yes" if found else "no"])
+    why = ", ".join(f"bus {b}: {r}" for b, r in ds.excluded.items())
+    units = ", ".join(f"{b}: {u['kind']}" for b, u in sorted(ds.btm.items()))
+    return (md_table(["quantity", "truth", "true value", "estimate", "identified interval", "identified",
+                      "error %", "reported as line"], rows)
+            + f"\nBuses without a usable equation: {why}. Behind-the-meter units: {units}.\n")
+
+
+def lines_main(seed: int, snapshots: int, snr_db: float, write: bool) -> int:
+    """One case14 draw, every candidate listed (own BENCHMARKS section)."""
+    from _bench_md import write_section
+
+    from odnn_sep.signals import make_dataset
+    from odnn_sep.signals.grid_identify import identify_grid
+
+    ds = make_dataset("power_grid", case="case14", snapshots=snapshots, snr_db=snr_db, random_state=seed)
+    fit = identify_grid(ds, random_state=seed)
+    body = line_table(ds, fit) + LINES_NOTES
+    print(body)
+    if write:
+        write_section("power_grid_lines", "Power grid: every candidate line of one case14 draw",
+                      f"python recipes/power_grid.py --lines {seed}", body)
+    return 0
+
+
+LINES_NOTES = """
+"identified": point = identified interval narrower than 5 % of the estimate; set = a wider interval (the
+convex class, or the noise, leaves a range of values that fit); unbounded = the class cannot bound it.
+Both ends of a line are combined by intersecting their intervals. Conductances G of this transmission
+case are small next to the susceptances and their columns (v_i v_k cos δ_ik − v_i²) vary slowly and
+smoothly with v_i, so a convex function of v_i imitates part of them: they are set-identified. The
+susceptance columns follow the angles, which a function of v_i cannot follow: point-identified.
+Transformer branches have G = 0 (no resistance in case14) but B ≠ 0.
+"""
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="one small draw, short training (for tests)")
@@ -149,7 +195,10 @@ def main(argv=None) -> int:
     ap.add_argument("--snr-db", type=float, default=60.0, help="metered-power-to-noise ratio (dB)")
     ap.add_argument("--cases", default="case14,case33bw", help="comma-separated pandapower cases")
     ap.add_argument("--no-write", action="store_true", help="print only")
+    ap.add_argument("--lines", type=int, metavar="SEED", help="only list every candidate line of one case14 draw")
     args = ap.parse_args(argv)
+    if args.lines is not None:
+        return lines_main(args.lines, args.snapshots, args.snr_db, not args.no_write)
     import torch
 
     torch.set_num_threads(1)
