@@ -47,6 +47,6 @@ def system_row(name: str, *, quick: bool, snr_db: float) -> list:
     r = hu.identify("sin", [100] if quick else list(range(100, 105)), snr_db=snr_db, epochs=20 if quick else 500,
                     size=size)
     target = f"{'met' if np.mean(r['odnn']) <= half else 'not met'} ({np.mean(r['odnn']):.3g} vs {half:.3g})"
-    return ["humanoid (sin z)", "Subspace (functions of z_after)", _fmt(r["odnn"]), "—", "—", _fmt(r["regular_dnn"]),
+    return ["humanoid (sin z)", "Subspace (functions of z_after)", _fmt(r["odnn"]), f"{np.mean(r['bound']):.3g}", "—", _fmt(r["regular_dnn"]),
             _fmt(r["pinn_penalty"]), _fmt(r["ols"]), "—", "—", "point-identified",
             f"{SYSTEM_PAPER[name][1]:.2f} ({paper})", target]
