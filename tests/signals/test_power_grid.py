@@ -99,3 +99,16 @@ def test_recipe_quick_runs():
                           capture_output=True, text=True, timeout=600, cwd=root)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "| case14 | 1 |" in proc.stdout
+
+
+def test_truth_and_arrays_are_writable(exact_grid, tmp_path):
+    import json
+
+    from odnn_sep.io_utils import to_jsonable
+
+    truth = json.loads(json.dumps(to_jsonable(exact_grid.truth())))
+    assert truth["rows"] == [0, 1, 2, 3, 4]
+    assert {(d["i"], d["k"]) for d in truth["lines"]} == set(exact_grid.lines)
+    arrays = exact_grid.arrays()
+    np.savez(tmp_path / "g.npz", **arrays)
+    assert arrays["v"].shape == (40, len(exact_grid.measured))
