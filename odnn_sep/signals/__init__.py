@@ -25,11 +25,17 @@ _WHERE = {
     "implicit_monotone": "implicit", "figure2": "implicit",
     "pendulum": "physical", "biology": "physical", "oscillator": "physical", "population": "physical",
     "heat2d": "physical", "aiba_edwards_mu": "physical",
+    "power_grid": "power_grid", "humanoid": "humanoid",
 }
 
 #: Dataset names in Table 1 order (``GENERATORS`` maps them to their functions).
 NAMES = ("explicit_1d", "explicit_2d", "implicit_convex", "implicit_periodic", "implicit_symmetric",
          "implicit_monotone", "figure2", "pendulum", "biology", "oscillator", "population", "heat2d")
+
+
+#: Simulated engineering systems (optional extras: ``grid`` = pandapower, ``robotics`` = gymnasium[mujoco]).
+#: They return richer records than :class:`Dataset` (a grid has one problem per bus equation).
+SYSTEMS = ("power_grid", "humanoid")
 
 
 def __getattr__(name):
@@ -41,12 +47,12 @@ def __getattr__(name):
 
 
 def make_dataset(name: str, **kwargs):
-    """Build the dataset called ``name`` (one of :data:`NAMES`) with the generator's options."""
-    if name not in NAMES:
+    """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options."""
+    if name not in NAMES and name not in SYSTEMS:
         from odnn_sep.errors import InputError
 
-        raise InputError(f"unknown dataset {name!r}; choose one of {', '.join(NAMES)}")
+        raise InputError(f"unknown dataset {name!r}; choose one of {', '.join(NAMES + SYSTEMS)}")
     return __getattr__(name)(**kwargs)
 
 
-__all__ = ["Dataset", "GENERATORS", "NAMES", "make_dataset", *NAMES, "aiba_edwards_mu"]
+__all__ = ["Dataset", "GENERATORS", "NAMES", "SYSTEMS", "make_dataset", *NAMES, *SYSTEMS, "aiba_edwards_mu"]

@@ -13,7 +13,9 @@ SEPARATE_HINTS = {
 
 
 def register(sub) -> None:
-    from odnn_sep.signals import NAMES
+    from odnn_sep.signals import NAMES, SYSTEMS
+
+    NAMES = NAMES + SYSTEMS  # noqa: N806
 
     p = sub.add_parser(
         "simulate",
@@ -51,6 +53,8 @@ def run(args) -> int:
     if args.seed < 0:
         raise InputError(f"--seed must be >= 0; got {args.seed}")
     ds = make_dataset(args.dataset, snr_db=args.snr_db, random_state=args.seed)
+    if hasattr(ds, "arrays"):  # engineering systems: several arrays, written as .npz
+        return _write_system(ds, out, args)
     two_d = ds.x.ndim == 2
     want = ".npz" if two_d else ".csv"
     if out.suffix.lower() != want:
@@ -85,4 +89,24 @@ def run(args) -> int:
     if hint:
         period = getattr(ds.disturbance, "period", None)
         print(f"try: odnn-sep separate {out} " + hint.format(period=f"{period:.12g}" if period else ""))
+    return 0
+
+
+def _write_system(ds, out, args) -> int:
+    """Write a power_grid / humanoid record: its arrays to .npz, its truth to --truth."""
+    import numpy as np
+
+    from odnn_sep.errors import InputError
+    from odnn_sep.io_utils import atomic_output, write_json
+
+    if out.suffix.lower() != ".npz":
+        raise InputError(f"--output {str(out)!r}: dataset {args.dataset!r} has several arrays; write it to a .npz file")
+    with atomic_output(out, suffix=".npz") as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **ds.arrays())
+    truth = {"dataset": ds.name, "seed": args.seed, "snr_db": ds.snr_db, "description": ds.description,
+             **ds.truth()}
+    if args.truth:
+        write_json(args.truth, truth)
+    print(ds.description)
     return 0

@@ -1,0 +1,76 @@
+"""Small policies for gymnasium's MuJoCo ``HumanoidStandup`` and the rollouts that record transitions.
+
+A policy maps (observation, step) to a 17-dimensional action in [-0.4, 0.4]. Besides the zero and
+uniformly random policies we use a tiny **linear gait policy** ``a = 0.4 tanh(W phi)`` on four
+features ``phi = [1, sin(2 pi t / T), cos(2 pi t / T), 10 (z - z0)]`` (68 parameters), which a
+cross-entropy search can optimise in a minute on a CPU.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.signals._optional import require
+
+ACT_DIM, N_FEAT, GAIT_STEPS = 17, 4, 40
+MAX_STEPS = 1000
+
+
+def make_env(frame_skip: int = 5):
+    """``HumanoidStandup-v5`` with the given frame skip (the model ships with the mujoco wheel)."""
+    gym = require("gymnasium", "robotics", "the humanoid dataset")
+    require("mujoco", "robotics", "the humanoid dataset")
+    return gym.make("HumanoidStandup-v5", frame_skip=int(frame_skip), max_episode_steps=MAX_STEPS)
+
+
+class LinearGait:
+    """``a = 0.4 tanh(W phi(obs, t))`` with ``W`` of shape (17, 4)."""
+
+    def __init__(self, W: np.ndarray):
+        self.W = np.asarray(W, dtype=float).reshape(ACT_DIM, N_FEAT)
+
+    def __call__(self, z: float, z0: float, t: int, rng) -> np.ndarray:
+        w = 2 * np.pi * t / GAIT_STEPS
+        phi = np.array([1.0, np.sin(w), np.cos(w), 10.0 * (z - z0)])
+        return 0.4 * np.tanh(self.W @ phi)
+
+
+def zero_policy(z, z0, t, rng):
+    return np.zeros(ACT_DIM)
+
+
+def random_policy(z, z0, t, rng):
+    return rng.uniform(-0.4, 0.4, ACT_DIM)
+
+
+def rollout(env, policy, steps: int, seed: int, rng) -> dict:
+    """One episode of ``steps`` steps; arrays z_before, z_after, ctrl_sq (sum of squared actions)."""
+    env.reset(seed=int(seed))
+    data = env.unwrapped.data
+    z0 = float(data.qpos[2])
+    zb, za, cs = np.empty(steps), np.empty(steps), np.empty(steps)
+    z = z0
+    for t in range(steps):
+        a = np.clip(policy(z, z0, t, rng), -0.4, 0.4)
+        zb[t] = z
+        env.step(a)
+        z = float(data.qpos[2])
+        za[t] = z
+        cs[t] = float(np.square(data.ctrl).sum())
+    return {"z_before": zb, "z_after": za, "ctrl_sq": cs}
+
+
+def cem(score, *, iters: int, pop: int, elite: int, rng, sigma0: float = 0.5, init=None) -> tuple[np.ndarray, list]:
+    """Cross-entropy search over the 68 gait weights maximising ``score(LinearGait)``.
+
+    Returns the final mean weights and the best score per iteration.
+    """
+    mu = np.zeros(ACT_DIM * N_FEAT) if init is None else np.asarray(init, dtype=float).ravel()
+    sd = np.full_like(mu, sigma0)
+    history = []
+    for _ in range(iters):
+        cand = mu + sd * rng.standard_normal((pop, mu.size))
+        scores = np.array([score(LinearGait(c)) for c in cand])
+        best = cand[np.argsort(scores)[::-1][:elite]]
+        mu, sd = best.mean(0), best.std(0) + 0.02
+        history.append(float(scores.max()))
+    return mu, history

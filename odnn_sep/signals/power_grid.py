@@ -1,0 +1,256 @@
+"""Line conductance and susceptance from partial measurements (paper section 4.3 and App. C.7).
+
+An AC power flow (pandapower) is solved for ``snapshots`` load states over several days. Only the
+``measured`` buses have meters (voltage magnitude and angle, metered real power). A bus whose every
+neighbour is measured gives a complete equation in the unknown admittances of its row,
+
+    p_i = -sum_{k != i} [ G_ik (v_i v_k cos d_ik - v_i^2) + B_ik v_i v_k sin d_ik ] + g_i(v_i) + noise,
+
+(load convention; ``G_ii = -sum_k G_ik``: no shunt conductance, true for both cases shipped), with one
+candidate pair (G_ik, B_ik) for every measured bus k within two branches of i in the network model
+(open switches included): absent lines must come out as zero.
+``g_i`` is behind-the-meter generation that the meter does not see, a convex increasing function of
+v_i (boost converter ``c v^2 / (1 - D)^2``, a power-law or an exponential source; see
+:mod:`odnn_sep.signals.grid_profiles`). Each row is one separation problem with ``x = v_i`` and the
+class ``Convex()`` (the user does not know which buses carry such generation).
+
+Identifiability: a convex function of v_i can only imitate the part of a column that is a function
+of v_i; the cos/sin columns depend on the neighbours' voltages and the angles, which vary with the
+independent loads and the tap changer, so the identified set of each coefficient is narrow. The
+self-conductance column ``v_i^2`` would be **inside** the convex class (``G_ii`` not identified, only
+bounded on one side); that is why the row-sum form is used, and why a shunt conductance could not
+be identified together with a convex disturbance.
+
+Noise convention: the metered power has white Gaussian noise at ``snr_db`` relative to the bus's
+physics power (as every dataset here); voltage magnitudes and angles carry phasor-measurement noise of
+``sigma_v`` p.u. and ``sigma_delta`` rad. Defaults: 0.1 % metering (60 dB) and 1e-6 p.u. / 1e-6 rad,
+i.e. one-minute averages of PMU phasors. The equations are errors-in-variables: on the distribution
+feeder adjacent voltages differ by ~1e-3 p.u., and voltage noise of 1e-6 already biases the estimates
+by tens of percent (see BENCHMARKS.md).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from odnn_sep.core import Basis, Convex
+from odnn_sep.errors import InputError
+from odnn_sep.signals._base import Dataset, add_noise, check_n, check_snr, rng_from
+from odnn_sep.signals.grid_flow import CASES, adjacency, admittance, candidate_graph, load_case, run_snapshots
+from odnn_sep.signals.grid_profiles import (
+    BTM_KINDS,
+    draw_btm,
+    generator_schedule,
+    load_profiles,
+    substation_voltage,
+)
+
+MAX_SNAPSHOTS = 20_000
+
+
+@dataclass(frozen=True)
+class GridDataset:
+    """A partially observed power grid with known line parameters.
+
+    Attributes
+    ----------
+    case : str
+        pandapower case name.
+    G, B : (nb, nb) ndarray
+        True bus conductance and susceptance matrices (p.u.).
+    measured : tuple of int
+        Positions of the measured buses; ``v``, ``delta``, ``p`` columns follow this order.
+    rows : tuple of int
+        Buses whose equation is complete (all neighbours measured, non-zero injection).
+    excluded : dict
+        Measured buses that give no usable equation, with the reason.
+    v, delta, p : (n, len(measured)) ndarray
+        Measured voltage magnitude (p.u.), angle (rad), metered real power (p.u., load convention).
+    g : (n, len(measured)) ndarray
+        True behind-the-meter generation at the measured buses.
+    btm : dict
+        Bus -> behind-the-meter unit parameters.
+    problems : tuple of Dataset
+        One separation problem per bus in ``rows`` (x = v_i, class ``Convex()``).
+    """
+
+    name: str
+    case: str
+    G: np.ndarray
+    B: np.ndarray
+    measured: tuple
+    rows: tuple
+    excluded: dict
+    v: np.ndarray
+    delta: np.ndarray
+    p: np.ndarray
+    g: np.ndarray
+    btm: dict
+    problems: tuple
+    snr_db: float
+    sigma_v: float
+    sigma_delta: float
+    description: str
+    step_h: float = 0.25
+    extras: dict = field(default_factory=dict)
+
+    @property
+    def lines(self) -> list[tuple[int, int]]:
+        """True lines (i < k) among the measured buses."""
+        a = adjacency(self.G, self.B)
+        m = self.measured
+        return [(i, k) for x, i in enumerate(m) for k in m[x + 1:] if a[i, k]]
+
+    def truth(self) -> dict:
+        """JSON-ready truth: lines among the measured buses with G, B, the usable rows, the BTM units."""
+        return {"case": self.case, "measured": list(self.measured), "rows": list(self.rows),
+                "excluded": {str(k): v for k, v in self.excluded.items()},
+                "lines": [{"i": i, "k": k, "G": float(self.G[i, k]), "B": float(self.B[i, k])} for i, k in self.lines],
+                "behind_the_meter": {str(b): u for b, u in self.btm.items()},
+                "sigma_v": self.sigma_v, "sigma_delta": self.sigma_delta}
+
+    def arrays(self) -> dict:
+        """Everything as plain arrays (for ``np.savez``)."""
+        return {"v": self.v, "delta": self.delta, "p": self.p, "behind_the_meter": self.g,
+                "measured": np.array(self.measured), "rows": np.array(self.rows), "G": self.G, "B": self.B,
+                "time_h": np.arange(self.v.shape[0]) * self.step_h}
+
+
+def row_columns(v: np.ndarray, delta: np.ndarray, i: int, others) -> tuple[np.ndarray, list[str]]:
+    """Columns of bus i's equation (load convention) for candidate neighbours ``others``.
+
+    ``v``, ``delta`` are (n, nb) in bus positions. Column for G_ik: ``-(v_i v_k cos d_ik - v_i^2)``;
+    for B_ik: ``-v_i v_k sin d_ik``.
+    """
+    cols, names = [], []
+    for k in others:
+        vv = v[:, i] * v[:, k]
+        d = delta[:, i] - delta[:, k]
+        cols += [-(vv * np.cos(d) - v[:, i] ** 2), -vv * np.sin(d)]
+        names += [f"G[{i},{k}]", f"B[{i},{k}]"]
+    return np.stack(cols, axis=1), names
+
+
+def _check_measured(measured, nb: int, case: str) -> tuple:
+    try:
+        m = sorted({int(b) for b in measured})
+    except (TypeError, ValueError):
+        raise InputError(f"measured must be a list of bus indices; got {measured!r}") from None
+    bad = [b for b in m if not 0 <= b < nb]
+    if bad:
+        raise InputError(f"measured bus {bad[0]} does not exist in {case} (buses 0..{nb - 1}); "
+                         "give bus positions in that range")
+    if len(m) < 2:
+        raise InputError(f"measured needs at least 2 buses; got {m}")
+    return tuple(m)
+
+
+def _usable_rows(measured, adj, p_true, nb):
+    rows, excluded = [], {}
+    mset = set(measured)
+    for i in measured:
+        missing = [k for k in range(nb) if adj[i, k] and k not in mset]
+        if missing:
+            excluded[i] = f"neighbour bus(es) {missing} not measured: equation incomplete"
+        elif np.max(np.abs(p_true[:, i])) < 1e-9:
+            excluded[i] = "zero injection: the equation is homogeneous, its scale is not determined"
+        else:
+            rows.append(i)
+    return tuple(rows), excluded
+
+
+def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm_share: float = 0.5,
+               snr_db: float = 60.0, sigma_v: float = 1e-6, sigma_delta: float = 1e-6,
+               random_state=None) -> GridDataset:
+    """Simulate a partially observed grid with behind-the-meter generation; one problem per bus row.
+
+    Parameters
+    ----------
+    case : {"case14", "case33bw"}
+        IEEE 14-bus transmission system (default) or the radial 33-bus distribution feeder.
+    snapshots : int
+        Number of 15-minute load snapshots (288 = three days).
+    measured : sequence of int, optional
+        Measured bus positions (default: a connected region, see ``grid_flow.CASES``).
+    btm_share : float
+        Fraction of the loaded buses that get a behind-the-meter unit (kinds drawn at random).
+    snr_db : float
+        Metered-power-to-noise ratio per bus (dB).
+    sigma_v, sigma_delta : float
+        Standard deviation of the voltage-magnitude (p.u.) and angle (rad) measurement noise.
+    random_state : int or numpy Generator, optional
+
+    Returns
+    -------
+    GridDataset
+
+    Examples
+    --------
+    >>> ds = power_grid(snapshots=48, random_state=0)          # doctest: +SKIP
+    >>> ds.problems[0].basis.names[:2]                          # doctest: +SKIP
+    ('G[0,1]', 'B[0,1]')
+    """
+    snapshots = check_n(snapshots, 2, "snapshots")
+    if snapshots > MAX_SNAPSHOTS:
+        raise InputError(f"snapshots={snapshots} is above the limit {MAX_SNAPSHOTS}; use fewer")
+    snr_db = check_snr(snr_db)
+    for nm, val in (("sigma_v", sigma_v), ("sigma_delta", sigma_delta)):
+        if not (np.isfinite(val) and 0 <= val < 0.01):
+            raise InputError(f"{nm} must be in [0, 0.01); got {val!r}")
+    if not 0 <= btm_share <= 1:
+        raise InputError(f"btm_share must be in [0, 1]; got {btm_share!r}")
+    rng = rng_from(random_state)
+    net = load_case(case)
+    nb = len(net.bus)
+    measured = _check_measured(CASES[case][2] if measured is None else measured, nb, case)
+    G, B = admittance(net)
+    adj = adjacency(G, B)
+    cand = candidate_graph(net, G, B)
+    n_unknowns = max(2 * sum(cand[i, k] for k in measured) for i in measured)
+    if snapshots < 2 * n_unknowns:
+        raise InputError(f"too few snapshots: {snapshots} for {n_unknowns} unknowns per bus equation "
+                         f"({len(measured)} measured buses); need at least {2 * n_unknowns}")
+    pos = {b: i for i, b in enumerate(net.bus.index)}
+    load_bus = np.array([pos[b] for b in net.load.bus.values])
+    nominal = np.zeros(nb)
+    np.add.at(nominal, load_bus, net.load.p_mw.values / net.sn_mva)
+    loaded = [b for b in range(nb) if nominal[b] > 0]
+    chosen = rng.choice(loaded, size=int(round(btm_share * len(loaded))), replace=False)
+    btm = {int(b): draw_btm(BTM_KINDS[j % len(BTM_KINDS)], nominal[b], rng) for j, b in enumerate(sorted(chosen))}
+    mult = load_profiles(snapshots, len(net.load), 0.25, rng)
+    q_jit = 0.1 * rng.standard_normal((snapshots, len(net.load)))
+    gen_vm, gen_mult = generator_schedule(snapshots, len(net.gen), 0.25, rng)
+    v_t, d_t, p_t, g_t = run_snapshots(net, mult, substation_voltage(snapshots, 0.25, rng), btm, q_jit,
+                                       gen_vm, gen_mult)
+    rows, excluded = _usable_rows(measured, adj, p_t - g_t, nb)
+    v_m = v_t + sigma_v * rng.standard_normal(v_t.shape)
+    d_m = d_t + sigma_delta * rng.standard_normal(d_t.shape)
+    noise_p = np.zeros_like(p_t)
+    for i in measured:  # meter noise relative to each bus's own physics power
+        noise_p[:, i] = add_noise(p_t[:, i] - g_t[:, i], snr_db, rng)
+    p_m = p_t + noise_p
+    problems = []
+    for i in rows:
+        others = [k for k in measured if cand[i, k]]
+        F, names = row_columns(v_m, d_m, i, others)
+        physics = p_t[:, i] - g_t[:, i]
+        noise = noise_p[:, i]
+        theta = {f"{s}[{i},{k}]": float(M[i, k]) for k in others for s, M in (("G", G), ("B", B))}
+        unit = btm.get(i)
+        desc = (f"{case} bus {i}: metered real power = power flow + "
+                f"{'behind-the-meter ' + unit['kind'] if unit else 'no behind-the-meter'} generation; "
+                "class Convex() in v_i")
+        problems.append(Dataset(
+            name="power_grid", x=v_m[:, i].copy(), y=p_m[:, i].copy(), basis=Basis.from_matrix(F, names),
+            disturbance=Convex(), theta_true=theta, physics=physics, disturbance_true=g_t[:, i].copy(),
+            noise=noise, snr_db=snr_db, description=desc, targets=tuple(names), identified="set",
+            extras={"bus": i, "btm": unit, "lines": [k for k in others if adj[i, k]]}))
+    mi = list(measured)
+    desc = (f"power_grid: {CASES[case][1]} ({case}), {snapshots} snapshots of 15 min, {len(measured)} of {nb} "
+            f"buses measured, {len(rows)} complete bus equations, behind-the-meter generation at buses "
+            f"{sorted(btm)}; unknown G_ik, B_ik for every measured pair; class Convex() in v_i per bus")
+    return GridDataset(
+        name="power_grid", case=case, G=G, B=B, measured=measured, rows=rows, excluded=excluded,
+        v=v_m[:, mi], delta=d_m[:, mi], p=p_m[:, mi], g=g_t[:, mi], btm=btm, problems=tuple(problems),
+        snr_db=snr_db, sigma_v=float(sigma_v), sigma_delta=float(sigma_delta), description=desc)

@@ -1,0 +1,114 @@
+"""Power-grid dataset: power-flow physics, partial observability, identification, errors."""
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pandapower", reason="the power_grid dataset needs pandapower (extra 'grid')")
+
+from odnn_sep.errors import InputError  # noqa: E402
+from odnn_sep.signals import make_dataset  # noqa: E402
+from odnn_sep.signals._optional import MissingDependencyError  # noqa: E402
+from odnn_sep.signals.grid_identify import identify_grid  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def exact_grid():
+    """No measurement noise: the columns evaluated on the data reproduce the physics exactly."""
+    return make_dataset("power_grid", case="case14", snapshots=40, snr_db=np.inf, sigma_v=0, sigma_delta=0,
+                        random_state=3)
+
+
+def test_rows_are_the_complete_equations(exact_grid):
+    ds = exact_grid
+    assert ds.measured == (0, 1, 2, 3, 4, 5, 6, 8)
+    assert ds.rows == (0, 1, 2, 3, 4)
+    assert "not measured" in ds.excluded[5] and "not measured" in ds.excluded[8]
+    assert len(ds.btm) > 0
+
+
+def test_power_flow_basis_reproduces_metered_power(exact_grid):
+    for pr in exact_grid.problems:
+        np.testing.assert_allclose(pr.design() @ pr.theta_vector, pr.physics, atol=1e-8)
+        np.testing.assert_allclose(pr.y, pr.physics + pr.disturbance_true + pr.noise, atol=1e-12)
+        # candidates that are not lines have zero truth; true lines are non-zero
+        for k in pr.extras["lines"]:
+            assert pr.theta_true[f"B[{pr.extras['bus']},{k}]"] != 0
+
+
+def test_behind_the_meter_generation_is_a_convex_function_of_voltage(exact_grid):
+    from odnn_sep.signals.grid_profiles import btm_power
+
+    kinds = set()
+    for pr in exact_grid.problems:
+        unit = pr.extras["btm"]
+        if unit is None:
+            assert np.all(pr.disturbance_true == 0)
+            continue
+        kinds.add(unit["kind"])
+        np.testing.assert_allclose(pr.disturbance_true, btm_power(unit, pr.x), atol=1e-7)
+        v = np.linspace(0.9, 1.1, 201)
+        assert np.all(np.diff(btm_power(unit, v), 2) > 0)
+    assert kinds
+
+
+def test_identification_recovers_susceptances_and_zero_candidates(exact_grid):
+    fit = identify_grid(exact_grid)
+    b_err = [abs(e - t) / abs(t) for n, _i, _k, t, e, lo, hi, present, _pt in fit.table if n[0] == "B" and present]
+    assert np.median(b_err) < 0.02
+    absent = [(lo, hi) for n, _i, _k, t, e, lo, hi, present, _pt in fit.table if not present]
+    assert absent and np.mean([lo <= 0 <= hi for lo, hi in absent]) > 0.8
+
+
+def test_errors():
+    with pytest.raises(InputError, match="measured bus 40 does not exist in case14"):
+        make_dataset("power_grid", case="case14", snapshots=40, measured=[0, 1, 40])
+    with pytest.raises(InputError, match="too few snapshots: 10 for"):
+        make_dataset("power_grid", case="case14", snapshots=10)
+    with pytest.raises(InputError, match="case 'case9999' is not available"):
+        make_dataset("power_grid", case="case9999", snapshots=40)
+
+
+def test_missing_pandapower_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandapower", None)
+    with pytest.raises(MissingDependencyError, match=r'pip install "odnn-sep\[grid\]"'):
+        make_dataset("power_grid", case="case14", snapshots=40)
+
+
+def test_self_conductance_lies_inside_the_convex_class(exact_grid):
+    """With a free G_ii column (v_i^2) the convex class cannot bound it on one side."""
+    from odnn_sep.core import Basis, Convex, Separator
+
+    pr = exact_grid.problems[0]
+    F = np.c_[pr.design(), pr.x**2]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = Separator(Basis.from_matrix(F, [*pr.basis.names, "Gsh"]), disturbance=Convex()).fit(pr.x, pr.y).result_
+    lo, hi = r.interval[-1]
+    assert not (np.isfinite(lo) and np.isfinite(hi)) or hi - lo > 1e3 * max(abs(pr.theta_vector).max(), 1)
+
+
+@pytest.mark.slow
+def test_recipe_quick_runs():
+    import subprocess
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    proc = subprocess.run([sys.executable, str(root / "recipes" / "power_grid.py"), "--quick", "--cases", "case14"],
+                          capture_output=True, text=True, timeout=600, cwd=root)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "| case14 | 1 |" in proc.stdout
+
+
+def test_truth_and_arrays_are_writable(exact_grid, tmp_path):
+    import json
+
+    from odnn_sep.io_utils import to_jsonable
+
+    truth = json.loads(json.dumps(to_jsonable(exact_grid.truth())))
+    assert truth["rows"] == [0, 1, 2, 3, 4]
+    assert {(d["i"], d["k"]) for d in truth["lines"]} == set(exact_grid.lines)
+    arrays = exact_grid.arrays()
+    np.savez(tmp_path / "g.npz", **arrays)
+    assert arrays["v"].shape == (40, len(exact_grid.measured))
