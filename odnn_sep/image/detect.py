@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, stroke_width, take_patches
 from odnn_sep.image.profile import DataProfile, PhotoProfile, design, plane_rss
 
@@ -71,7 +72,7 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     if len(Mp) < 4 or len(yy) < 2:
         return 0.0
     Phi = design(ps, 1)
-    rss0 = plane_rss(Yp, np.linalg.qr(Phi)[0])
+    rss0 = plane_rss(Yp, orthonormal_basis(Phi, method="qr", rtol=None))
     # the two halves along the mark's principal axis
     d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
     pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]

@@ -146,7 +146,7 @@ def read_image_meta(path):
         data = np.fromfile(str(q), dtype=np.uint8)
         img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
         if img is None:
-            raise ValueError("not a readable PNG/JPEG/TIFF/WebP/BMP image")
+            raise FormatError("not a readable PNG/JPEG/TIFF/WebP/BMP image")
         return img
 
     img = ensure_readable(p, _read, what="input image")

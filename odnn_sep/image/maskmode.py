@@ -13,6 +13,7 @@ import logging
 
 import numpy as np
 
+from odnn_sep.core.linalg import solve_batched
 from odnn_sep.errors import InputError
 from odnn_sep.image.estimate import inpaint_telea
 
@@ -40,8 +41,8 @@ def _colour(d: np.ndarray, B: np.ndarray, D: np.ndarray, prev) -> np.ndarray:
     A = np.einsum("i,ijk->jk", w, P)
     b = np.einsum("i,ijk,ik->j", w, P, Bs)
     try:
-        c = np.linalg.solve(A + 1e-9 * eye, b)
-    except np.linalg.LinAlgError:
+        c = solve_batched(A + 1e-9 * eye, b)
+    except np.linalg.LinAlgError:                                   # non-finite data
         c = np.full(d.shape[2], sign)
     return np.clip(c, 0.0, 1.0)
 

@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.core.linalg import orthonormal_basis, solve_batched
+
 
 def design(size: int, degree: int) -> np.ndarray:
     """(size*size, k) polynomial columns of total degree <= ``degree`` on a square patch."""
@@ -59,7 +61,7 @@ class DataProfile:
         am = (At @ Mp[:, :, None])[:, :, 0]                         # A^T M
         ay = At @ Yp                                                # A^T y  (p, k, C)
         rhs = np.concatenate([am[:, :, None], ay], axis=2)
-        sol = np.linalg.solve(G, rhs)                               # G^-1 [A^T M, A^T y]
+        sol = solve_batched(G, rhs)                                 # G^-1 [A^T M, A^T y]
         gm, gy = sol[:, :, :1], sol[:, :, 1:]
         sxx_p = self.mm - np.sum(am * gm[:, :, 0], axis=1)
         sxy_p = (Mp[:, None, :] @ Yp)[:, 0, :] - np.sum(am[:, :, None] * gy, axis=1)
@@ -89,7 +91,7 @@ class PhotoProfile:
     def __init__(self, Yp, Mp, Phi):
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
         self.w = np.ones(len(Mp))
-        self.Q = np.linalg.qr(Phi)[0]                               # orthonormal plane basis (n, k)
+        self.Q = orthonormal_basis(Phi, method="qr", rtol=None)    # orthonormal plane basis (n, k)
 
     def parts(self, alpha: float):
         """(beta (C,), per-patch RSS of the restored photo (p,), u = 1 - alpha M (p, n))."""

@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.errors import InputError, NotIdentifiableError
 from odnn_sep.image.logo import Placement, prepare_logo, render
 
@@ -36,7 +37,7 @@ class ColouredProfile:
 
     def __init__(self, Yp, Mp, Lp, Phi):
         self.Yp, self.Mp, self.MLp = Yp, Mp, Mp[:, :, None] * Lp
-        self.Q = np.linalg.qr(Phi)[0]
+        self.Q = orthonormal_basis(Phi, method="qr", rtol=None)
         self.k = Phi.shape[1]
 
     def rss(self, alpha: float) -> np.ndarray:
