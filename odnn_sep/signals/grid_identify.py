@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from odnn_sep.core.linalg import Z95
+
 #: Relative interval width (of |estimate|) below which a coefficient is called point-identified.
 POINT_WIDTH = 0.05
 
@@ -39,7 +41,7 @@ class GridFit:
         from scipy.stats import norm
 
         m = max(len({(r[1], r[2]) for r in self.table}), 1)
-        factor = float(norm.ppf(1 - 0.025 / m) / norm.ppf(0.975))
+        factor = float(norm.ppf(1 - 0.025 / m) / Z95)
         out = set()
         for _name, i, k, _t, _e, lo, hi, _present, _pt in self.table:
             if not (np.isfinite(lo) and np.isfinite(hi)):
