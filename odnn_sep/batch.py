@@ -47,7 +47,7 @@ def register(sub) -> None:
     p.add_argument("-o", "--out-dir", required=True, help="folder for outputs (created if missing; never IN_DIR)")
     p.add_argument("--pattern", help="comma-separated globs, case-insensitive (default: every format the "
                    "command reads)")
-    p.add_argument("--recursive", action="store_true", help="also search sub-folders (never OUT_DIR)")
+    p.add_argument("--recursive", action="store_true", help="also search sub-folders")
     p.add_argument("--jobs", type=positive_int, default=None, help="local worker processes (default: CPU count)")
     p.add_argument("--dask", metavar="ADDRESS", help="run on a Dask cluster: scheduler address, or 'local' "
                    '(needs pip install "odnn-sep[dask]")')
@@ -88,9 +88,12 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
             "message": msg[-1] if msg else "", "seconds": round(time.perf_counter() - t0, 3)}
 
 
-def _find(in_dir, patterns, recursive, skip_dir=None):
-    """Files under ``in_dir`` whose name matches a pattern (case-insensitive), hidden ones and
-    ``skip_dir`` (the output folder) excluded."""
+def _find(in_dir, patterns, recursive):
+    """Files under ``in_dir`` whose name matches a pattern (case-insensitive), hidden ones excluded.
+
+    An output folder inside ``in_dir`` is searched too: its files may be the user's, so an output
+    that would land on one of them is refused rather than written.
+    """
     import fnmatch
     import os
     from pathlib import Path
@@ -102,8 +105,7 @@ def _find(in_dir, patterns, recursive, skip_dir=None):
     found = []
     for dirpath, dirnames, filenames in os.walk(root):
         here = Path(dirpath)
-        dirnames[:] = sorted(d for d in dirnames if not d.startswith(".")
-                             and not (skip_dir is not None and (here / d).resolve() == skip_dir))
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
         for name in filenames:
             f = here / name
             if (not is_temporary(f.relative_to(root)) and any(fnmatch.fnmatchcase(name.lower(), p) for p in pats)
@@ -177,7 +179,7 @@ def run(args) -> int:
         raise InputError(f"--out-dir {str(out_dir)!r} exists and is not a folder")
     extra = list(getattr(args, "passthrough", []))
     patterns = [p.strip() for p in (args.pattern or TARGETS[args.target][2]).split(",") if p.strip()]
-    files = _find(in_dir, patterns, args.recursive, skip_dir=out_dir.resolve())
+    files = _find(in_dir, patterns, args.recursive)
     if not files:
         raise InputError(f"no files matching {','.join(patterns)} in {str(in_dir)!r}; check the folder or --pattern")
     dsts = plan_outputs(files, in_dir, out_dir, TARGETS[args.target][1])
