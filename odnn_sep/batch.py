@@ -189,14 +189,34 @@ def run(args) -> int:
         raise InputError(f"--summary {str(summary)!r} is the output of an input file; choose another path")
     if args.summary:
         check_output_target(summary, "--summary")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    for d in dsts:
-        d.parent.mkdir(parents=True, exist_ok=True)
+    created = _make_dirs([out_dir, *sorted({d.parent for d in dsts})])
     jobs = [(args.target, str(f), str(d), extra) for f, d in zip(files, dsts)]
     from odnn_sep.batch_runner import run_jobs
 
-    results, interrupt = run_jobs(jobs, args)
+    try:
+        results, interrupt = run_jobs(jobs, args)
+    except BaseException:
+        _remove_empty(created)  # e.g. the Dask scheduler could not be reached: leave nothing behind
+        raise
     return _finish(args, jobs, results, interrupt, summary, sys.stderr, os)
+
+
+def _make_dirs(dirs):
+    """Create ``dirs``; return the folders that did not exist before (deepest last)."""
+    created = []
+    for d in dirs:
+        missing = [p for p in [d, *d.parents] if not p.exists()]
+        d.mkdir(parents=True, exist_ok=True)
+        created += reversed(missing)
+    return created
+
+
+def _remove_empty(created) -> None:
+    for d in reversed(created):
+        try:
+            d.rmdir()
+        except OSError:
+            pass  # not empty: something was written there
 
 
 def _finish(args, jobs, results, interrupt, summary, stream, os) -> int:

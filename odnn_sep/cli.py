@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import os
 import signal
 import sys
 import threading
@@ -125,10 +126,26 @@ def _check_paths(args) -> None:
     check_run_paths(inputs, outputs)
 
 
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever ``sys.stderr`` is at the time (so in-process runs and captures work)."""
+
+    @property
+    def stream(self):
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value):
+        pass
+
+
 def _configure_logging(debug: bool, quiet: bool) -> None:
     level = logging.DEBUG if debug else logging.ERROR if quiet else logging.WARNING
-    logging.basicConfig(level=level, format="%(levelname)s: %(message)s", stream=sys.stderr)
-    logging.getLogger().setLevel(level)
+    root = logging.getLogger()
+    if not any(isinstance(h, _StderrHandler) for h in root.handlers):
+        handler = _StderrHandler()
+        handler.setFormatter(logging.Formatter("%(levelname)s: %(message)s"))
+        root.addHandler(handler)
+    root.setLevel(level)
     if quiet and not debug:
         for name in ("distributed", "dask", "tornado", "asyncio", "bokeh"):
             logging.getLogger(name).setLevel(logging.ERROR)
@@ -138,6 +155,8 @@ def _configure_logging(debug: bool, quiet: bool) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    # OpenCV's C++ logger would print its own warnings for every unreadable image; our errors say it
+    os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     # Everything after a bare "--" is handed to the command a batch runs (argparse's own "--"
@@ -163,6 +182,9 @@ def _run(args) -> int:
     installed = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _on_sigterm) if installed else None
     try:
+        from odnn_sep.validate import validate
+
+        validate(args)
         _check_paths(args)
         with run_context(args.command, vars(args)), output_transaction():
             return int(args.func(args) or 0)
@@ -170,6 +192,12 @@ def _run(args) -> int:
         if args.debug:
             raise
         print(f"Error: {exc}", file=sys.stderr)
+        return 1
+    except UnicodeDecodeError as exc:
+        if args.debug:
+            raise
+        print(f"Error: a file that should be text is not UTF-8 ({exc.reason} at byte {exc.start}); save it as "
+              "UTF-8 text", file=sys.stderr)
         return 1
     except OSError as exc:
         if args.debug:

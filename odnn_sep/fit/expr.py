@@ -101,6 +101,8 @@ def _check_tree(expr: str, tree: ast.Expression, coords) -> None:
                 _fail(expr, f"calls {name!r} with {len(node.args)} argument(s); it takes {ARITY.get(name, 1)}")
             children = list(node.args)
         elif isinstance(node, ast.Name):
+            if node.id in FUNCS:  # call positions are not walked, so this is a bare function name
+                _fail(expr, f"uses the function {node.id!r} without calling it; write e.g. {node.id}(x)")
             if node.id not in allowed:
                 hint = difflib.get_close_matches(node.id, sorted(allowed), n=1)
                 extra = f" (did you mean {hint[0]!r}?)" if hint else ""

@@ -33,11 +33,21 @@ def run_cli(args, cwd, timeout=TIME_CAP_S, mem_mb=None):
 
 def snapshot(folder) -> dict:
     """{relative path: sha256} of every file under ``folder`` (hidden ones included)."""
+    import stat
+
     out = {}
     for dirpath, _, names in os.walk(folder):
         for n in names:
             p = Path(dirpath) / n
-            out[str(p.relative_to(folder))] = hashlib.sha256(p.read_bytes()).hexdigest()
+            try:
+                st = p.stat()
+            except OSError:  # a broken link or a loop
+                out[str(p.relative_to(folder))] = "link:" + os.readlink(p)
+                continue
+            if stat.S_ISREG(st.st_mode):
+                out[str(p.relative_to(folder))] = hashlib.sha256(p.read_bytes()).hexdigest()
+            else:  # never open a pipe or a device (it would block)
+                out[str(p.relative_to(folder))] = f"mode:{stat.S_IFMT(st.st_mode)}"
     return out
 
 
@@ -53,7 +63,8 @@ def write_wav(path, seconds=4.0, sr=8000, hum=0.2, seed=0, channels=1):
     t = np.arange(int(seconds * sr)) / sr
     rng = np.random.default_rng(seed)
     y = 0.1 * rng.normal(size=(t.size, channels)) + hum * np.sin(2 * np.pi * 50.02 * t)[:, None]
-    sf.write(str(path), y if channels > 1 else y[:, 0], sr, subtype="PCM_16")
+    st = "PCM_16" if Path(path).suffix.lower() in (".wav", ".flac") else None
+    sf.write(str(path), y if channels > 1 else y[:, 0], sr, subtype=st)
     return path
 
 
