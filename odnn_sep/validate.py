@@ -128,8 +128,21 @@ def _simulate(args) -> None:
 CHECKS = {"denoise": _denoise, "unwatermark": _unwatermark, "mismatch": _mismatch, "simulate": _simulate}
 
 
+def require_optional(module: str, extra: str, what: str) -> None:
+    """One clear line when an optional dependency is missing, naming the extra that installs it."""
+    import importlib.util
+
+    if importlib.util.find_spec(module) is None:
+        raise InputError(f"{what} needs {module}, which is not installed; install it with: "
+                         f'pip install "odnn-sep[{extra}]"')
+
+
 def validate(args) -> None:
     """Run the checks of ``args.command`` (nothing for commands without any)."""
+    if getattr(args, "solver", None) == "network":
+        require_optional("torch", "network", "--solver network")
+    if getattr(args, "dask", None):
+        require_optional("distributed", "dask", "--dask")
     check = CHECKS.get(args.command)
     if check is not None:
         check(args)
