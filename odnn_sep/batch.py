@@ -234,7 +234,8 @@ def _finish(args, jobs, results, interrupt, summary, stream, os) -> int:
         print(f"{interrupt}: {len(results)} of {len(jobs)} file(s) finished ({len(failed)} failed), "
               f"{len(not_run)} not run; summary in {summary}", file=stream)
         return 143 if interrupt == "Terminated" else 130
-    print(f"{len(results) - len(failed)} of {len(results)} file(s) processed; summary in {summary}", file=stream)
+    if not args.quiet or failed:
+        print(f"{len(results) - len(failed)} of {len(results)} file(s) processed; summary in {summary}", file=stream)
     for r in failed:
         print(f"  failed: {r['input']}: {r['message']}", file=stream)
     return 1 if failed else 0

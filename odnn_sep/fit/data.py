@@ -11,12 +11,13 @@ from odnn_sep.errors import FormatError, InputError, check_finite
 from odnn_sep.io_utils import check_input_path, count_lines, load_npz_arrays, looks_binary, pick_column
 
 
-def load_signal(path, column: str | int | None = None):
+def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):
     """Return (coords, values, coord_names, grid_shape).
 
     CSV: header row, first column is x, the value column is ``column`` (name, or index counted from
     0 where 0 is x; default 1). NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the
-    (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``).
+    (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``). If ``value_name``
+    is a list, the value column's name is appended to it (for labels).
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
@@ -30,6 +31,8 @@ def load_signal(path, column: str | int | None = None):
         check_finite("y", y)
         check_finite("z", z)
         X, Y = np.meshgrid(x, y)
+        if value_name is not None:
+            value_name.append("z")
         return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
     if p.suffix.lower() not in (".csv", ".txt", ".tsv", ""):
         raise FormatError(f"{str(p)!r} has extension {p.suffix!r}; give a .csv (header; first column x) or an "
@@ -64,6 +67,8 @@ def load_signal(path, column: str | int | None = None):
         check_finite(name, a)
         limits.check_magnitude(name, a)
     name = header[0] if header and header[0].isidentifier() else "x"
+    if value_name is not None:
+        value_name.append(label)
     return x, v, (name,), None
 
 

@@ -105,7 +105,7 @@ add("separate-no-basis", lambda d: ["separate", valid("csv", _i(d) / "ok.csv")])
 for cid, argv in [
     ("unknown", lambda d: simulate(d, name="nosuch")),
     ("wrong-suffix-1d", lambda d: simulate(d, out="fig.npz")),
-    ("wrong-suffix-2d", lambda d: simulate(d, name="heat", out="h.csv")),
+    ("wrong-suffix-2d", lambda d: simulate(d, name="heat2d", out="h.csv")),
     ("seed-neg", lambda d: simulate(d, "--seed", "-1")),
     ("seed-text", lambda d: simulate(d, "--seed", "abc")),
     ("snr-nan", lambda d: simulate(d, "--snr-db", "nan")),

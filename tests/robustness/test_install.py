@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import ast
 import sys
-import tomllib
 from pathlib import Path
 
+import tomllib
 from robustness_helpers import write_csv, write_wav
 
 from odnn_sep.cli import main
