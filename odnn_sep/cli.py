@@ -141,10 +141,13 @@ class _StderrHandler(logging.StreamHandler):
 def _configure_logging(debug: bool, quiet: bool) -> None:
     level = logging.DEBUG if debug else logging.ERROR if quiet else logging.WARNING
     root = logging.getLogger()
-    if not any(isinstance(h, _StderrHandler) for h in root.handlers):
+    handler = next((h for h in root.handlers if isinstance(h, _StderrHandler)), None)
+    if handler is None:
         handler = _StderrHandler()
         handler.setFormatter(logging.Formatter("%(levelname)s: %(message)s"))
         root.addHandler(handler)
+    # libraries that set their own loggers to INFO (dask) still only reach the user at this level
+    handler.setLevel(level)
     root.setLevel(level)
     if quiet and not debug:
         for name in ("distributed", "dask", "tornado", "asyncio", "bokeh"):
