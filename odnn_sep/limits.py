@@ -63,6 +63,6 @@ def check_magnitude(name: str, a) -> None:
         big = np.abs(a) > limit("magnitude")
     if big.any():
         i = int(np.argmax(big.ravel()))
-        raise InputError(f"{name} holds {int(big.sum())} value(s) beyond +-{limit('magnitude'):g} (first at "
+        raise InputError(f"{name}: {int(big.sum())} value(s) beyond +-{limit('magnitude'):g} (first at "
                          f"index {i}: {a.ravel()[i]:g}); rescale the data (squares would overflow), or set "
                          f"{DEFAULTS['magnitude'][0]}")

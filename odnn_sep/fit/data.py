@@ -40,8 +40,8 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     if looks_binary(p):
         raise FormatError(f"{str(p)!r} is not a text CSV (it holds binary data); give a .csv with a header row "
                           "or an .npz field")
-    rows = count_lines(p, stop_after=int(limits.limit("points")) + 1)
-    limits.check("points", max(rows - 1, 0), f"{str(p)!r} has more than {rows - 1:,} rows; the row count",
+    rows = count_lines(p)
+    limits.check("points", max(rows - 1, 0), f"the row count of {str(p)!r}",
                  hint="decimate the data")
     try:
         with open(p, newline="", encoding="utf-8") as fh:

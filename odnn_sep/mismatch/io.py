@@ -130,9 +130,8 @@ def _check_size_before_reading(p, ext, start, duration):
         raise FormatError(f"data file {str(p)!r} is not a text CSV (it holds binary data); give a CSV with a header "
                           "row, a .wav or an .npz")
     if start is None and duration is None:
-        cap = int(limits.limit("rows"))
-        n = count_lines(p, stop_after=cap + 1) - 1
-        limits.check("rows", n, f"data file {str(p)!r} has more than {n:,} rows; the row count",
+        n = count_lines(p) - 1
+        limits.check("rows", n, f"the row count of data file {str(p)!r}",
                      hint="select a part with --start/--duration, or decimate the data")
 
 

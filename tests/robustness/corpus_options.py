@@ -121,8 +121,8 @@ for cid, argv in [
 for cid, fn in [
     ("missing-folder", lambda d: ["batch", "denoise", _i(d) / "nope", "-o", _o(d) / "res"]),
     ("file-not-folder", lambda d: ["batch", "denoise", valid("wav", _i(d) / "ok.wav"), "-o", _o(d) / "res"]),
-    ("same-folder", lambda d: batch(d)[:4] + ["-o", _i(d)]),
-    ("out-is-file", lambda d: batch(d)[:4] + ["-o", _i(d) / "ok.wav"]),
+    ("same-folder", lambda d: batch(d)[:3] + ["-o", _i(d)]),
+    ("out-is-file", lambda d: batch(d)[:3] + ["-o", _i(d) / "ok.wav"]),
     ("jobs-0", lambda d: batch(d, "--jobs", "0")),
     ("jobs-neg", lambda d: batch(d, "--jobs", "-3")),
     ("jobs-text", lambda d: batch(d, "--jobs", "abc")),
@@ -136,7 +136,7 @@ for cid, fn in [
     ("dask-malformed", lambda d: batch(d, "--dask", "not an address")),
     ("dask-unreachable", lambda d: batch(d, "--dask", "tcp://127.0.0.1:9")),
     ("dask-bad-port", lambda d: batch(d, "--dask", "tcp://127.0.0.1:99999")),
-    ("out-inside-in-collides", lambda d: [*batch(d)[:4], "-o", _sub_with_copy(d), "--recursive"]),
+    ("out-inside-in-collides", lambda d: [*batch(d)[:3], "-o", _sub_with_copy(d), "--recursive"]),
     ("passthrough-not-batch", lambda d: [*denoise(d), "--", "--mains", "50"]),
 ]:
     add(f"batch-{cid}", fn, env={"ODNN_SEP_DASK_TIMEOUT": "2"} if "dask" in cid else None)
