@@ -99,7 +99,7 @@ def check_output_path(out, *inputs) -> Path:
     o = Path(out)
     for i in inputs:
         if i is not None and _same_file(o, Path(i)):
-            raise InputError(f"output path {str(o)!r} is the input file {str(i)!r}; choose a different output path")
+            raise InputError(f"output path {str(o)!r} is the input file; choose a different output path")
     return check_output_target(o)
 
 
