@@ -8,7 +8,8 @@ import numpy as np
 
 from odnn_sep import limits
 from odnn_sep.errors import FormatError, InputError, check_finite
-from odnn_sep.io_utils import check_input_path, count_lines, load_npz_arrays, looks_binary, pick_column
+from odnn_sep.io_read import count_lines, load_npz_arrays, looks_binary, pick_column
+from odnn_sep.io_utils import check_input_path
 
 
 def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):

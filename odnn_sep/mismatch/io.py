@@ -12,7 +12,7 @@ from odnn_sep.io_utils import check_input_path
 
 def _pick_column(header, column, path="the CSV"):
     # the same --column rule as `separate` (name, or index from 0 where 0 is time)
-    from odnn_sep.io_utils import pick_column
+    from odnn_sep.io_read import pick_column
 
     return pick_column(header, column, path=path)
 
@@ -62,7 +62,7 @@ def read_wav(path, column=None, *, aux=False):
 
     from odnn_sep.io_utils import ensure_readable
     data, sr = ensure_readable(path, lambda p: sf.read(str(p), dtype="float64", always_2d=True), what="WAV file")
-    from odnn_sep.io_utils import pick_channel
+    from odnn_sep.io_read import pick_channel
 
     ch = pick_channel(column, data.shape[1], path=path)
     y = data[:, ch]
@@ -74,7 +74,7 @@ def read_wav(path, column=None, *, aux=False):
 
 
 def read_npz(path):
-    from odnn_sep.io_utils import load_npz_arrays
+    from odnn_sep.io_read import load_npz_arrays
     d = load_npz_arrays(path, max_points=True)  # shapes and types checked before loading
     x, yy, z = (d[k] for k in ("x", "y", "z"))
     if z.shape != (len(yy), len(x)):
@@ -122,7 +122,7 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
 def _check_size_before_reading(p, ext, start, duration):
     """Binary data under .csv, and CSVs far beyond the row limit, are refused before parsing."""
     from odnn_sep import limits
-    from odnn_sep.io_utils import count_lines, looks_binary
+    from odnn_sep.io_read import count_lines, looks_binary
 
     if ext != ".csv":
         return
