@@ -31,6 +31,26 @@ def _die_with_parent() -> None:
             pass
         if os.getppid() == 1:  # the parent died before prctl took effect
             os._exit(1)
+    _start_orphan_watch(os.getppid())
+
+
+#: Seconds an orphaned worker is given to roll back its file (after SIGTERM) before it exits anyway.
+ORPHAN_GRACE_S = 10
+
+
+def _start_orphan_watch(parent: int) -> None:
+    """A thread that ends the worker if its parent is gone, even when SIGTERM cannot be acted on
+    (a long numerical call holds the interpreter; numpy releases the lock this thread needs)."""
+    import threading
+    import time
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        time.sleep(ORPHAN_GRACE_S)
+        os._exit(143)
+
+    threading.Thread(target=watch, name="odnn-sep-orphan-watch", daemon=True).start()
 
 
 def run_jobs(jobs, args):

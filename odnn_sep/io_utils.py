@@ -17,7 +17,6 @@ import errno
 import os
 import shutil
 import stat
-import tempfile
 from pathlib import Path
 
 from odnn_sep.errors import FormatError, InputError
@@ -131,20 +130,21 @@ class _Transaction:
     """Outputs written so far in one run, so that a later failure can take them back."""
 
     def __init__(self):
-        self.done: list[tuple[Path, Path | None, Path]] = []  # (target, backup of replaced file, tmp folder)
+        # [target, backup of the file it replaced or None, temporary folder, replaced yet?]
+        self.done: list[list] = []
 
     def rollback(self) -> None:
-        for target, backup, tmpdir in reversed(self.done):
+        for target, backup, tmpdir, replaced in reversed(self.done):
             with contextlib.suppress(OSError):
-                if backup is not None:
+                if replaced and backup is not None:
                     os.replace(backup, target)
-                else:
+                elif replaced:
                     os.unlink(target)
             shutil.rmtree(tmpdir, ignore_errors=True)
         self.done.clear()
 
     def commit(self) -> None:
-        for _, _, tmpdir in self.done:
+        for _, _, tmpdir, _ in self.done:
             shutil.rmtree(tmpdir, ignore_errors=True)
         self.done.clear()
 
@@ -179,11 +179,16 @@ def atomic_output(out, suffix: str | None = None):
     output's suffix (writers pick the format from it). A failure, or SIGINT/SIGTERM under the CLI,
     leaves nothing behind.
     """
+    import secrets
+
     o = check_output_target(out)
     ext = (suffix if suffix is not None else o.suffix)[:32]
-    tmpdir = Path(tempfile.mkdtemp(prefix=TMP_PREFIX, dir=str(o.resolve().parent)))
-    tmp = tmpdir / ("part" + ext)
+    # the name is known before the folder exists, so an interrupt at any point can still remove it
+    tmpdir = o.resolve().parent / (TMP_PREFIX + secrets.token_hex(6))
+    record = None
     try:
+        os.mkdir(tmpdir, 0o700)
+        tmp = tmpdir / ("part" + ext)
         yield tmp
         if not tmp.exists():
             raise FormatError(f"nothing was written for {str(o)!r}")
@@ -191,20 +196,24 @@ def atomic_output(out, suffix: str | None = None):
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # the permissions a normally created file would have
         check_output_target(o)  # it may have been replaced by a device or folder meanwhile
-        backup = None
-        if _ACTIVE and o.exists():
-            backup = tmpdir / "replaced"
-            try:
-                os.link(o, backup)
-            except OSError:
-                backup = None  # no hard links here: the old file cannot be restored on a later failure
+        if _ACTIVE:
+            backup = None
+            if o.exists():
+                backup = tmpdir / "replaced"
+                try:
+                    os.link(o, backup)
+                except OSError:
+                    backup = None  # no hard links here: the old file cannot be restored on a later failure
+            record = [o, backup, tmpdir, False]
+            _ACTIVE[-1].done.append(record)  # from here on the transaction cleans up
         os.replace(tmp, o)
+        if record is not None:
+            record[3] = True
     except BaseException:
-        shutil.rmtree(tmpdir, ignore_errors=True)
+        if record is None:
+            shutil.rmtree(tmpdir, ignore_errors=True)
         raise
-    if _ACTIVE:
-        _ACTIVE[-1].done.append((o, backup, tmpdir))
-    else:
+    if record is None:
         shutil.rmtree(tmpdir, ignore_errors=True)
 
 

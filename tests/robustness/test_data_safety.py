@@ -158,6 +158,12 @@ def test_failed_later_write_restores_the_file_it_replaced(tmp_path, monkeypatch,
     assert sorted(os.listdir(tmp_path)) == ["d.csv", "parts.csv"]
 
 
+def _codes(code):
+    """Exit statuses meaning ``code``: Python may end an interrupted run by re-raising SIGINT on itself,
+    which a shell reports as 130 just the same."""
+    return {code, -2} if code == 130 else {code}
+
+
 def _wait_for_tmp(folder, proc, timeout=60):
     t0 = time.time()
     while time.time() - t0 < timeout:
@@ -178,7 +184,7 @@ def _start(args, cwd):
 def test_signal_mid_write_leaves_no_debris(tmp_path, sig, code):
     src = tmp_path / "in"
     src.mkdir()
-    write_wav(src / "long.wav", seconds=120, sr=8000)
+    write_wav(src / "long.wav", seconds=900, sr=8000)  # long enough that the signal lands mid-run
     out = tmp_path / "out"
     out.mkdir()
     before = snapshot(src)
@@ -186,7 +192,7 @@ def test_signal_mid_write_leaves_no_debris(tmp_path, sig, code):
     assert _wait_for_tmp(out, proc), proc.communicate()
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=60)
-    assert proc.returncode == code, err
+    assert proc.returncode in _codes(code), err
     assert "Traceback" not in err
     assert os.listdir(out) == []
     assert snapshot(src) == before
@@ -206,7 +212,7 @@ def _alive(pid):
         return fh.read().split()[2] != "Z"
 
 
-def _batch_folder(tmp_path, n=4, seconds=60):
+def _batch_folder(tmp_path, n=4, seconds=300):
     src = tmp_path / "in"
     src.mkdir()
     for k in range(n):
@@ -226,7 +232,7 @@ def test_batch_interrupt_stops_queue_and_writes_summary(tmp_path, sig, code):
     workers = _children(proc.pid)
     proc.send_signal(sig)
     _, err = proc.communicate(timeout=90)
-    assert proc.returncode == code, err
+    assert proc.returncode in _codes(code), err
     assert "Traceback" not in err
     summary = json.loads((out / "batch_summary.json").read_text())
     assert summary["interrupted"] is True
@@ -248,11 +254,12 @@ def test_killing_batch_parent_orphans_no_worker(tmp_path):
         time.sleep(0.1)
     assert workers, "no worker started"
     proc.kill()
-    proc.communicate(timeout=30)
-    deadline = time.time() + 20
+    proc.wait(timeout=30)  # not communicate(): the dying workers may still hold the pipes a moment
+    deadline = time.time() + 60
     while time.time() < deadline and any(_alive(w) for w in workers):
         time.sleep(0.2)
     assert not [w for w in workers if _alive(w)]
+    proc.communicate(timeout=30)
 
 
 def test_run_cli_helper_reports_error(tmp_path):
