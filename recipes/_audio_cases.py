@@ -223,7 +223,8 @@ def make_case(spec):
     fdev = np.gradient(dev, 1 / sr)
     truth = {"host": host, "hum": hum, "ks": [k for k, a in enumerate(amps, start=1) if a > 0],
              "kmax": kmax, "f0_mean": float(f_base + fdev.mean()),
-             "f0_lo": float(f_base + fdev.min()), "f0_hi": float(f_base + fdev.max()), "drift_desc": desc}
+             "f0_lo": float(f_base + fdev.min()), "f0_hi": float(f_base + fdev.max()), "drift_desc": desc,
+             "f_base": f_base, "dev_cycles": dev[:: max(1, sr // 100)]}
     return host + hum, sr, truth
 
 

@@ -19,6 +19,7 @@ import _audio_cases as cases
 import numpy as np
 from scipy import signal
 
+OURS_KW = {}   # options for odnn-sep (defaults; set only while developing)
 ANCHORS = ("MNE spectrum_fit", "pactools dehummer", "iirnotch (Q=30)")
 
 
@@ -94,7 +95,7 @@ def run_population(n_cases: int, seed0: int, *, quick: bool, anchors: bool = Tru
     rows, stats = [], {}
     for spec, (y, sr, truth), pa in zip(specs, made, pact, strict=True):
         t0 = time.perf_counter()
-        r = denoise(y, sr)
+        r = denoise(y, sr, **OURS_KW)
         t_ours = time.perf_counter() - t0
         outs = {"odnn-sep": (r.y, t_ours)}
         if anchors:

@@ -29,6 +29,7 @@ class Track:
     curv: np.ndarray       # (B,) d2f/dt2 (Hz/s^2)
     confident: np.ndarray  # (B,) bool: hum clearly present in the block
     strength: np.ndarray   # (B,) peak harmonic energy over its noise-only value
+    phase: object = None   # finetrack.PhaseTrack: the fundamental's phase at every sample, when refined
 
     def median_f0(self, default: float) -> float:
         """Median fundamental over the confident blocks, ``default`` when there are none."""

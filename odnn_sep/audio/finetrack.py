@@ -1,0 +1,123 @@
+"""The instantaneous hum fundamental at 0.1 s resolution, shared by all harmonics, from their phases.
+
+The block tracker (track.py) gives one fundamental per block; it cannot follow a grid frequency that
+swings within a block (sinusoidal FM with a 5 s period) and leaves that error to the block fit. Here
+every harmonic's complex baseband (pass 1's chunk sums, turned by the block track's phase) is
+low-passed to 10 Hz; its phase against its complex mean over the whole input is ``k`` times the
+error of the track's phase at that instant (hum keeps one phase against the fundamental). The harmonics' phase errors are combined with weights
+``k^2 |mean|^2 / noise`` (each harmonic's SNR: the minimum-variance combination of the ``k``-scaled
+estimates), low-passed to ``SMOOTH_HZ`` (zero phase) and added to the track's phase; three rounds,
+the first on the low harmonics only (a phase error that is small at ``k = 1`` can wrap at ``k = 20``).
+
+The result is one unwrapped phase of the fundamental ``psi(t)`` (cycles, relative to ``f_ref * t``)
+at every chunk centre (100 per second); the block fit evaluates ``k (f_ref t + psi(t))`` at every
+sample (linear interpolation: the error is below 1e-6 cycle for the drifts of real grids).
+Memory: the chunk sums are already held (J x C x K complex64); this adds a few arrays of J / 10.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import signal
+
+from odnn_sep.audio import track as _track
+
+DECIM = 10            # chunks (10 ms) per sample of the low-passed baseband: 10 Hz
+SMOOTH_HZ = 0.6       # bandwidth of the phase correction (resolution ~0.5 s)
+K_CAPS = (2, 4, 8, 16, None)  # harmonics used in each round
+
+
+def chunk_times(J: int, sr: int) -> np.ndarray:
+    m = _track.chunk_length(sr)
+    return (np.arange(J) * m + (m - 1) / 2) / sr
+
+
+def block_track_phase(trk, tc: np.ndarray, f_ref: float, sr: int) -> np.ndarray:
+    """Phase (cycles, relative to ``f_ref t``) of the block track at chunk centres ``tc``."""
+    m = _track.chunk_length(sr)
+    dfreq = np.interp(tc, trk.t, trk.f0) - f_ref
+    return np.cumsum(dfreq) * (m / sr)
+
+
+def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.ndarray:
+    """Refined phase ``psi`` (cycles, at the chunk centres) of the fundamental; see the module text.
+
+    ``D`` (J, C, K) chunk sums at ``k f_ref``; ``weights`` (C, K) inverse floor PSDs (only relative
+    weights between channels of one harmonic matter: the SNR comes from the data); ``psi0`` the
+    starting phase (the block track's).
+    """
+    J, C, K = D.shape
+    ks = np.asarray(ks, float)
+    nd = J // DECIM
+    if nd < 16:
+        return psi0
+    fs_d = sr / _track.chunk_length(sr) / DECIM
+    tc = chunk_times(J, sr)
+    td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
+    psi = psi0.copy()
+    sos = signal.butter(2, SMOOTH_HZ, fs=fs_d, output="sos")
+    for cap in K_CAPS:
+        use = np.ones(K, bool) if cap is None else ks <= cap
+        if not use.any():
+            use = ks == ks.min()
+        rot = np.exp(-2j * np.pi * np.outer(psi, ks[use]))                                 # (J, Ku)
+        v = (D[:, :, use] * rot[:, None, :].astype(np.complex64))[: nd * DECIM]
+        v = v.reshape(nd, DECIM, C, -1).mean(axis=1).astype(np.complex128)              # (nd, C, Ku)
+        # each harmonic's complex amplitude over the whole input: hum keeps one phase against
+        # the fundamental, so every slow or fast phase error of the track shows against it
+        c = v.mean(axis=0, keepdims=True)
+        noise = np.median(np.abs(v - c) ** 2, axis=0) / np.log(2.0) + 1e-300            # (C, Ku)
+        theta = np.angle(v * np.conj(c))                                                # rad, k x error
+        w = (np.abs(c) ** 2 / noise[None]) * ks[use] ** 2                               # (nd, C, Ku)
+        w = np.minimum(w, 1e8)
+        num = (w * theta / ks[use]).sum(axis=(1, 2))
+        den = w.sum(axis=(1, 2))
+        err = num / np.maximum(den, 1e-300) / (2 * np.pi)                               # cycles
+        # where the hum is absent for a while the estimate is noise: shrink it by its weight
+        shrink = den / (den + np.median(den) * 0.05 + 1e-300)
+        err = signal.sosfiltfilt(sos, err * shrink) if nd > 15 else err * shrink
+        psi = psi + np.interp(tc, td, err)
+    return psi
+
+
+def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray):
+    """Fundamental, rate and curvature at the block centres from the phase ``psi`` (for the parts
+    of the pipeline that work per block: reports, the block-length choice, pooling)."""
+    f = f_ref + np.gradient(psi, tc)
+    f_b = np.interp(t_blocks, tc, f)
+    h = np.diff(t_blocks).mean() if len(t_blocks) > 1 else 1.0
+    rate = np.gradient(f_b, h) if len(f_b) > 1 else np.zeros_like(f_b)
+    curv = np.gradient(rate, h) if len(f_b) > 2 else np.zeros_like(f_b)
+    return f_b, rate, curv
+
+
+class PhaseTrack:
+    """Evaluates the tracked phase ``f_ref t + psi(t)`` (cycles) at sample indices."""
+
+    def __init__(self, psi: np.ndarray, sr: int, f_ref: float):
+        self.sr, self.f_ref = sr, float(f_ref)
+        self.tc_idx = chunk_times(len(psi), sr) * sr          # chunk centres in samples
+        self.psi = np.asarray(psi, float)
+
+    def offset_cycles(self, idx: np.ndarray) -> np.ndarray:
+        """``psi`` at sample indices (linear interpolation, held flat beyond the ends)."""
+        return np.interp(idx, self.tc_idx, self.psi)
+
+    def cycles(self, i0: int, n: int, centre: int, step: int = 1) -> np.ndarray:
+        """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at
+        ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``."""
+        idx = np.arange(i0, i0 + n, step, dtype=float)
+        cyc = (idx - centre) * (self.f_ref / self.sr)
+        cyc += self.offset_cycles(idx) - float(self.offset_cycles(np.array([float(centre)]))[0])
+        return cyc
+
+
+def track_from_phase(psi: np.ndarray, sr: int, f_ref: float, n_frames: int, hop: int):
+    """A :class:`track.Track` for blocks of ``2 hop`` samples centred at ``b hop`` whose phase is
+    ``psi`` (the per-block fundamental, rate and curvature follow from it)."""
+    nb = (n_frames - 1) // hop + 2
+    t = np.arange(nb) * hop / sr
+    tc = chunk_times(len(psi), sr)
+    f0, rate, curv = block_params(psi, tc, f_ref, t)
+    ones = np.ones(nb)
+    return _track.Track(t=t, f0=f0, rate=rate, curv=curv, confident=np.ones(nb, bool), strength=ones,
+                        phase=PhaseTrack(psi, sr, f_ref))
