@@ -21,6 +21,7 @@ from odnn_sep.audio import track as _track
 
 log = logging.getLogger(__name__)
 TRACK_HOP_S = 4.0     # blocks of the starting (coarse) track: 8 s
+LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
 
 
 @dataclass
@@ -67,6 +68,22 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
         if not test:
             break
         keep, info = _lock.locked(D_all, sr, cand, psi, alpha=alpha)
+        # the lines that steer the track are tested against a track made without them
+        # (leave one out): a phase that follows one line is trivially locked to it, a note
+        # partial included; a lone line is tested against the block track (8 s blocks cannot
+        # follow a note's phase from one onset to the next)
+        for i, k in enumerate(ks):
+            if len(ks) > 1:
+                rest = [j for j in range(len(ks)) if j != i]
+                ks_r = [ks[j] for j in rest]
+                psi_k = _finetrack.refine_phase(D_all[:, :, [cols[j] for j in rest]], sr, f_ref, ks_r,
+                                                W_all[:, [cols[j] for j in rest]], psi0)
+            else:
+                psi_k = psi0
+            kk, inf_k = _lock.locked(D_all[:, :, [cols[i]]], sr, [k], psi_k, alpha=alpha)
+            info[k] = inf_k[k]
+            if not kk and k in keep:
+                keep.remove(k)
         # a line must be significant and phase-locked. A line of the spectrum's comb needs only
         # the one lock test (hum or note partial?); any other harmonic is a new line, and both
         # its lock test and its line test on the tracked baseband (a band of 1.5 fine bins) are
@@ -86,6 +103,12 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
             ks = keep
             break
         ks = keep
+    if test and ks and min(ks) > LOWEST_K:
+        # mains hum lives at the fundamental and the first harmonics (a weak fundamental is
+        # normal, a comb with nothing locked below the 6th harmonic is not): locked lines only
+        # high up are partials of held notes that happen to keep their phase
+        log.info("lines %s locked but none of harmonics 1-%d: not taken for hum", ks, LOWEST_K)
+        ks = []
     cols = [cand.index(k) for k in ks]
     ev = float(sum(-np.log10(max(info[k][0], 1e-300)) for k in ks)) if test else 0.0
     return Comb(nominal_hz=det.nominal_hz, f_ref=f_ref, harmonics=ks, psi=psi if ks else None,
