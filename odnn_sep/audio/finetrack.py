@@ -73,7 +73,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         den = w.sum(axis=(1, 2))
         err = num / np.maximum(den, 1e-300) / (2 * np.pi)                               # cycles
         # where the hum is absent for a while the estimate is noise: shrink it by its weight
-        shrink = den / (den + np.median(den) * 0.05 + 1e-300)
+        shrink = np.clip(den / (0.1 * np.median(den) + 1e-300), 0.0, 1.0)
         err = signal.sosfiltfilt(sos, err * shrink) if nd > 15 else err * shrink
         psi = psi + np.interp(tc, td, err)
     return psi
@@ -82,8 +82,10 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
 def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray):
     """Fundamental, rate and curvature at the block centres from the phase ``psi`` (for the parts
     of the pipeline that work per block: reports, the block-length choice, pooling)."""
-    f = f_ref + np.gradient(psi, tc)
-    f_b = np.interp(t_blocks, tc, f)
+    # the phase's slope over +-0.25 s (the track's resolution), not chunk to chunk
+    h = 0.25
+    lo, hi = np.clip(t_blocks - h, tc[0], tc[-1]), np.clip(t_blocks + h, tc[0], tc[-1])
+    f_b = f_ref + (np.interp(hi, tc, psi) - np.interp(lo, tc, psi)) / np.maximum(hi - lo, 1e-9)
     h = np.diff(t_blocks).mean() if len(t_blocks) > 1 else 1.0
     rate = np.gradient(f_b, h) if len(f_b) > 1 else np.zeros_like(f_b)
     curv = np.gradient(rate, h) if len(f_b) > 2 else np.zeros_like(f_b)
@@ -105,7 +107,10 @@ class PhaseTrack:
     def cycles(self, i0: int, n: int, centre: int, step: int = 1) -> np.ndarray:
         """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at
         ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``."""
-        idx = np.arange(i0, i0 + n, step, dtype=float)
+        return self.cycles_at(np.arange(i0, i0 + n, step, dtype=float), centre)
+
+    def cycles_at(self, idx: np.ndarray, centre: float) -> np.ndarray:
+        """As :meth:`cycles` at (possibly fractional) sample positions ``idx``."""
         cyc = (idx - centre) * (self.f_ref / self.sr)
         cyc += self.offset_cycles(idx) - float(self.offset_cycles(np.array([float(centre)]))[0])
         return cyc

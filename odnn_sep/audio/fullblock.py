@@ -279,8 +279,11 @@ class FullBlockFitter:
             E_fix = np.exp(-2j * np.pi * np.mod(np.outer(self.kf * self.fc, t_d) / self.sr, 1.0))   # (nf, Jd)
             got = self._near[n] = (s_d, t_d, w_d, E_fix)
         s_d, t_d, w_d, E_fix = got
-        tau = (i0 + t_d - centre) / self.sr
-        phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
+        if self.phase is not None:
+            phi = 2 * np.pi * self.phase.cycles_at(i0 + t_d, centre)
+        else:
+            tau = (i0 + t_d - centre) / self.sr
+            phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
         kk = np.asarray(self.ks, float)
         rows = np.flatnonzero(near.any(axis=1))
         E_m = np.exp(1j * np.outer(kk[rows], phi)) * w_d[None, :]

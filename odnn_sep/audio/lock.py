@@ -41,7 +41,9 @@ def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     """P-value (per column of ``u`` (J, C, K), channels pooled) that the tracked baseband has a
     steady non-zero mean, and the phase-lock index ``|mean| / rms`` of the segment phasors (1 for
     a perfectly locked line, ~1/sqrt(S) for noise)."""
-    a = segment_phasors(u, sr)                                   # (S, C, K)
+    # 4 s segments; shorter on short inputs, so that there are at least ~11 of them
+    dur = u.shape[0] * _track.chunk_length(sr) / sr
+    a = segment_phasors(u, sr, seg_s=float(np.clip(dur / 6, 1.0, SEG_S)))          # (S, C, K)
     S = a.shape[0]
     if S < 3:
         return np.ones(u.shape[2]), np.zeros(u.shape[2])

@@ -80,6 +80,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
                              max_hz=max_hz)
     ks, tl = det.harmonics, det.tones
+    ks_spec = list(ks)
     if auto_block and (not ks or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
         block_s, auto_block = _blocklen.CANDIDATES_S[0], False
     bar = _params.progress_bar(progress, (2 if ks else 1) * N, "denoise")
@@ -124,11 +125,14 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         # comb's lines (widened by how far the track wandered) masked out
         f_med = trk.median_f0(det.mains_hz)
         spread = float(np.ptp(trk.f0)) if len(trk.f0) > 1 else 0.0
+        log.debug("track spread %.4f Hz", spread)
         seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
         spec_fine = _detect.excerpt_spectrum(source, seg_s=seg_hr,
                                              keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
         df_hr = spec_fine.df
-        k_top = max(ks)
+        # as far up as the comb the spectrum showed (a line there that is not locked to the
+        # track may belong to a further comb), at most twice the locked comb's reach
+        k_top = max([k for k in ks_spec if k <= 2 * max(ks)] + ks)
         known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
         combs = _combs.detect_extra_combs(spec_fine, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
