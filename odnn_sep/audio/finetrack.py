@@ -97,12 +97,26 @@ class PhaseTrack:
 
     def __init__(self, psi: np.ndarray, sr: int, f_ref: float):
         self.sr, self.f_ref = sr, float(f_ref)
-        self.tc_idx = chunk_times(len(psi), sr) * sr          # chunk centres in samples
+        self.m = _track.chunk_length(sr)
+        self.x0 = (self.m - 1) / 2                            # first chunk centre (samples)
         self.psi = np.asarray(psi, float)
+        if len(self.psi) < 2:
+            self.psi = np.r_[self.psi, self.psi][:2] if len(self.psi) else np.zeros(2)
+        self.slope = np.diff(self.psi)
 
     def offset_cycles(self, idx: np.ndarray) -> np.ndarray:
-        """``psi`` at sample indices (linear interpolation, held flat beyond the ends)."""
-        return np.interp(idx, self.tc_idx, self.psi)
+        """``psi`` at sample indices (linear interpolation, held flat beyond the ends). The chunk
+        centres are uniform, so the interval of each index is found by division (no search)."""
+        m = self.m
+        x = (np.asarray(idx, float) - self.x0) * (1.0 / m)
+        np.clip(x, 0.0, len(self.psi) - 1.0, out=x)
+        j = x.astype(np.int64)
+        np.minimum(j, len(self.psi) - 2, out=j)
+        x -= j
+        out = self.slope[j]
+        out *= x
+        out += self.psi[j]
+        return out
 
     def cycles(self, i0: int, n: int, centre: int, step: int = 1) -> np.ndarray:
         """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at

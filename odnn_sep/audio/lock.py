@@ -24,17 +24,23 @@ OVERLAP_VAR = 1.33      # variance of the mean of 50 %-overlapped Hann segments 
 
 def segment_phasors(u: np.ndarray, sr: int, seg_s: float = SEG_S) -> np.ndarray:
     """Hann-weighted complex means of ``u`` (J, ...) over segments of ``seg_s`` (50 % overlap):
-    (S, ...)."""
+    (S, ...). The segments are two interleaved sets of back-to-back ones (one product each)."""
     fs = sr / _track.chunk_length(sr)
     n = int(round(seg_s * fs))
     J = u.shape[0]
-    if J < n:
-        n = J
-    step = max(1, n // 2)
-    starts = np.arange(0, J - n + 1, step)
+    n = max(2, min(n, J))
     w = np.hanning(n + 2)[1:-1]
-    w = w / w.sum()
-    return np.stack([np.tensordot(w, u[s: s + n], axes=(0, 0)) for s in starts])
+    w = (w / w.sum()).astype(np.float32 if u.dtype == np.complex64 else float)
+    out = []
+    for off in (0, n // 2):
+        S = (J - off) // n
+        if S < 1:
+            continue
+        seg = u[off: off + S * n].reshape((S, n) + u.shape[1:])
+        out.append((off, np.tensordot(w, seg, axes=(0, 1))))          # (S, ...)
+    # in time order: the two sets interleave
+    starts = sorted((off + i * n, a[i]) for off, a in out for i in range(a.shape[0]))
+    return np.stack([a for _, a in starts])
 
 
 def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
@@ -66,8 +72,12 @@ def locked(D, sr: int, ks, psi: np.ndarray, *, alpha: float):
     at level ``alpha`` (one test per line: it tells hum from a note partial on a line already
     shown to be significant), and per harmonic ``(p, lock_index)``."""
     ks_a = np.asarray(ks, float)
-    rot = np.exp(-2j * np.pi * np.outer(psi, ks_a)).astype(np.complex64)
-    u = D * rot[:, None, :]
-    p, idx = lock_p_values(u, sr)
+    p, idx = np.ones(len(ks)), np.zeros(len(ks))
+    for i, k in enumerate(ks_a):
+        # one harmonic at a time: a few arrays of the baseband's length, whatever the count
+        rot = np.empty(len(psi), np.complex64)
+        ph = -2 * np.pi * np.mod(k * psi, 1.0)
+        rot.real, rot.imag = np.cos(ph), np.sin(ph)
+        p[i: i + 1], idx[i: i + 1] = lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr)
     keep = [int(k) for k, pv in zip(ks, p, strict=True) if pv < alpha]
     return keep, {int(k): (float(pv), float(ix)) for k, pv, ix in zip(ks, p, idx, strict=True)}

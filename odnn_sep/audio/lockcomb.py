@@ -37,12 +37,14 @@ class Comb:
 
 
 def _weights(spec, f_ref, ks, det_floors):
-    cols = []
+    cols, typical = [], None
     for k in ks:
         fl = det_floors.get(("h", k))
         if fl is None or not np.isfinite(fl).all():
             fl = _detect.line_level(spec, k * f_ref, _detect.band_halfwidth(spec, k))["floor"]
-        fl = np.where(np.isfinite(fl), fl, np.median(spec.psd, axis=0))
+        if not np.isfinite(fl).all():
+            typical = np.median(spec.psd, axis=0) if typical is None else typical
+            fl = np.where(np.isfinite(fl), fl, typical)
         cols.append(1.0 / np.maximum(fl, 1e-300))
     return np.stack(cols, axis=1)
 

@@ -224,7 +224,7 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
     coarse_ks = ks <= max(k_coarse, ks.min())
     step = 0.25 / (L_s * k_coarse)
     if max_offset_hz is None:
-        max_offset_hz = max(0.5, 0.005 * f_ref)
+        max_offset_hz = max(1.0, 0.02 * f_ref)   # ramps of 50 mHz/s over 40 s reach +-1 Hz
     f = np.full(nb, np.nan)
     strength = np.zeros(nb)
     coverage = np.zeros(nb)
