@@ -121,7 +121,28 @@ class PhaseTrack:
     def cycles(self, i0: int, n: int, centre: int, step: int = 1) -> np.ndarray:
         """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at
         ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``."""
-        return self.cycles_at(np.arange(i0, i0 + n, step, dtype=float), centre)
+        if step != 1:
+            return self.cycles_at(np.arange(i0, i0 + n, step, dtype=float), centre)
+        # contiguous samples: on the grid of chunk centres x0 + j m the interpolant is
+        # psi_j + slope_j r / m for the r-th sample after centre j: one broadcast add per block
+        m, x0 = self.m, self.x0
+        first = int(np.floor((i0 - x0) / m))
+        last = int(np.floor((i0 + n - 1 - x0) / m)) + 1
+        lo, hi = max(first, 0), min(last, len(self.psi) - 1)
+        if hi - lo < 2 or first < 0 or last > len(self.psi) - 1:
+            return self.cycles_at(np.arange(i0, i0 + n, dtype=float), centre)
+        c0 = int(np.ceil(x0))              # first sample at or after a chunk centre
+        r = (np.arange(m) + (c0 - x0)) * (1.0 / m)
+        grid = self.psi[lo:hi, None] + self.slope[lo:hi, None] * r[None, :]
+        start = i0 - (c0 + lo * m)
+        psi_s = grid.reshape(-1)[start: start + n] if start >= 0 else grid[:0].reshape(-1)
+        if psi_s.shape[0] != n:
+            return self.cycles_at(np.arange(i0, i0 + n, dtype=float), centre)
+        cyc = np.arange(i0 - centre, i0 - centre + n, dtype=float)
+        cyc *= self.f_ref / self.sr
+        cyc += psi_s
+        cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
+        return cyc
 
     def cycles_at(self, idx: np.ndarray, centre: float) -> np.ndarray:
         """As :meth:`cycles` at (possibly fractional) sample positions ``idx``."""
