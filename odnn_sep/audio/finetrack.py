@@ -17,7 +17,7 @@ Memory: the chunk sums are already held (J x C x K complex64); this adds a few a
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal
+from scipy import ndimage
 
 from odnn_sep.audio import track as _track
 
@@ -54,7 +54,8 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
     tc = chunk_times(J, sr)
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
     psi = psi0.copy()
-    sos = signal.butter(2, SMOOTH_HZ, fs=fs_d, output="sos")
+    # Hann kernel whose half-power frequency is SMOOTH_HZ (0.72 / length)
+    kern = np.hanning(max(3, int(round(0.72 / SMOOTH_HZ * fs_d)) + 2))[1:-1]
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
@@ -65,25 +66,29 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         # each harmonic's complex amplitude over the whole input: hum keeps one phase against
         # the fundamental, so every slow or fast phase error of the track shows against it
         c = v.mean(axis=0, keepdims=True)
-        noise = np.median(np.abs(v - c) ** 2, axis=0) / np.log(2.0) + 1e-300            # (C, Ku)
+        # local noise of each line (1 s): a loud note on a harmonic makes its phase worthless
+        # for a while, and its weight drops for that while only
+        r2 = np.abs(v - c) ** 2
+        noise = ndimage.uniform_filter1d(r2, size=max(1, int(round(fs_d))), axis=0, mode="nearest")
+        noise = np.maximum(noise, 1e-12 * np.median(r2) + 1e-300)
         theta = np.angle(v * np.conj(c))                                                # rad, k x error
-        w = (np.abs(c) ** 2 / noise[None]) * ks[use] ** 2                               # (nd, C, Ku)
+        w = (np.abs(c) ** 2 / noise) * ks[use] ** 2                                     # (nd, C, Ku)
         w = np.minimum(w, 1e8)
-        num = (w * theta / ks[use]).sum(axis=(1, 2))
+        num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
-        err = num / np.maximum(den, 1e-300) / (2 * np.pi)                               # cycles
-        # where the hum is absent for a while the estimate is noise: shrink it by its weight
-        shrink = np.clip(den / (0.1 * np.median(den) + 1e-300), 0.0, 1.0)
-        err = signal.sosfiltfilt(sos, err * shrink) if nd > 15 else err * shrink
+        # normalised convolution: the low-pass of the weighted estimates over that of the weights
+        # (instants with little hum evidence borrow from their neighbours)
+        # (a positive kernel, so the ratio stays a weighted mean)
+        err = (ndimage.convolve1d(num, kern, mode="constant")
+               / np.maximum(ndimage.convolve1d(den, kern, mode="constant"), 1e-300))
         psi = psi + np.interp(tc, td, err)
     return psi
 
 
-def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray):
+def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray, h: float = 0.25):
     """Fundamental, rate and curvature at the block centres from the phase ``psi`` (for the parts
     of the pipeline that work per block: reports, the block-length choice, pooling)."""
-    # the phase's slope over +-0.25 s (the track's resolution), not chunk to chunk
-    h = 0.25
+    # the phase's slope over +-h (default 0.25 s, the track's resolution), not chunk to chunk
     lo, hi = np.clip(t_blocks - h, tc[0], tc[-1]), np.clip(t_blocks + h, tc[0], tc[-1])
     f_b = f_ref + (np.interp(hi, tc, psi) - np.interp(lo, tc, psi)) / np.maximum(hi - lo, 1e-9)
     h = np.diff(t_blocks).mean() if len(t_blocks) > 1 else 1.0
@@ -157,7 +162,8 @@ def track_from_phase(psi: np.ndarray, sr: int, f_ref: float, n_frames: int, hop:
     nb = (n_frames - 1) // hop + 2
     t = np.arange(nb) * hop / sr
     tc = chunk_times(len(psi), sr)
-    f0, rate, curv = block_params(psi, tc, f_ref, t)
+    # per block: the mean frequency over the middle half of the block (reports, comb masks)
+    f0, rate, curv = block_params(psi, tc, f_ref, t, h=max(0.25, 0.5 * hop / sr))
     ones = np.ones(nb)
     return _track.Track(t=t, f0=f0, rate=rate, curv=curv, confident=np.ones(nb, bool), strength=ones,
                         phase=PhaseTrack(psi, sr, f_ref))

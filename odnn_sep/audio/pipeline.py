@@ -58,6 +58,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     mains = _params.parse_mains(mains, sr)
     harmonics = _params.parse_harmonics(harmonics)
     tones = _params.parse_tones(tones, sr)
+    max_hz = _params.parse_max_hz(max_hz, sr)
     if solver not in ("exact", "network"):
         raise InputError(f"solver must be 'exact' or 'network'; got {solver!r}")
     auto_block = isinstance(block_s, str) and block_s.strip().lower() == "auto"

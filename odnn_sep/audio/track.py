@@ -290,7 +290,7 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
     ok = np.isfinite(f) & (strength >= min_strength)
     ok &= coverage >= 0.25
     if ok.sum() == 0:
-        log.warning("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
+        log.info("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
                     f_ref)
         off = np.zeros(nb)
     elif ok.sum() == 1 or np.ptp(t_eff[ok]) == 0:
