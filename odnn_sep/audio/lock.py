@@ -52,6 +52,7 @@ def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     a = segment_phasors(u, sr, seg_s=float(np.clip(dur / 6, 1.0, SEG_S)))          # (S, C, K)
     S = a.shape[0]
     if S < 3:
+        lock_p_values.last_amp = np.zeros(u.shape[2])
         return np.ones(u.shape[2]), np.zeros(u.shape[2])
     mean = a.mean(axis=0)                                        # (C, K)
     scat = (np.abs(a - mean) ** 2).sum(axis=0) / (S - 1)         # (C, K)
@@ -63,6 +64,7 @@ def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     d1, d2 = 2.0 * C, 2.0 * C * (s_eff - 1)
     p = special.fdtrc(d1, d2, xf)
     rms = np.sqrt((np.abs(a) ** 2).mean(axis=0)).mean(axis=0)
+    lock_p_values.last_amp = np.abs(mean).mean(axis=0)
     index = np.abs(mean).mean(axis=0) / np.maximum(rms, 1e-300)
     return p, index
 
@@ -70,14 +72,16 @@ def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
 def locked(D, sr: int, ks, psi: np.ndarray, *, alpha: float):
     """Harmonics of ``ks`` (columns of the chunk sums ``D``) whose tracked baseband is phase-locked
     at level ``alpha`` (one test per line: it tells hum from a note partial on a line already
-    shown to be significant), and per harmonic ``(p, lock_index)``."""
+    shown to be significant), and per harmonic ``(p, lock_index, amplitude)`` (amplitude: modulus
+    of the mean tracked baseband, in chunk-sum units)."""
     ks_a = np.asarray(ks, float)
-    p, idx = np.ones(len(ks)), np.zeros(len(ks))
+    p, idx, amp = np.ones(len(ks)), np.zeros(len(ks)), np.zeros(len(ks))
     for i, k in enumerate(ks_a):
         # one harmonic at a time: a few arrays of the baseband's length, whatever the count
         rot = np.empty(len(psi), np.complex64)
         ph = -2 * np.pi * np.mod(k * psi, 1.0)
         rot.real, rot.imag = np.cos(ph), np.sin(ph)
         p[i: i + 1], idx[i: i + 1] = lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr)
+        amp[i] = lock_p_values.last_amp[0]
     keep = [int(k) for k, pv in zip(ks, p, strict=True) if pv < alpha]
-    return keep, {int(k): (float(pv), float(ix)) for k, pv, ix in zip(ks, p, idx, strict=True)}
+    return keep, {int(k): (float(pv), float(ix), float(am)) for k, pv, ix, am in zip(ks, p, idx, amp, strict=True)}

@@ -99,7 +99,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
         det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
         det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
                             "p_value_bonferroni": p, "lock_index": ix, "significant": k in ks,
-                            "look": "phase lock"} for k, (p, ix) in sorted(comb.lock.items())]
+                            "look": "phase lock"} for k, (p, ix, _) in sorted(comb.lock.items())]
         if auto_block:
             block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
         hop = max(1, int(round(block_s * sr / 2)))
