@@ -94,6 +94,8 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
                             max_hz=max_hz, tones=tl, progress=tick) if ks else None
     if comb is None:
         ks = []
+        if auto_block:
+            block_s, auto_block = _blocklen.CANDIDATES_S[0], False
     else:
         ks = comb.harmonics
         det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
