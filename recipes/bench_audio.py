@@ -303,6 +303,20 @@ def main(argv=None):
     if args.quick or args.no_write or args.dev:
         return 0
 
+    counts = {"ahead": sum(pop_stats["ahead"]), "false_tonal": sum(pop_stats["false_tonal"]),
+              "false_all": sum(pop_stats["false_all"])}
+    body = section_body(n_cases, seed0, md_table(pop_hdr, pop_rows), md_table(sum_hdr, pop.summary_rows(pop_stats)),
+                        counts, md_table(clean_hdr, clean_rows), md_table(real_hdr, real_rows), speed, long)
+    write_section("audio", "Audio hum removal (odnn-sep denoise)", "python recipes/bench_audio.py",
+                  body)
+    return 0
+
+
+def section_body(n_cases, seed0, pop_table, sum_table, counts, clean_table, real_table, speed, long) -> str:
+    """The text of the BENCHMARKS.md audio section from the tables of one run."""
+    from _audio_cases import DEV_SEED0
+    from _bench_md import md_table
+
     room = speed.get("room", {})
     best = speed.get("room_best", {})
     ratio = best["MNE spectrum_fit"] / best["odnn-sep"] if best else float("nan")
@@ -314,8 +328,8 @@ def main(argv=None):
         "with its defaults.\n",
         "### 1. Generated population (known truth)\n",
         f"{n_cases} cases from `recipes/_audio_cases.py`, **evaluation seeds {seed0}-{seed0 + n_cases - 1}** "
-        f"(thresholds and methods were chosen on the development seeds {pop.cases.DEV_SEED0}-"
-        f"{pop.cases.DEV_SEED0 + n_cases - 1}: `python recipes/bench_audio.py --dev --population-only`). "
+        f"(thresholds and methods were chosen on the development seeds {DEV_SEED0}-"
+        f"{DEV_SEED0 + n_cases - 1}: `python recipes/bench_audio.py --dev --population-only`). "
         "Hosts: tonal music tuned to A440 (7-note scale, 4-7 partials, notes held 0.2-4 s, half of them with a "
         "partial 0.5-3 Hz from a hum harmonic, pitches repeat), speech-like voiced syllables under formants with "
         "gliding pitch, and white/pink/brown noise; drift: the grid frequency measured on "
@@ -327,10 +341,10 @@ def main(argv=None):
         "farther than 2 Hz from the band each true harmonic sweeps. The anchors are given the true lines (true "
         "harmonics at the true mean fundamental); odnn-sep finds them itself. Lines removed that are not hum: "
         "harmonic numbers absent from the true hum, further combs and tones (all lines if the family is wrong).\n",
-        md_table(pop_hdr, pop_rows),
-        md_table(sum_hdr, pop.summary_rows(pop_stats)),
-        f"odnn-sep ahead of every anchor that ran on {sum(pop_stats['ahead'])} of {n_cases} cases; lines removed "
-        f"that are not hum: {sum(pop_stats['false_tonal'])} on the tonal hosts, {sum(pop_stats['false_all'])} in "
+        pop_table,
+        sum_table,
+        f"odnn-sep ahead of every anchor that ran on {counts['ahead']} of {n_cases} cases; lines removed "
+        f"that are not hum: {counts['false_tonal']} on the tonal hosts, {counts['false_all']} in "
         "all. pactools ran only on the cases at 8 and 16 kHz (40-80 s per case at 44.1/48 kHz here); its median "
         "and worst are over those.\n",
         "Before this change (block track, one estimate per 4 s; lines by the spectrum test alone), measured on the "
@@ -339,7 +353,7 @@ def main(argv=None):
         "tonal cases; on the hum-free recordings at 16 kHz (8 s) it removed -6 to -29 dB of the tonal music, "
         "piano, organ and bass line.\n",
         "Hum-free recordings (no hum added; `recipes/_audio_cases.py: clean_hosts`):\n",
-        md_table(clean_hdr, clean_rows),
+        clean_table,
         "### 2. Real recordings (no truth)\n",
         "Welch PSD, 4 s Hann segments. Line level = mean PSD within +-0.5 Hz of the line over the median local "
         "floor 2-10 Hz away (0 dB = line gone, floor intact); deepest hole = the largest cut of a 0.25 Hz bin within "
@@ -351,7 +365,7 @@ def main(argv=None):
         "(output over input, bins within +-1 Hz of a reported line with the same +-0.2 Hz left out; "
         "`odnn_sep.audio.metrics.beside_line_cut_db`): where the content under a line sits below the local floor, "
         "the hole column reads a cut although the content beside the line is untouched.\n",
-        md_table(real_hdr, real_rows),
+        real_table,
         "### 3. Speed and memory\n",
         md_table(["case", "odnn-sep", "MNE spectrum_fit", "pactools", "iirnotch", "speed-up vs MNE"],
                  [["room recording, 127 s stereo 8 kHz (single run, as in table 2)",
@@ -369,9 +383,7 @@ def main(argv=None):
                     f"({long['cpu_s']:.1f} s CPU; 1-min load average {long['load_avg_1min']:.1f} on this shared "
                     f"machine), **peak RSS {long['peak_rss_mb']:.0f} MB** (interpreter, reading and writing "
                     f"included).\n")
-    write_section("audio", "Audio hum removal (odnn-sep denoise)", "python recipes/bench_audio.py",
-                  "\n".join(body))
-    return 0
+    return "\n".join(body)
 
 
 if __name__ == "__main__":
