@@ -8,9 +8,7 @@ import pytest
 from runner import run_case, verdict
 
 # Cases whose fix belongs to another part of the package (they pass once it lands).
-KNOWN = {
-    "unwatermark-min-score=-5": "the image front-end decides the allowed --min-score range (issue 16, item 7)",
-}
+KNOWN: dict[str, str] = {}  # case id -> reason, for a failure that is known and tracked
 
 
 def _param(c):
