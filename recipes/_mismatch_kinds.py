@@ -17,7 +17,8 @@ import numpy as np
 
 KINDS = ("slow", "periodic", "coloured", "spikes", "quantisation")
 
-# a second effect per system for the two-effect cases: (effect, parameter, reference strength, extra)
+# a second effect per system for the two-effect cases: (effect, parameter, reference strength, extra);
+# heat2d has no second physical effect (its offset is a disturbance)
 SECOND = {
     "oscillator/duffing": ("quadratic_drag", "q_drag", 0.05, {}),
     "oscillator/air_drag": ("cubic_stiffness", "beta", 0.2, {}),
@@ -25,7 +26,6 @@ SECOND = {
     "cooling/radiation": ("two_body_heat", "B_2", 1.0, {"lam_2": 0.2}),
     "hum/frequency_drift": ("missing_harmonic", "a_h", 0.05, {"k_h": 3.0, "b_h": 0.0}),
     "freefall/quadratic_drag": ("time_delay", "tau", 0.01, {}),
-    "heat2d/extra_source": ("offset", "offset", 0.02, {}),
 }
 
 

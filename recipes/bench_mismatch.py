@@ -367,12 +367,28 @@ def real_tables():
     return rows
 
 
-def _map(fn, jobs, n_jobs):
+def _map(fn, jobs, n_jobs, log=None):
+    """Run the jobs (in worker processes when n_jobs > 1); each finished row goes to ``log`` at once."""
+    out = []
     if n_jobs > 1:
         import multiprocessing as mp
         with mp.get_context("fork").Pool(n_jobs) as pool:
-            return pool.map(fn, jobs, chunksize=1)
-    return [fn(j) for j in jobs]
+            for r in pool.imap(fn, jobs, chunksize=1):
+                out.append(r)
+                if log:
+                    log(r)
+        return out
+    for j in jobs:
+        out.append(fn(j))
+        if log:
+            log(out[-1])
+    return out
+
+
+def _log_row(r):
+    print(f"  {r['system']:24s} {r['kind']:12s} {r['mode']:6s} seed {r['seed']:4d}: truth "
+          f"{'+'.join(r['truth']) or '-'} -> named {'+'.join(r['named']) or '-'}; disturbances "
+          f"{'+'.join(str(d) for d in r['disturbances']) or '-'} ({r['seconds']:.1f} s)", file=sys.stderr, flush=True)
 
 
 ODE_SYSTEMS = ("oscillator/duffing", "oscillator/air_drag", "pendulum/large_angle")
@@ -391,7 +407,9 @@ def population(args, names):
             names, lambda n: applicable_kinds(SYSTEMS[n]),
             lambda n: range(base, base + (args.pop_seeds_ode if n in ODE_SYSTEMS else args.pop_seeds)))
     t0 = time.time()
-    rows = _map(run_population_case, jobs, args.jobs)
+    if args.kinds:
+        jobs = [j for j in jobs if j[1] in args.kinds.split(",")]
+    rows = _map(run_population_case, jobs, args.jobs, _log_row)
     print(f"population: {len(rows)} cases in {time.time() - t0:.0f} s", file=sys.stderr)
     overall, confusions, by_kind, by_sys = summarize_population(rows)
     print(by_kind)
@@ -439,6 +457,7 @@ def main(argv=None):
     ap.add_argument("--pop-seeds", type=int, default=6, help="population seeds per system and kind")
     ap.add_argument("--pop-seeds-ode", type=int, default=2,
                     help="population seeds for the ODE systems (oscillator, pendulum: seconds per case)")
+    ap.add_argument("--kinds", default=None, help="comma-separated subset of disturbance kinds")
     ap.add_argument("--dev", action="store_true", help="development seeds (0+) instead of evaluation seeds (100+)")
     args = ap.parse_args(argv)
     from _bench_md import md_table, write_section

@@ -91,6 +91,11 @@ def effect_starts(effect, base, t, y, model=None, G=None):
                 m = p.get("m", 1.0)
                 X = X * (k - m * w ** 2 + 1j * p["c"] * w)
             out.append({**p, "omega_f": w, "F": float(abs(X)), "phase_f": float(np.angle(X))})
+    elif effect == "periodic_pickup" and tt is not None:
+        for f in _peaks(tt, r, n_peaks=2):
+            w = 2 * np.pi * f
+            a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
+            out.append({**p, "omega_pk": w, "a_pk": float(a), "b_pk": float(b)})
     elif effect == "amplitude_modulation" and tt is not None:
         pred = base.prediction
         env = r * pred / max(np.mean(pred ** 2), 1e-300)
