@@ -102,7 +102,9 @@ def run_population_case(job):
         theta0 = strength_for(name, spec, *e1, r2a if mode == "pair" else r1)
     aux = None
     truth_effects = []
-    if mode == "effect":
+    if mode == "effect" and spec.get("coupling"):
+        truth_effects = [(e1[0], e1[1], None, {})]    # kappa is set below from the ratio
+    elif mode == "effect":
         truth_effects = [(e1[0], e1[1], strength_for(name, spec, *e1, r1), e1[3])]
     elif mode == "pair":
         e2 = SECOND[name]

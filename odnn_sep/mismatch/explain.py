@@ -67,6 +67,7 @@ class MismatchResult:
     declared: list = field(default_factory=list)     # declared disturbances (sentences)
     dropped: list = field(default_factory=list)      # effects removed by the backward check
     unit: str = ""
+    warnings: list = field(default_factory=list)     # non-physical fitted values, in words
 
     @property
     def verdict(self):
@@ -112,7 +113,7 @@ def _validate(t, y, model):
 
 def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=None, folds=4, blocks_per_fold=5,
             bic_threshold=BIC_THRESHOLD, heldout_threshold=HELDOUT_THRESHOLD, n_cv=N_CV, alpha=0.05,
-            max_effects=MAX_EFFECTS, unit="", progress=False):
+            max_effects=MAX_EFFECTS, unit="", inputs=None, progress=False):
     """Find where a model and data disagree, name the missing effect, and refit with it.
 
     Parameters
@@ -142,6 +143,10 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         At most this many effects and disturbances join the model (forward-selection steps).
     unit : str
         Unit of ``y`` for the plain-language descriptions (e.g. "m", "degC").
+    inputs : dict name -> array (n,), optional
+        Measured inputs driving a preset (oscillator, pendulum, cooling): each enters the
+        equation with its own fitted gain ``kd_<name>`` (see :mod:`odnn_sep.mismatch.inputs`).
+        User ODE models take them in :func:`ode_model` instead.
 
     Returns
     -------
@@ -158,7 +163,15 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     >>> res.effect, round(res.verdict.fit.params["q_drag"], 2)
     ('quadratic_drag', 0.02)
     """
-    m = make_model(model, params) if not isinstance(model, Model) else model.with_start(params or {})
+    if inputs and isinstance(model, Model):
+        raise InputError("inputs of a user model are given to ode_model(..., inputs=...); "
+                         "explain(inputs=...) drives the presets")
+    if inputs:
+        from odnn_sep.mismatch.inputs import check_inputs
+        t_arr = as_float_array("t", t, ndim=(1,))
+        inputs = check_inputs(inputs, t_arr)
+    m = make_model(model, params, inputs=inputs) if not isinstance(model, Model) \
+        else model.with_start(params or {})
     t, y = _validate(t, y, m)
     aux = check_aux(aux, len(y))
     if aux and m.family != "hum":
@@ -220,6 +233,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     res.named = [c for c in out.accepted if c.effect not in DISTURBANCE_EFFECTS]
     res.disturbances = [_disturbance_entry(c, out.fit, unit) for c in out.accepted
                         if c.effect in DISTURBANCE_EFFECTS]
+    from odnn_sep.mismatch.inputs import physical_warnings
+    res.warnings = physical_warnings(out.fit.params)
     return res
 
 

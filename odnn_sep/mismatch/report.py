@@ -52,6 +52,7 @@ def result_dict(res) -> dict:
     verdict["disturbances"] = list(res.disturbances)
     verdict["declared_disturbances"] = list(res.declared)
     verdict["dropped_by_backward_check"] = list(res.dropped)
+    verdict["warnings"] = list(res.warnings)
     after = _fit_summary(final, res.heldout_rmse_after)
     if final is not base:
         # how the calibrated parameters were biased by leaving the effects out
@@ -105,6 +106,8 @@ def summary_text(res) -> str:
     for dd in v["dropped_by_backward_check"]:
         lines.append(f"Dropped by the backward check: {dd['effect']} (BIC drop against the others "
                      f"{_fmt(dd['score_against_others'])})")
+    for w in v["warnings"]:
+        lines.append(f"Warning: {w}")
     if d["failed_fits"]:
         for f in d["failed_fits"]:
             lines.append(f"Fit failed (not ranked): {f['effect']} at step {f['step']}: {f['reason']}")
