@@ -18,14 +18,14 @@ import numpy as np
 KINDS = ("slow", "periodic", "coloured", "spikes", "quantisation")
 
 # a second effect per system for the two-effect cases: (effect, parameter, reference strength, extra);
-# heat2d has no second physical effect (its offset is a disturbance)
+# heat2d and freefall have no second effect the data can name: an offset is a disturbance, and a
+# release-time offset of a body falling from rest is a drift plus a height offset
 SECOND = {
     "oscillator/duffing": ("quadratic_drag", "q_drag", 0.05, {}),
     "oscillator/air_drag": ("cubic_stiffness", "beta", 0.2, {}),
     "pendulum/large_angle": ("quadratic_drag", "q_drag", 0.05, {}),
     "cooling/radiation": ("two_body_heat", "B_2", 1.0, {"lam_2": 0.2}),
     "hum/frequency_drift": ("missing_harmonic", "a_h", 0.05, {"k_h": 3.0, "b_h": 0.0}),
-    "freefall/quadratic_drag": ("time_delay", "tau", 0.01, {}),
 }
 
 

@@ -130,7 +130,7 @@ def run_population_case(job):
     names = [n for n, _, _ in named]
     want = [e for e, _, _, _ in truth_effects]
     row = {"system": name, "kind": kind, "seed": seed, "mode": mode, "truth": want, "named": names,
-           "disturbances": [d.get("kind") for d in getattr(res, "disturbances", []) or []],
+           "disturbances": [d.get("effect") for d in getattr(res, "disturbances", []) or []],
            "failed": [c.effect for c in getattr(res, "failed", []) or []], "seconds": dt,
            "ratio": None, "errors": [], "covered": [], "base_covered": []}
     base = res.calibration.fit

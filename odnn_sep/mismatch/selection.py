@@ -12,7 +12,8 @@ from odnn_sep.mismatch.presets import ModelIntegrationError
 from odnn_sep.mismatch.select import Candidate, FailedFit, heldout, passes, refit_robust
 
 # the additive stand-in of each effect that a linear model cannot tell from it
-EQUIVALENT = {"periodic_forcing": "periodic_pickup"}
+# (a release-time offset of a body falling from rest is a drift plus an offset of its height)
+EQUIVALENT = {"periodic_forcing": "periodic_pickup", "time_delay": "drift"}
 
 
 @dataclass
@@ -42,12 +43,33 @@ def _score_step(cur, names, make_model, t, y, G, step, failed, progress):
     return cands
 
 
-def _demote_equivalents(cands, bic_threshold):
+def _additive_alternative_score(c, cur, t, y, G):
+    """Score of an additive sinusoid at the fitted forcing frequency (cos/sin projected out exactly),
+    counted with as many parameters as the forcing: what the data say without forcing dynamics."""
+    from odnn_sep.mismatch.fitting import fit
+    w = float(c.fit.params["omega_f"])
+    P = np.column_stack([np.cos(w * t), np.sin(w * t)])
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            f = fit(cur.model, t, y, start=cur.params, G=P if G is None else np.column_stack([G, P]), max_nfev=150)
+    except ModelIntegrationError:
+        return None
+    n = c.fit.n_eff
+    bic_add = float(n * np.log(max(f.rss, 1e-300) / n) + c.fit.n_params * np.log(n))
+    return float(cur.bic - bic_add)
+
+
+def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
     """An effect whose additive stand-in fits as well is not eligible as physics (note why)."""
     by = {c.effect: c for c in cands}
     out = []
     for c in cands:
         alt = by.get(EQUIVALENT.get(c.effect, ""))
+        if c.effect == "periodic_forcing" and cur is not None and c.score > bic_threshold:
+            s_add = _additive_alternative_score(c, cur, t, y, G)
+            if s_add is not None and (alt is None or s_add > alt.score):
+                alt = Candidate("periodic_pickup", s_add, None)
         if alt is not None and c.score - alt.score <= bic_threshold:
             c.note = (f"not significantly better than an additive {alt.effect} (BIC {c.score - alt.score:+.1f}); "
                       f"the data cannot tell them apart")
@@ -68,7 +90,7 @@ def forward_backward(base, mse0, names, make_model, t, y, G, *, block_id, folds,
         cands = _score_step(cur, remaining, make_model, t, y, G, step, sel.failed, progress)
         if step == 1:
             sel.first_step = cands
-        eligible = _demote_equivalents(cands, bic_threshold)
+        eligible = _demote_equivalents(cands, bic_threshold, cur, t, y, G)
         chosen = None
         for c in eligible[:n_cv]:
             if c.score <= bic_threshold:

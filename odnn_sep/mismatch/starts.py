@@ -118,8 +118,9 @@ def effect_starts(effect, base, t, y, model=None, G=None):
         for k in range(H + 1, H + 7):
             if k * p["f0"] >= nyq:
                 break
-            w = 2 * np.pi * k * p["f0"] * tt
-            a, b = _ls([np.cos(w), np.sin(w)], r)
+            # the harmonic's own columns from the model, so it follows a frequency drift already found
+            cols = _harmonic_columns(model, {**model.start, **p}, tt, k)
+            a, b = _ls(cols, r)
             gain = a * a + b * b
             if best is None or gain > best[0]:
                 best = (gain, k, a, b)
@@ -139,6 +140,12 @@ def effect_starts(effect, base, t, y, model=None, G=None):
         s = one_step(model, {**model.start, **p}, t, y, G) if model is not None else None
         out.append(p if s is None else s)
     return out
+
+
+def _harmonic_columns(model, p, t, k):
+    q = {**p, "k_h": float(k), "a_h": 0.0, "b_h": 0.0}
+    base = model.predict(t, q)
+    return [model.predict(t, {**q, "a_h": 1.0}) - base, model.predict(t, {**q, "b_h": 1.0}) - base]
 
 
 def _nyq_quarter(t):
