@@ -65,6 +65,11 @@ def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
     by = {c.effect: c for c in cands}
     out = []
     for c in cands:
+        if c.effect == "periodic_pickup" and t is not None and np.ndim(t) == 1 and cur is not None:
+            from odnn_sep.mismatch.starts import near_system_line
+            if near_system_line(c.fit.params["omega_pk"] / (2 * np.pi), cur, t):
+                c.note = "at the system's own frequency or a harmonic: not taken as a disturbance"
+                continue
         alt = by.get(EQUIVALENT.get(c.effect, ""))
         if c.effect == "periodic_forcing" and cur is not None and c.score > bic_threshold:
             s_add = _additive_alternative_score(c, cur, t, y, G)

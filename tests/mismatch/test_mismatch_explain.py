@@ -94,4 +94,4 @@ def test_user_model_with_generic_effect():
     assert res.effect is None
     assert [d["effect"] for d in res.disturbances] == ["periodic_pickup"]
     assert abs(res.disturbances[0]["parameters"]["omega_pk"] - 3.0) < 0.05
-    assert "3 Hz" not in res.disturbances[0]["description"] and "0.4775 Hz" in res.disturbances[0]["description"]
+    assert "a periodic component at 0.477" in res.disturbances[0]["description"]
