@@ -172,7 +172,9 @@ def population_jobs(systems, kinds_for, seeds):
                 if name in SECOND:
                     jobs.append((name, kind, seed, "pair"))
                 jobs.append((name, kind, seed, "null"))
-    return jobs
+    # the periodic pickup first, then by seed: a run cut short still covers every system
+    order = {"periodic": 0, "slow": 1, "coloured": 2, "spikes": 3, "quantisation": 4}
+    return sorted(jobs, key=lambda j: (j[2], order[j[1]]))
 
 
 def _pct(x):

@@ -251,6 +251,25 @@ def summarize(rows):
     return overall, confusions, "\n".join(lines)
 
 
+def verdict_text(res):
+    """Every named effect with its parameters and 95% intervals, then the disturbances and failed fits."""
+    parts = []
+    for c in res.named:
+        iv = res.final_fit.intervals()
+        ps = ", ".join(f"{k}={res.final_fit.params[k]:.4g}"
+                       + (f" [{iv[k][0]:.3g}, {iv[k][1]:.3g}]" if k in iv else "") for k in c.effect_params)
+        parts.append(f"{c.effect} ({ps})")
+    out = "; ".join(parts) if parts else "nothing missing"
+    if res.disturbances:
+        out += "; disturbances: " + "; ".join(d["description"].split(";")[0] + f" ({d['effect']})"
+                                              for d in res.disturbances)
+    if res.warnings:
+        out += "; warnings: " + "; ".join(w.split(":")[0] for w in res.warnings)
+    if res.failed:
+        out += f"; fits failed: {', '.join(f.effect for f in res.failed)}"
+    return out
+
+
 def read_format212(path, n_signals):
     """WFDB format 212 (two 12-bit two's-complement samples in three bytes), interleaved signals."""
     raw = np.fromfile(path, dtype=np.uint8)
@@ -311,13 +330,9 @@ def real_runs():
             except Exception as exc:  # noqa: BLE001 - record the failure as it is
                 out.append([rel, preset, what, f"error: {exc}", "-", "-"])
                 continue
-        v = res.verdict
-        verdict = "nothing missing" if v is None else \
-            v.effect + " (" + ", ".join(f"{k}={x:.4g}" for k, x in v.effect_params.items()) + ")"
-        runner = ", ".join(f"{c.effect} {c.score:.0f}" for c in res.candidates[:3])
-        after = v.fit.rms if v else res.calibration.fit.rms
-        out.append([rel, preset, what, verdict, runner,
-                    f"{res.calibration.fit.rms:.4g} -> {after:.4g} ({time.time() - t0:.0f} s)"])
+        out.append([rel, preset, what, verdict_text(res), ", ".join(f"{c.effect} {c.score:.0f}"
+                                                                  for c in res.candidates[:3]),
+                    f"{res.calibration.fit.rms:.4g} -> {res.final_fit.rms:.4g} ({time.time() - t0:.0f} s)"])
     return out
 
 
@@ -349,11 +364,8 @@ def real_tables():
             except Exception as exc:  # noqa: BLE001
                 rows.append([label, f"error: {exc}", "-", "-"])
                 return
-        v = res.verdict
-        rows.append([label, "nothing missing" if v is None else
-                     v.effect + " (" + ", ".join(f"{k}={x_:.4g}" for k, x_ in v.effect_params.items()) + ")",
-                     ", ".join(f"{c.effect} {c.score:.0f}" for c in res.candidates[:3]),
-                     f"{res.calibration.fit.rms:.4g} -> {(v.fit.rms if v else res.calibration.fit.rms):.4g}"])
+        rows.append([label, verdict_text(res), ", ".join(f"{c.effect} {c.score:.0f}" for c in res.candidates[:3]),
+                     f"{res.calibration.fit.rms:.4g} -> {res.final_fit.rms:.4g}"])
 
     d = read("BallDrop.csv")
     run("BallDrop: t(h) = sqrt(2h/g)", d["height"], d["time"],
@@ -406,10 +418,23 @@ def population(args, names):
         jobs = population_jobs(
             names, lambda n: applicable_kinds(SYSTEMS[n]),
             lambda n: range(base, base + (args.pop_seeds_ode if n in ODE_SYSTEMS else args.pop_seeds)))
+    if args.population_json:
+        rows = []
+        for f in args.population_json.split(","):
+            text = Path(f).read_text()
+            rows += [json.loads(x) for x in text.splitlines() if x.strip()] if f.endswith(".jsonl") \
+                else json.loads(text)
+        jobs = []
     t0 = time.time()
     if args.kinds:
         jobs = [j for j in jobs if j[1] in args.kinds.split(",")]
-    rows = _map(run_population_case, jobs, args.jobs, _log_row)
+    if not args.population_json:
+        def log(r):
+            _log_row(r)
+            if args.rows_jsonl:   # every finished case at once: a long run can be cut and still summarised
+                with open(args.rows_jsonl, "a") as fh:
+                    fh.write(json.dumps(r, default=float) + "\n")
+        rows = _map(run_population_case, jobs, args.jobs, log)
     print(f"population: {len(rows)} cases in {time.time() - t0:.0f} s", file=sys.stderr)
     overall, confusions, by_kind, by_sys = summarize_population(rows)
     print(by_kind)
@@ -421,6 +446,16 @@ def population(args, names):
     return {"rows": rows, "overall": overall, "confusions": confusions, "by_kind": by_kind, "by_sys": by_sys}
 
 
+def _population_extent(rows):
+    """What was run, per system: kinds and seeds (read off the rows, so merged runs are described)."""
+    parts = []
+    for name in sorted({r["system"] for r in rows}):
+        rr = [r for r in rows if r["system"] == name]
+        kinds = sorted({r["kind"] for r in rr})
+        parts.append(f"{name}: {len({r['seed'] for r in rr})} seed(s) x {', '.join(kinds)}")
+    return f"{len(rows)} cases; " + "; ".join(parts) + "."
+
+
 def pop_text(pop, args):
     o = pop["overall"]
     cov = o["coverage_effect"]
@@ -428,8 +463,8 @@ def pop_text(pop, args):
         "**Disturbance kinds** (each system gets each kind in turn: slow wander for oscillatory systems, "
         "a periodic pickup at a random frequency unrelated to the system, AR(1) coloured noise, sparse "
         "spikes, quantisation; each case also has a two-effect version and a null twin with the same "
-        f"noise and disturbance). Evaluation seeds 100+ ({args.pop_seeds} per system and kind, "
-        f"{args.pop_seeds_ode} for the ODE systems); methods were chosen on seeds 0+. "
+        f"noise and disturbance). {_population_extent(pop['rows'])} Methods were chosen on development "
+        "seeds 0+; these are evaluation seeds 100+. "
         "\"named exactly\" = the true effect and no other physics.\n\n"
         + pop["by_kind"] + "\nBy system (all kinds):\n\n" + pop["by_sys"] +
         f"\n**Targets**: naming at ratio >= 1.2 for every kind >= 90%: worst kind "
@@ -458,6 +493,10 @@ def main(argv=None):
     ap.add_argument("--pop-seeds-ode", type=int, default=2,
                     help="population seeds for the ODE systems (oscillator, pendulum: seconds per case)")
     ap.add_argument("--kinds", default=None, help="comma-separated subset of disturbance kinds")
+    ap.add_argument("--rows-jsonl", default=None, help="append each finished population case here (JSON lines)")
+    ap.add_argument("--population-json", default=None,
+                    help="comma-separated per-case JSON files of earlier population runs to summarise "
+                         "instead of running the population again")
     ap.add_argument("--dev", action="store_true", help="development seeds (0+) instead of evaluation seeds (100+)")
     args = ap.parse_args(argv)
     from _bench_md import md_table, write_section

@@ -68,6 +68,7 @@ class MismatchResult:
     dropped: list = field(default_factory=list)      # effects removed by the backward check
     unit: str = ""
     warnings: list = field(default_factory=list)     # non-physical fitted values, in words
+    notes: list = field(default_factory=list)        # how the data were analysed (decimation, ...)
 
     @property
     def verdict(self):
@@ -174,6 +175,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         else model.with_start(params or {})
     t, y = _validate(t, y, m)
     aux = check_aux(aux, len(y))
+    from odnn_sep.mismatch.rate import reduce_rate
+    t, y, aux, rate_note = reduce_rate(m, t, y, aux)
     if aux and m.family != "hum":
         raise InputError(f"aux channels are used by the channel_coupling effect of the 'hum' preset only; "
                          f"model {m.name!r} has family {m.family!r}: drop aux (CLI: --no-aux)")
@@ -197,6 +200,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         slow_hz = slow_cutoff(t, y, m)
     base = cal.fit
     res = MismatchResult(t=t, y=y, model=m, calibration=cal, declared=declared, unit=unit)
+    if rate_note:
+        res.notes.append(rate_note)
     from odnn_sep.mismatch.locate import noise_sigma
     res.noise_sigma = noise_sigma(base.residual)
     res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)

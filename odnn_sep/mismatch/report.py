@@ -53,6 +53,7 @@ def result_dict(res) -> dict:
     verdict["declared_disturbances"] = list(res.declared)
     verdict["dropped_by_backward_check"] = list(res.dropped)
     verdict["warnings"] = list(res.warnings)
+    verdict["notes"] = list(res.notes)
     after = _fit_summary(final, res.heldout_rmse_after)
     if final is not base:
         # how the calibrated parameters were biased by leaving the effects out
@@ -108,6 +109,8 @@ def summary_text(res) -> str:
                      f"{_fmt(dd['score_against_others'])})")
     for w in v["warnings"]:
         lines.append(f"Warning: {w}")
+    for w in v["notes"]:
+        lines.append(f"Note: {w}")
     if d["failed_fits"]:
         for f in d["failed_fits"]:
             lines.append(f"Fit failed (not ranked): {f['effect']} at step {f['step']}: {f['reason']}")
