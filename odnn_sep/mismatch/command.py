@@ -58,14 +58,14 @@ def _pick_inputs(names, columns, info):
     from odnn_sep.errors import InputError
     out = {}
     for name in names:
+        if name == info.get("column"):
+            raise InputError(f"--input {name!r} is the analysed column itself; pick the drive's own column")
         if name not in columns:
             import difflib
             close = difflib.get_close_matches(name, list(columns), n=1)
             hint = f"did you mean {close[0]!r}? " if close else ""
             raise InputError(f"--input {name!r} is not a numeric column of the data file; {hint}"
                              f"other columns: {', '.join(columns) or 'none'}")
-        if name == info.get("column"):
-            raise InputError(f"--input {name!r} is the analysed column itself; pick the drive's own column")
         out[name] = columns[name]
     return out
 

@@ -61,3 +61,15 @@ def test_unknown_effect():
 def test_bad_sources_spec():
     with pytest.raises(InputError, match=r"sources must be x:y pairs separated by ';'"):
         make_model("heat2d", {"sources": "0.3,0.4"}).predict(np.zeros((4, 2)))
+
+
+def test_cli_input_disturbance_units_errors(tmp_path, capsys):
+    from odnn_sep.cli import main
+    t = np.linspace(0, 100, 120)
+    p = tmp_path / "c.csv"
+    p.write_text("time,temp,heater\n" + "\n".join(f"{a},{20 + 70 * np.exp(-0.03 * a)},{1.0}" for a in t))
+    for argv, msg in ((["--input", "heatr"], "heater"), (["--disturbance", "wobble"], "wobble"),
+                      (["--input", "temp"], "analysed column")):
+        assert main(["mismatch", str(p), "--model", "cooling", *argv]) == 1
+        err = capsys.readouterr().err
+        assert msg in err and len(err.strip().splitlines()) == 1
