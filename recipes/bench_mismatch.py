@@ -493,6 +493,7 @@ def main(argv=None):
     ap.add_argument("--pop-seeds-ode", type=int, default=2,
                     help="population seeds for the ODE systems (oscillator, pendulum: seconds per case)")
     ap.add_argument("--kinds", default=None, help="comma-separated subset of disturbance kinds")
+    ap.add_argument("--note", default="", help="text recorded in BENCHMARKS.md before the tables (how it was run)")
     ap.add_argument("--rows-jsonl", default=None, help="append each finished population case here (JSON lines)")
     ap.add_argument("--population-json", default=None,
                     help="comma-separated per-case JSON files of earlier population runs to summarise "
@@ -559,15 +560,15 @@ def main(argv=None):
     print(rt)
     print(tt)
     body = (
-        f"Concealed cases: {len(names)} systems x 3 strengths x {args.seeds} seeds, each with a null twin "
+        f"**Strength sweep** (slow wander only, as in earlier versions): {len(names)} systems x 3 strengths x "
+        f"{args.seeds} seeds, each with a null twin "
         f"(same noise and disturbance, no effect). Strengths are set so that the residual RMS ratio "
         f"(calibrated model without / with the effect) is about {', '.join(map(str, TARGET_RATIOS))}. "
         "Oscillatory systems carry a slow random wander (about the noise level) besides white noise. "
         "The method sees only the preset name and the data. Anchor: a plain residual check (Ljung-Box "
         "whiteness test, 10 lags, of the calibrated residual; it can flag, not name). Decision thresholds "
-        "(BIC drop > 10 and held-out gain > 6) were fixed beforehand and checked on separate nulls with "
-        "seeds 1000+ (`python recipes/bench_mismatch.py --nulls 20 --jobs 2`: 0 false alarms in 160 "
-        "nulls; hum/channel_coupling, added later: 0 in 20).\n\n" + table +
+        "(BIC drop > 10 and held-out gain > 6, now applied at every forward-selection step) were fixed "
+        "beforehand on separate null seeds 1000+ (`--nulls`), not on these cases.\n\n" + table +
         "\n**Overall**: naming accuracy at ratio >= 1.2: "
         f"{overall['naming_accuracy_ratio_ge_1.2']:.1%} (n={overall['n_ratio_ge_1.2']}; target >= 90%); "
         f"false alarms on null twins: {overall['false_alarm_rate']:.1%} (target <= 5%); "
@@ -576,7 +577,7 @@ def main(argv=None):
         f"plain residual check false alarms: {overall['plain_check_false_alarms']:.1%}.\n\n"
         f"Confusions (true -> verdict): {confusions or 'none'}\n\n"
         "**Real recordings** (verdict as the tool gives it, not tuned):\n\n" + rt + "\n" + tt)
-    body = pop_text(pop, args) + "\n" + body
+    body = (args.note + "\n\n" if args.note else "") + pop_text(pop, args) + "\n" + body
     write_section("mismatch", "Mismatch finder (odnn-sep mismatch)", "python recipes/bench_mismatch.py", body)
     return 0
 
