@@ -36,6 +36,9 @@ def register(subparsers) -> None:
     p.add_argument("--units", default=None, choices=["degC", "degF", "K"],
                    help="temperature unit of the data (cooling): degF and K are converted to degC for the "
                         "physics (vapour pressure, radiation) and the report gives degC")
+    p.add_argument("--folds", type=int, default=4,
+                   help="cross-validation folds of the held-out test (>= 2; default 4); fewer folds let short "
+                        "series (16 points) be analysed, with less power")
     p.add_argument("--report", default=None, metavar="R.json", help="write the JSON report here")
     p.add_argument("--plot", default=None, metavar="P.png", help="write the figure here")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary on stdout")
@@ -84,6 +87,8 @@ def run(args) -> int:
 
     params = _parse_params(args.param)
     parse_disturbance(args.disturbance)     # a clear error before reading anything
+    if not 2 <= args.folds <= 20:
+        raise InputError(f"--folds must be between 2 and 20 (cross-validation folds); got {args.folds}")
     model = make_model(args.model, params)  # validates the model and parameter names before reading
     if args.units is not None and model.family != "cooling":
         raise InputError(f"--units is for temperatures (--model cooling); model {args.model!r} has no "
@@ -113,7 +118,7 @@ def run(args) -> int:
     else:
         target = model
     res = explain(target, t, y, params=numeric, effects=effects, disturbance=args.disturbance,
-                  aux=aux or None, inputs=inputs or None, unit=unit,
+                  aux=aux or None, inputs=inputs or None, unit=unit, folds=args.folds,
                   progress=not args.quiet and sys.stderr.isatty())
     if args.report:
         d = result_dict(res)

@@ -44,6 +44,7 @@ BIC_THRESHOLD = 10.0
 HELDOUT_THRESHOLD = 6.0
 N_CV = 2
 MAX_EFFECTS = 4
+SMALL_DATA = 60   # below this many samples the held-out test has little power (reported as a note)
 
 
 @dataclass
@@ -202,6 +203,9 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     res = MismatchResult(t=t, y=y, model=m, calibration=cal, declared=declared, unit=unit)
     if rate_note:
         res.notes.append(rate_note)
+    if len(y) < SMALL_DATA:
+        res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
+                         f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
     from odnn_sep.mismatch.locate import noise_sigma
     res.noise_sigma = noise_sigma(base.residual)
     res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)
