@@ -4,15 +4,34 @@ Each file is processed by the same code path as the single-file command (``cli.m
 worker process (local pool) or a Dask cluster (``--dask ADDRESS``, or ``--dask local`` for an
 in-process LocalCluster). One file's failure never stops the batch; a summary JSON lists every
 file with its exit status and message, and the exit code is 1 if any file failed.
+
+Safety: every output path is checked against every input before anything runs (an output folder
+inside the input folder is never searched for inputs, and never maps an output onto an input);
+hidden files and this package's temporary folders are never inputs; Ctrl-C or SIGTERM stops the
+queue, stops the workers (their unfinished outputs are removed), writes the summary of what
+finished and exits 130 (143 for SIGTERM).
 """
 from __future__ import annotations
 
-# command -> (output option, output suffix or None to keep the input's, default glob)
+import argparse
+
+# command -> (output option, output suffix or None to keep the input's, default patterns)
 TARGETS = {
-    "denoise": ("-o", None, "*.wav,*.flac,*.ogg"),
-    "unwatermark": ("-o", None, "*.png,*.jpg,*.jpeg,*.tif,*.tiff,*.webp"),
-    "mismatch": ("--report", ".json", "*.csv,*.wav,*.npz"),
+    "denoise": ("-o", None, "*.wav,*.flac,*.ogg,*.oga,*.aif,*.aiff,*.mp3,*.w64,*.caf"),
+    "unwatermark": ("-o", None, "*.png,*.jpg,*.jpeg,*.tif,*.tiff,*.webp,*.bmp"),
+    "mismatch": ("--report", ".json", "*.csv,*.wav,*.flac,*.npz"),
 }
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer >= 1."""
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {v}")
+    return v
 
 
 def register(sub) -> None:
@@ -20,15 +39,18 @@ def register(sub) -> None:
         "batch",
         help="process every file of a folder with one command (locally or on Dask)",
         description="Run denoise, unwatermark or mismatch on each matching file of IN_DIR, writing to OUT_DIR. "
-        "Options after -- are passed to the command, e.g.: odnn-sep batch denoise in/ -o out/ -- --mains 50",
+        "Options after -- are passed to the command, e.g.: odnn-sep batch denoise in/ -o out/ -- --mains 50. "
+        "Patterns are case-insensitive; hidden files are skipped.",
     )
     p.add_argument("target", choices=sorted(TARGETS), help="the command to run on each file")
     p.add_argument("in_dir", help="folder with the input files")
     p.add_argument("-o", "--out-dir", required=True, help="folder for outputs (created if missing; never IN_DIR)")
-    p.add_argument("--pattern", help="comma-separated globs (default depends on the command)")
+    p.add_argument("--pattern", help="comma-separated globs, case-insensitive (default: every format the "
+                   "command reads)")
     p.add_argument("--recursive", action="store_true", help="also search sub-folders")
-    p.add_argument("--jobs", type=int, default=None, help="local worker processes (default: CPU count)")
-    p.add_argument("--dask", metavar="ADDRESS", help="run on a Dask cluster: scheduler address, or 'local'")
+    p.add_argument("--jobs", type=positive_int, default=None, help="local worker processes (default: CPU count)")
+    p.add_argument("--dask", metavar="ADDRESS", help="run on a Dask cluster: scheduler address, or 'local' "
+                   '(needs pip install "odnn-sep[dask]")')
     p.add_argument("--summary", help="summary JSON path (default OUT_DIR/batch_summary.json)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
@@ -38,14 +60,13 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     """Run one file through the single-file command; never raises (the batch must go on)."""
     import contextlib
     import io
+    import os
     import time
 
     from odnn_sep.cli import main
 
     out_opt = TARGETS[target][0]
-    args = [target, src, out_opt, dst, *extra]
-    if target == "denoise" and "--quiet" not in extra:
-        args.append("--quiet")  # one progress bar for the batch, not one per file
+    args = [target, src, out_opt, dst, *extra, "--quiet"]  # one progress bar for the batch
     err = io.StringIO()
     t0 = time.perf_counter()
     try:
@@ -56,18 +77,88 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     except Exception as exc:  # a bug on one file must not kill the batch; it is reported per file
         code = 3
         err.write(f"internal error: {type(exc).__name__}: {exc}")
+    if code in (130, 143):
+        import multiprocessing
+
+        if multiprocessing.parent_process() is not None:
+            # a pool worker told to stop: its file is rolled back; take no further job
+            os._exit(code)
     msg = err.getvalue().strip().splitlines()
     return {"input": src, "output": dst if code == 0 else None, "exit_code": code,
             "message": msg[-1] if msg else "", "seconds": round(time.perf_counter() - t0, 3)}
 
 
 def _find(in_dir, patterns, recursive):
+    """Files under ``in_dir`` whose name matches a pattern (case-insensitive), hidden ones excluded.
+
+    An output folder inside ``in_dir`` is searched too: its files may be the user's, so an output
+    that would land on one of them is refused rather than written.
+    """
+    import fnmatch
+    import os
     from pathlib import Path
 
-    files = set()
-    for pat in patterns:
-        files.update(Path(in_dir).rglob(pat) if recursive else Path(in_dir).glob(pat))
-    return sorted(f for f in files if f.is_file())
+    from odnn_sep.io_utils import is_temporary
+
+    root = Path(in_dir)
+    pats = [p.lower() for p in patterns]
+    found = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        here = Path(dirpath)
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
+        for name in filenames:
+            f = here / name
+            if (not is_temporary(f.relative_to(root)) and any(fnmatch.fnmatchcase(name.lower(), p) for p in pats)
+                    and f.is_file()):
+                found.append(f)
+        if not recursive:
+            break
+    return sorted(found)
+
+
+def plan_outputs(files, in_dir, out_dir, suffix):
+    """Output path for each input; never an input, never the same for two inputs.
+
+    Two inputs that would share an output name (``a.csv`` and ``a.wav`` -> ``a.json``) each keep
+    their full name (``a.csv.json``, ``a.wav.json``).
+    """
+    from collections import Counter
+
+    from odnn_sep.errors import InputError
+
+    rels = [f.relative_to(in_dir) for f in files]
+    dsts = [out_dir / (r.with_suffix(suffix) if suffix else r) for r in rels]
+    counts = Counter(str(d).lower() for d in dsts)
+    dsts = [out_dir / r.parent / (r.name + suffix) if suffix and counts[str(d).lower()] > 1 else d
+            for r, d in zip(rels, dsts)]
+    inputs = {f.resolve() for f in files}
+    for f, d in zip(files, dsts):
+        if d.resolve() in inputs:
+            raise InputError(f"output {str(d)!r} for {str(f)!r} would overwrite an input; choose an --out-dir "
+                             "outside the input folder")
+    return dsts
+
+
+def _check_not_inputs(files, outputs) -> None:
+    """Refuse any output that is one of the input files (same path, link or hard link)."""
+    import os
+
+    from odnn_sep.errors import InputError
+
+    def key(p):
+        try:
+            st = os.stat(p)
+        except OSError:
+            return None
+        return st.st_dev, st.st_ino
+
+    paths = {f.resolve() for f in files}
+    nodes = {key(f) for f in files} - {None}
+    for what, o in outputs:
+        k = key(o)
+        if o.resolve() in paths or (k is not None and k in nodes):
+            raise InputError(f"{what} {str(o)!r} is an input file; choose an --out-dir / --summary outside the "
+                             "inputs so they are never overwritten")
 
 
 def run(args) -> int:
@@ -75,63 +166,76 @@ def run(args) -> int:
     import sys
     from pathlib import Path
 
-    from tqdm import tqdm
-
     from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import write_json
+    from odnn_sep.io_utils import check_output_target
 
     in_dir, out_dir = Path(args.in_dir), Path(args.out_dir)
     if not in_dir.is_dir():
         raise InputError(f"input folder {str(in_dir)!r} does not exist or is not a folder")
     if out_dir.exists() and out_dir.resolve() == in_dir.resolve():
-        raise InputError("the output folder is the input folder; choose a different --out-dir so inputs are never overwritten")
+        raise InputError("the output folder is the input folder; choose a different --out-dir so inputs are never "
+                         "overwritten")
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"--out-dir {str(out_dir)!r} exists and is not a folder")
     extra = list(getattr(args, "passthrough", []))
-    patterns = (args.pattern or TARGETS[args.target][2]).split(",")
-    files = _find(in_dir, [p.strip() for p in patterns if p.strip()], args.recursive)
+    patterns = [p.strip() for p in (args.pattern or TARGETS[args.target][2]).split(",") if p.strip()]
+    files = _find(in_dir, patterns, args.recursive)
     if not files:
         raise InputError(f"no files matching {','.join(patterns)} in {str(in_dir)!r}; check the folder or --pattern")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    suffix = TARGETS[args.target][1]
-    jobs = []
-    for f in files:
-        rel = f.relative_to(in_dir)
-        dst = out_dir / (rel.with_suffix(suffix) if suffix else rel)
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        jobs.append((args.target, str(f), str(dst), extra))
-    show = not args.quiet and sys.stderr.isatty()
-    bar = tqdm(total=len(jobs), desc=f"batch {args.target}", unit="file", disable=not show, file=sys.stderr)
-    results = []
-    if args.dask:
-        from dask.distributed import Client, LocalCluster, as_completed
+    dsts = plan_outputs(files, in_dir, out_dir, TARGETS[args.target][1])
+    summary = Path(args.summary) if args.summary else out_dir / "batch_summary.json"
+    _check_not_inputs(files, [(f"output of {f}", d) for f, d in zip(files, dsts)] + [("--summary", summary)])
+    if any(d.resolve() == summary.resolve() for d in dsts):
+        raise InputError(f"--summary {str(summary)!r} is the output of an input file; choose another path")
+    if args.summary:
+        check_output_target(summary, "--summary")
+    created = _make_dirs([out_dir, *sorted({d.parent for d in dsts})])
+    jobs = [(args.target, str(f), str(d), extra) for f, d in zip(files, dsts)]
+    from odnn_sep.batch_runner import run_jobs
 
-        cluster = LocalCluster(n_workers=args.jobs or os.cpu_count(), threads_per_worker=1,
-                               processes=True) if args.dask == "local" else None
-        with Client(cluster if cluster is not None else args.dask) as client:
-            futures = [client.submit(process_one, *j, pure=False) for j in jobs]
-            for fut in as_completed(futures):
-                results.append(fut.result())
-                bar.update(1)
-        if cluster is not None:
-            cluster.close()
-    else:
-        from concurrent.futures import ProcessPoolExecutor, as_completed
+    try:
+        results, interrupt = run_jobs(jobs, args)
+    except BaseException:
+        _remove_empty(created)  # e.g. the Dask scheduler could not be reached: leave nothing behind
+        raise
+    return _finish(args, jobs, results, interrupt, summary, sys.stderr, os)
 
-        n = max(1, min(args.jobs or os.cpu_count() or 1, len(jobs)))
-        if n == 1:
-            for j in jobs:
-                results.append(process_one(*j))
-                bar.update(1)
-        else:
-            with ProcessPoolExecutor(max_workers=n) as pool:
-                for fut in as_completed([pool.submit(process_one, *j) for j in jobs]):
-                    results.append(fut.result())
-                    bar.update(1)
-    bar.close()
+
+def _make_dirs(dirs):
+    """Create ``dirs``; return the folders that did not exist before (deepest last)."""
+    created = []
+    for d in dirs:
+        missing = [p for p in [d, *d.parents] if not p.exists()]
+        d.mkdir(parents=True, exist_ok=True)
+        created += reversed(missing)
+    return created
+
+
+def _remove_empty(created) -> None:
+    for d in reversed(created):
+        try:
+            d.rmdir()
+        except OSError:
+            pass  # not empty: something was written there
+
+
+def _finish(args, jobs, results, interrupt, summary, stream, os) -> int:
+    from odnn_sep.io_utils import write_json
+
     results.sort(key=lambda r: r["input"])
     failed = [r for r in results if r["exit_code"] != 0]
-    summary = Path(args.summary) if args.summary else out_dir / "batch_summary.json"
-    write_json(summary, {"command": args.target, "files": len(results), "failed": len(failed), "results": results})
-    print(f"{len(results) - len(failed)} of {len(results)} file(s) processed; summary in {summary}", file=sys.stderr)
+    finished = {r["input"] for r in results}
+    not_run = sorted(j[1] for j in jobs if j[1] not in finished)
+    body = {"command": args.target, "files": len(results), "failed": len(failed), "results": results}
+    if interrupt:
+        body.update({"interrupted": True, "not_run": not_run})
+    write_json(summary, body)
+    if interrupt:
+        print(f"{interrupt}: {len(results)} of {len(jobs)} file(s) finished ({len(failed)} failed), "
+              f"{len(not_run)} not run; summary in {summary}", file=stream)
+        return 143 if interrupt == "Terminated" else 130
+    if not args.quiet or failed:
+        print(f"{len(results) - len(failed)} of {len(results)} file(s) processed; summary in {summary}", file=stream)
     for r in failed:
-        print(f"  failed: {r['input']}: {r['message']}", file=sys.stderr)
+        print(f"  failed: {r['input']}: {r['message']}", file=stream)
     return 1 if failed else 0

@@ -2,14 +2,21 @@
 
 Each subcommand lives in its front-end as a module exposing ``register(subparsers)``; that
 module imports only argparse at top level so ``odnn-sep --help`` stays fast and torch-free.
-Exit codes: 0 success, 1 user error (bad input/file), 2 usage error (argparse).
+Exit codes: 0 success, 1 user error (bad input/file), 2 usage error (argparse), 130 interrupted
+(Ctrl-C), 143 terminated (SIGTERM).
+
+Every run is one transaction: its inputs and outputs are checked against each other before any
+work, and if the run fails or is interrupted after writing some outputs, those are removed again.
 """
 from __future__ import annotations
 
 import argparse
 import importlib
 import logging
+import os
+import signal
 import sys
+import threading
 
 from odnn_sep import __version__
 from odnn_sep.errors import OdnnSepError
@@ -24,15 +31,36 @@ COMMAND_MODULES = (
     "odnn_sep.batch",
 )
 
+# Options that name files the run reads, and files it writes (checked against each other).
+INPUT_OPTIONS = {"input": "the input", "data": "the input", "mask": "--mask"}
+OUTPUT_OPTIONS = {"output": "--output", "report": "--report", "plot": "--plot", "truth": "--truth",
+                  "summary": "--summary"}
+
+# Flags accepted anywhere on the line (before a bare "--").
+GLOBAL_FLAGS = ("--debug", "--quiet")
+
+# Options taking several numbers: "--tone 50 100 in.wav" stops at the first non-number.
+MULTI_NUMBER_OPTIONS = ("--tone",)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, turned into an exception so that clean-up (``finally``) runs."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="odnn-sep",
         description="Separate known physics (hum, watermarks, model terms) from disturbances, "
         "and find the physics a simulation left out.",
+        epilog="--debug and --quiet may be given anywhere on the line.",
     )
     parser.add_argument("--version", action="version", version=f"odnn-sep {__version__}")
     parser.add_argument("--debug", action="store_true", help="show full tracebacks and debug logs")
+    parser.add_argument("--quiet", action="store_true", help="no progress, summaries or info logs")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for modname in COMMAND_MODULES:
         try:
@@ -42,39 +70,156 @@ def build_parser() -> argparse.ArgumentParser:
                 continue
             raise
         mod.register(sub)
+    for p in sub.choices.values():  # so that every command's --help lists the global flags
+        if "--quiet" not in p._option_string_actions:
+            p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+        if "--debug" not in p._option_string_actions:
+            p.add_argument("--debug", action="store_true", help="show full tracebacks and debug logs")
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
-    argv = sys.argv[1:] if argv is None else list(argv)
-    # Everything after a bare "--" is handed to the command a batch runs (argparse's own "--"
-    # handling does not reach sub-parsers reliably).
+def _split_argv(argv: list[str]):
+    """(own arguments, arguments after a bare '--', global flags found)."""
     passthrough: list[str] = []
     if "--" in argv:
         i = argv.index("--")
         argv, passthrough = argv[:i], argv[i + 1:]
+    flags = {f for f in GLOBAL_FLAGS if f in argv}
+    argv = [a for a in argv if a not in GLOBAL_FLAGS]
+    return _expand_multi_numbers(argv), passthrough, flags
+
+
+def _expand_multi_numbers(argv: list[str]) -> list[str]:
+    """'--tone 50 100' -> '--tone 50 --tone 100', so a following input file is never swallowed."""
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        out.append(a)
+        i += 1
+        if a in MULTI_NUMBER_OPTIONS and i < len(argv):
+            out.append(argv[i])
+            i += 1
+            while i < len(argv) and _is_number(argv[i]):
+                out += [a, argv[i]]
+                i += 1
+    return out
+
+
+def _is_number(s: str) -> bool:
+    try:
+        float(s)
+    except ValueError:
+        return False
+    return not s.startswith("-") or s[1:2].isdigit() or s[1:2] == "."
+
+
+def _check_paths(args) -> None:
+    from odnn_sep.io_utils import check_run_paths
+
+    ns = vars(args)
+    if args.command == "batch":
+        return  # batch checks its many inputs and outputs itself
+    inputs = {label if k != "mask" else "--mask": ns.get(k) for k, label in INPUT_OPTIONS.items()
+              if isinstance(ns.get(k), str)}
+    outputs = {label: ns.get(k) for k, label in OUTPUT_OPTIONS.items() if isinstance(ns.get(k), str)}
+    check_run_paths(inputs, outputs)
+
+
+class _StderrHandler(logging.StreamHandler):
+    """Writes to whatever ``sys.stderr`` is at the time (so in-process runs and captures work)."""
+
+    @property
+    def stream(self):
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value):
+        pass
+
+
+def _configure_logging(debug: bool, quiet: bool) -> None:
+    level = logging.DEBUG if debug else logging.ERROR if quiet else logging.WARNING
+    root = logging.getLogger()
+    handler = next((h for h in root.handlers if isinstance(h, _StderrHandler)), None)
+    if handler is None:
+        handler = _StderrHandler()
+        handler.setFormatter(logging.Formatter("%(levelname)s: %(message)s"))
+        root.addHandler(handler)
+    # libraries that set their own loggers to INFO (dask) still only reach the user at this level
+    handler.setLevel(level)
+    root.setLevel(level)
+    if quiet and not debug:
+        for name in ("distributed", "dask", "tornado", "asyncio", "bokeh"):
+            logging.getLogger(name).setLevel(logging.ERROR)
+        import warnings
+
+        warnings.filterwarnings("ignore", module="distributed")
+
+
+def main(argv: list[str] | None = None) -> int:
+    # OpenCV's C++ logger would print its own warnings for every unreadable image; our errors say it
+    os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
+    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # Everything after a bare "--" is handed to the command a batch runs (argparse's own "--"
+    # handling does not reach sub-parsers reliably).
+    argv, passthrough, flags = _split_argv(argv)
     args = parser.parse_args(argv)
     if passthrough and args.command != "batch":
         parser.error("options after '--' are only used by 'batch'")
     args.passthrough = passthrough
-    logging.basicConfig(
-        level=logging.DEBUG if args.debug else logging.WARNING,
-        format="%(levelname)s: %(message)s",
-    )
+    args.debug = bool(getattr(args, "debug", False) or "--debug" in flags)
+    args.quiet = bool(getattr(args, "quiet", False) or "--quiet" in flags)
+    _configure_logging(args.debug, args.quiet)
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    return _run(args)
+
+
+def _run(args) -> int:
+    from odnn_sep.io_utils import describe_os_error, output_transaction
+    from odnn_sep.report.schema import run_context
+
+    installed = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if installed else None
     try:
-        return int(args.func(args) or 0)
+        from odnn_sep.validate import validate
+
+        validate(args)
+        _check_paths(args)
+        with run_context(args.command, vars(args)), output_transaction():
+            return int(args.func(args) or 0)
     except OdnnSepError as exc:
         if args.debug:
             raise
         print(f"Error: {exc}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("Interrupted.", file=sys.stderr)
-        return 130
+    except UnicodeDecodeError as exc:
+        if args.debug:
+            raise
+        print(f"Error: a file that should be text is not UTF-8 ({exc.reason} at byte {exc.start}); save it as "
+              "UTF-8 text", file=sys.stderr)
+        return 1
+    except OSError as exc:
+        if args.debug:
+            raise
+        print(f"Error: {describe_os_error(exc)}", file=sys.stderr)
+        return 1
+    except MemoryError:
+        if args.debug:
+            raise
+        print("Error: out of memory; use a smaller input (or a smaller limit) and try again", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt as exc:
+        terminated = isinstance(exc, Terminated)
+        print("Terminated; nothing of this run was kept." if terminated else
+              "Interrupted; nothing of this run was kept.", file=sys.stderr)
+        return 143 if terminated else 130
+    finally:
+        if installed:
+            signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,33 +1,90 @@
-"""File helpers shared by front-ends: atomic writes and input/output path checks."""
+"""File helpers shared by front-ends: path checks, atomic writes, all-or-nothing runs, strict JSON.
+
+Safety rules every command follows through these helpers:
+
+* an output is never an input of the run, nor another output of the same run;
+* only regular files (or new paths) are written: devices, pipes and folders are refused;
+* a file is written to a temporary folder named ``.odnn-tmp-XXXX`` beside its target and renamed
+  into place, so a crash leaves no half-written file and no temporary name that a glob such as
+  ``*.wav`` could take as an input;
+* inside :func:`output_transaction` (the CLI opens one per run), a failure after some outputs
+  were written removes them again (or restores the file they replaced): every output or none.
+"""
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
-import tempfile
+import shutil
+import stat
 from pathlib import Path
 
 from odnn_sep.errors import FormatError, InputError
 
+#: Prefix of the temporary folders holding files being written; ``batch`` never takes them as input.
+TMP_PREFIX = ".odnn-tmp-"
+
+
+def _name_max(folder: Path) -> int:
+    try:
+        return int(os.pathconf(str(folder), "PC_NAME_MAX"))
+    except (OSError, ValueError):
+        return 255
+
+
+def check_name_length(p: Path, what: str) -> None:
+    """Refuse a file name the file system cannot hold, before any work is done."""
+    parent = p.parent if str(p.parent) else Path(".")
+    limit = _name_max(parent) if parent.is_dir() else 255
+    n = len(os.fsencode(p.name))
+    if n > limit:
+        raise InputError(f"{what} name is too long ({n} bytes; the file system allows {limit}); "
+                         "choose a shorter name")
+
 
 def check_input_path(path, *, what: str = "input file") -> Path:
+    """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error."""
     p = Path(path)
-    if not p.exists():
-        raise InputError(f"{what} {str(p)!r} does not exist; check the path")
-    if p.is_dir():
+    check_name_length(p, what)
+    try:
+        st = p.stat()
+    except FileNotFoundError:
+        raise InputError(f"{what} {str(p)!r} does not exist; check the path") from None
+    except OSError as exc:
+        raise InputError(f"{what} {str(p)!r} cannot be opened: {exc.strerror}") from None
+    if stat.S_ISDIR(st.st_mode):
         raise InputError(f"{what} {str(p)!r} is a directory; pass a file")
-    if p.stat().st_size == 0:
+    if not stat.S_ISREG(st.st_mode):
+        raise InputError(f"{what} {str(p)!r} is not a regular file (a device or pipe); pass a file")
+    if st.st_size == 0:
         raise FormatError(f"{what} {str(p)!r} is empty (0 bytes)")
     return p
 
 
-def check_output_path(out, *inputs) -> Path:
-    """Refuse an output equal to an input and an output directory that is missing or read-only."""
+def _same_file(a: Path, b: Path) -> bool:
+    """True if ``a`` and ``b`` name the same file (symlinks, hard links and ``..`` resolved)."""
+    with contextlib.suppress(OSError):
+        if a.exists() and b.exists() and os.path.samefile(a, b):
+            return True
+    with contextlib.suppress(OSError, RuntimeError):
+        return a.resolve() == b.resolve()
+    return False
+
+
+def check_output_target(out, what: str = "output") -> Path:
+    """Refuse an output that is not a regular file or a new path, or whose folder cannot take it."""
     o = Path(out)
-    for i in inputs:
-        if i is not None and Path(i).exists() and o.exists() and os.path.samefile(o, i):
-            raise InputError(f"output path {str(o)!r} is the input file; choose a different output path")
-        if i is not None and o.resolve() == Path(i).resolve():
-            raise InputError(f"output path {str(o)!r} is the input file; choose a different output path")
+    check_name_length(o, f"{what} file")
+    if os.path.lexists(o):
+        try:
+            st = o.stat()
+        except OSError:
+            raise InputError(f"{what} path {str(o)!r} is a broken link; remove it or choose another path") from None
+        if stat.S_ISDIR(st.st_mode):
+            raise InputError(f"{what} path {str(o)!r} is a folder; give a file name")
+        if not stat.S_ISREG(st.st_mode):
+            raise InputError(f"{what} path {str(o)!r} is not a regular file (a device or pipe); odnn-sep writes "
+                             "only to regular files or new paths")
     parent = o.resolve().parent
     if not parent.is_dir():
         raise InputError(f"output directory {str(parent)!r} does not exist; create it first")
@@ -36,37 +93,163 @@ def check_output_path(out, *inputs) -> Path:
     return o
 
 
+def check_output_path(out, *inputs) -> Path:
+    """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder."""
+    o = Path(out)
+    for i in inputs:
+        if i is not None and _same_file(o, Path(i)):
+            raise InputError(f"output path {str(o)!r} is the input file; choose a different output path")
+    return check_output_target(o)
+
+
+def check_run_paths(inputs: dict, outputs: dict) -> None:
+    """Check every output of a run against every input and against the other outputs.
+
+    Parameters
+    ----------
+    inputs, outputs : dict
+        ``{option name: path}`` (paths may be None: option not given).
+    """
+    ins = {k: Path(v) for k, v in inputs.items() if v is not None}
+    outs = {k: Path(v) for k, v in outputs.items() if v is not None}
+    seen: dict[str, Path] = {}
+    for flag, o in outs.items():
+        for iflag, i in ins.items():
+            if _same_file(o, i):
+                what = "the input file" if iflag == "the input" else f"the {iflag} file"
+                name = "output" if flag == "--output" else flag
+                raise InputError(f"{name} path {str(o)!r} is {what}; choose a different output path")
+        for oflag, other in seen.items():
+            if _same_file(o, other):
+                raise InputError(f"{flag} {str(o)!r} is the same file as {oflag}; choose different paths")
+        check_output_target(o, flag)
+        seen[flag] = o
+
+
+class _Transaction:
+    """Outputs written so far in one run, so that a later failure can take them back."""
+
+    def __init__(self):
+        # [target, backup of the file it replaced or None, temporary folder, replaced yet?]
+        self.done: list[list] = []
+
+    def rollback(self) -> None:
+        for target, backup, tmpdir, replaced in reversed(self.done):
+            with contextlib.suppress(OSError):
+                if replaced and backup is not None:
+                    os.replace(backup, target)
+                elif replaced:
+                    os.unlink(target)
+            shutil.rmtree(tmpdir, ignore_errors=True)
+        self.done.clear()
+
+    def commit(self) -> None:
+        for _, _, tmpdir, _ in self.done:
+            shutil.rmtree(tmpdir, ignore_errors=True)
+        self.done.clear()
+
+
+_ACTIVE: list[_Transaction] = []
+
+
+@contextlib.contextmanager
+def output_transaction():
+    """Every output written by :func:`atomic_output` inside the block stays only if the block succeeds.
+
+    A file the run replaced is restored on failure (it is kept as a hard link until the end).
+    """
+    tr = _Transaction()
+    _ACTIVE.append(tr)
+    try:
+        yield tr
+    except BaseException:
+        tr.rollback()
+        raise
+    else:
+        tr.commit()
+    finally:
+        _ACTIVE.remove(tr)
+
+
 @contextlib.contextmanager
 def atomic_output(out, suffix: str | None = None):
-    """Yield a temporary path next to ``out``; rename it onto ``out`` only if the block succeeds.
+    """Yield a temporary path for ``out``; move it onto ``out`` only if the block succeeds.
 
-    A failure leaves no partial file behind.
+    The temporary file lives in a fresh ``.odnn-tmp-XXXX`` folder beside ``out`` and keeps the
+    output's suffix (writers pick the format from it). A failure, or SIGINT/SIGTERM under the CLI,
+    leaves nothing behind.
     """
-    o = Path(out)
-    fd, tmp = tempfile.mkstemp(prefix=f".{o.name}.", suffix=suffix if suffix is not None else o.suffix,
-                               dir=str(o.resolve().parent))
-    os.close(fd)
+    import secrets
+
+    o = check_output_target(out)
+    ext = (suffix if suffix is not None else o.suffix)[:32]
+    # the name is known before the folder exists, so an interrupt at any point can still remove it
+    tmpdir = o.resolve().parent / (TMP_PREFIX + secrets.token_hex(6))
+    record = None
     try:
-        yield Path(tmp)
-        # mkstemp creates 0600; give the result the permissions a normally created file would have
+        os.mkdir(tmpdir, 0o700)
+        tmp = tmpdir / ("part" + ext)
+        yield tmp
+        if not tmp.exists():
+            raise FormatError(f"nothing was written for {str(o)!r}")
         umask = os.umask(0)
         os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
+        os.chmod(tmp, 0o666 & ~umask)  # the permissions a normally created file would have
+        check_output_target(o)  # it may have been replaced by a device or folder meanwhile
+        if _ACTIVE:
+            backup = None
+            if o.exists():
+                backup = tmpdir / "replaced"
+                try:
+                    os.link(o, backup)
+                except OSError:
+                    backup = None  # no hard links here: the old file cannot be restored on a later failure
+            record = [o, backup, tmpdir, False]
+            _ACTIVE[-1].done.append(record)  # from here on the transaction cleans up
         os.replace(tmp, o)
+        if record is not None:
+            record[3] = True
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+        if record is None:
+            shutil.rmtree(tmpdir, ignore_errors=True)
         raise
+    if record is None:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+def is_temporary(path) -> bool:
+    """True for files inside this package's temporary folders (and other hidden names)."""
+    return any(part.startswith(".") and part not in (".", "..") for part in Path(path).parts)
+
+
+def describe_os_error(exc: OSError) -> str:
+    """One line for an operating-system error met while reading or writing a file."""
+    where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+    if exc.errno == errno.ENOSPC:
+        return f"no space left on device while writing{where}; free some space or choose another output path"
+    if exc.errno == errno.EDQUOT:
+        return f"disk quota exceeded while writing{where}; free some space or choose another output path"
+    if exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        return f"permission denied for{where or ' a file'} ({exc.strerror}); choose another path"
+    if exc.errno == errno.ENAMETOOLONG:
+        return f"file name too long{where}; choose a shorter name"
+    return f"{exc.strerror or exc}{where}"
 
 
 def write_json(out, obj) -> None:
-    """Write ``obj`` as JSON atomically (numpy scalars/arrays and paths converted)."""
+    """Write ``obj`` as strict JSON atomically: NaN and infinities become null, numpy types plain.
+
+    Reports written during a CLI run also get the header of :mod:`odnn_sep.report.schema`
+    (``schema_version``, ``odnn_sep_version``, ``command``, ``options``).
+    """
     import json
 
-    check_output_path(out)
+    from odnn_sep.report.schema import with_header
+
+    check_output_target(out)
+    text = json.dumps(to_jsonable(with_header(obj)), indent=2, allow_nan=False)
     with atomic_output(out, suffix=".json") as tmp, open(tmp, "w") as fh:
-        json.dump(to_jsonable(obj), fh, indent=2, allow_nan=True)
-        fh.write("\n")
+        fh.write(text + "\n")
 
 
 def ensure_readable(path, reader, *, what: str):
@@ -78,17 +261,27 @@ def ensure_readable(path, reader, *, what: str):
 
 
 def to_jsonable(v):
-    """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types."""
+    """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types.
+
+    Non-finite floats become None, so the JSON is strict (``allow_nan=False`` parsers accept it).
+    """
+    import math
+
     import numpy as np
 
     if isinstance(v, Path):
         return str(v)
     if isinstance(v, np.ndarray):
-        return v.tolist()
+        return to_jsonable(v.tolist())
     if isinstance(v, np.generic):
-        return v.item()
+        return to_jsonable(v.item())
+    if isinstance(v, float):
+        return v if math.isfinite(v) else None
+    if isinstance(v, complex):
+        return [to_jsonable(v.real), to_jsonable(v.imag)]
     if isinstance(v, dict):
-        return {k: to_jsonable(w) for k, w in v.items()}
-    if isinstance(v, (list, tuple)):
+        return {str(k): to_jsonable(w) for k, w in v.items()}
+    if isinstance(v, (list, tuple, set)):
         return [to_jsonable(w) for w in v]
     return v
+

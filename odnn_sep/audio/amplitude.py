@@ -96,7 +96,13 @@ def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n
         c = (b * hop)[:, None]
         tau = (tj[idx] - c) / sr
         # the block fit's phase model, relative to the demodulation frequency
-        cyc = tau * ((trk.f0[b] - f_ref)[:, None] + tau * ((trk.rate[b] / 2)[:, None] + tau * (trk.curv[b] / 6)[:, None]))
+        ph = getattr(trk, "phase", None)
+        if ph is not None and abs(ph.f_ref - f_ref) < 1e-12:
+            # the refined phase, relative to the demodulation frequency
+            cyc = ph.offset_cycles(tj[idx]) - ph.offset_cycles(c.astype(float))
+        else:
+            cyc = tau * ((trk.f0[b] - f_ref)[:, None] + tau * ((trk.rate[b] / 2)[:, None]
+                                                              + tau * (trk.curv[b] / 6)[:, None]))
         return idx, cyc, np.sin(np.pi * (tj[idx] - (c - hop) + 0.5) / L) ** 2
 
     # one batch (the usual case): computed once for every line and channel

@@ -115,7 +115,10 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
             kw = {"endian": src.endian} if fmt == src.format else {}
             with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,
                               **kw) as fo:
+                removed_ss = [0.0]
+
                 def sink(piece, removed):
+                    removed_ss[0] += float(np.sum(np.square(removed, dtype=np.float64)))
                     fo.write(clip(piece - removed))
 
                 res = run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s,
@@ -127,7 +130,10 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
     if res.clip_message:
         log.warning(res.clip_message)
     res.info.update({"input": str(src.path), "output": str(out), "format": fmt, "subtype": st,
-                     "input_subtype": src.subtype})
+                     "input_subtype": src.subtype, "truncated": src.truncated})
+    res.requantisation_message = requantisation_note(removed_ss[0] / max(src.frames * src.channels, 1), st)
+    if res.requantisation_message:
+        log.warning(res.requantisation_message)
     return res
 
 
@@ -136,3 +142,21 @@ def _flushed(fo, tmp):
     # ``with`` closing it again is a no-op
     fo.close()
     return FileSource(tmp)
+
+
+_PCM_BITS = {"PCM_S8": 8, "PCM_U8": 8, "PCM_16": 16}
+
+
+def requantisation_note(removed_power: float, subtype: str) -> str | None:
+    """A warning when the hum removed (mean power, full scale 1) is within 10 dB of the noise that
+    writing ``subtype`` adds (an 8/16-bit integer output is requantised after the subtraction:
+    noise of power LSB^2 / 12 over the whole band, where the hum was a few lines)."""
+    bits = _PCM_BITS.get(subtype)
+    if bits is None or removed_power <= 0:
+        return None
+    q_power = (2.0 ** (1 - bits)) ** 2 / 12
+    if removed_power >= 10 * q_power:
+        return None
+    return (f"the hum removed ({10 * np.log10(removed_power):.1f} dBFS) is within 10 dB of the requantisation "
+            f"noise that writing {subtype} adds ({10 * np.log10(q_power):.1f} dBFS, spread over the whole band): "
+            f"write --subtype PCM_24 or FLOAT to keep the difference")

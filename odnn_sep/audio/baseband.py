@@ -25,6 +25,9 @@ def tracked_phase(D, sr: int, f_ref: float, trk) -> np.ndarray:
     """``psi_j`` (rad) at the chunk centres: 2 pi times the integral of ``f0(t) - f_ref``."""
     m = _track.chunk_length(sr)
     tc = (np.arange(D.shape[0]) * m + (m - 1) / 2) / sr
+    ph = getattr(trk, "phase", None)
+    if ph is not None and abs(ph.f_ref - f_ref) < 1e-12 and len(ph.psi) == D.shape[0]:
+        return 2 * np.pi * ph.psi
     dfreq = np.interp(tc, trk.t, trk.f0) - f_ref
     return 2 * np.pi * np.cumsum(dfreq) * (m / sr)
 

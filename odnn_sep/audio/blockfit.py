@@ -48,6 +48,8 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
     w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
     w32_full = w_full.astype(np.float32)
     fitter = _fullblock.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step) if nl else None
+    if fitter is not None:
+        fitter.phase = getattr(trk, "phase", None)
     pool_fixed = fixed_psd is not None and nfix > 0
     pool_main = main_psd is not None and len(ks) > 0
     M = smooth_blocks if (pool_fixed or pool_main) else 0
@@ -155,6 +157,12 @@ def _block_phase(trk, hop: int, sr: int) -> np.ndarray:
     integral of the track between centres by the Hermite (corrected trapezoid) rule. The blocks'
     own cubic terms are left out: they come from second differences of the track and are the
     noisiest part of it."""
+    ph = getattr(trk, "phase", None)
+    if ph is not None:
+        # the refined phase itself: f_ref t + psi(t) at the block centres, from the first one
+        c = np.arange(len(trk.f0)) * hop
+        cyc = c * (ph.f_ref / ph.sr) + ph.offset_cycles(c.astype(float))
+        return 2 * np.pi * np.mod(cyc - cyc[0], 1.0)
     h = hop / sr
     f, r = trk.f0, trk.rate
     cyc = h * (f[:-1] + f[1:]) / 2 + h ** 2 * (r[:-1] - r[1:]) / 12
@@ -180,13 +188,14 @@ def _fit_generic(i0, n, centre, sr, trk, b, ks, fixed_lines, blk, w_fit, solver,
     ``(theta (p, C), tracked-comb columns (n, 2K))``; fixed lines in absolute time."""
     # float32 basis for the exact solver: its values come from float32 sines anyway
     # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
+    ph = getattr(trk, "phase", None)
     F = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
-                         cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64)
+                         cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64, phase=ph)
     if solver == "exact":
         F_sub = None
         if _fit.sub_gram(n, F.shape[1], gram_step):
             F_sub = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
-                                     fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32)
+                                     fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32, phase=ph)
         theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
     else:
         theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],

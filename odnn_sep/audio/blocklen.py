@@ -121,3 +121,21 @@ def _score(u, Pu, welch, sr, n_frames, hop) -> float:
     level = np.nan_to_num(level)
     cut = np.nan_to_num(cut)
     return float(np.abs(level).mean(axis=0).mean() + np.maximum(0.0, -cut.mean(axis=0)).mean())
+
+
+def choose_block_phase(D, psi, sr: int, n_frames: int, f_ref: float, ks, *, candidates=CANDIDATES_S) -> float:
+    """As :func:`choose_block`, with the lines turned by the refined phase ``psi`` (cycles, at the
+    chunk centres; finetrack.py) instead of a block track: returns the best block length."""
+    m = _track.chunk_length(sr)
+    J = D.shape[0]
+    j_ex = int(EXCERPT_S * sr / m)
+    j0 = max(0, (J - j_ex) // 2)
+    De = D[j0: j0 + j_ex]
+    n_ex = min(n_frames - j0 * m, De.shape[0] * m)
+    u = _baseband.derotate(De, ks, 2 * np.pi * (psi[j0: j0 + De.shape[0]] - psi[j0])).astype(np.complex64)
+    welch = _Welch(u.shape[0], sr)
+    Pu = welch(u)
+    scores = [_score(u, Pu, welch, sr, n_ex, max(1, int(round(T * sr / 2)))) for T in candidates]
+    best = candidates[int(np.argmin(scores))]
+    log.info("block length: %s s (score %s dB for %s s)", best, np.round(scores, 2), candidates)
+    return best

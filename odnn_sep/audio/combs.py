@@ -130,6 +130,7 @@ def refine_combs(source, sr: int, combs: list[Comb], main_f0: float | None, spec
                                                     weights([k * c.fundamental_hz for k in c.harmonics]),
                                                     half_hz=half)
         col += kc
+    _keep_locked(D2, sr, combs, freqs)
     out = []
     for i, t in enumerate(tones):
         others = [f for f in fixed if f != t] + ([k * main_f0 for k in range(1, int(t / main_f0) + 2)]
@@ -140,3 +141,30 @@ def refine_combs(source, sr: int, combs: list[Comb], main_f0: float | None, spec
         out.append(_track.refine_fixed_comb(D2[:, :, col + i: col + i + 1], sr, t, [1], weights([t]),
                                             half_hz=half))
     return out
+
+
+def _keep_locked(D2, sr: int, combs: list[Comb], freqs_before, alpha: float = 1e-3, min_lines: int = 3) -> None:
+    """Keep only the comb lines that are phase-locked to their (refined) fixed frequency, and only
+    combs with at least ``min_lines`` of them (lock.py): partials of repeated notes near the
+    harmonics can pass the spectrum's test as a comb, but not the lock test. ``D2``: chunk sums at
+    ``freqs_before`` (the comb lines before refinement, then the tones)."""
+    from odnn_sep.audio import finetrack as _finetrack
+    from odnn_sep.audio import lock as _lock
+
+    tc = _finetrack.chunk_times(D2.shape[0], sr)
+    col, kept = 0, []
+    for c in combs:
+        good = []
+        for k in c.harmonics:
+            u = D2[:, :, col: col + 1] * np.exp(-2j * np.pi * (k * c.fundamental_hz - freqs_before[col]) * tc)[:, None, None]
+            p, _ = _lock.lock_p_values(u, sr)
+            if p[0] < alpha:
+                good.append(k)
+            col += 1
+        if len(good) >= min_lines:
+            c.harmonics = good
+            kept.append(c)
+        else:
+            log.info("comb at %.4f Hz dropped: lines %s are not phase-locked", c.fundamental_hz,
+                     [k for k in c.harmonics if k not in good])
+    combs[:] = kept

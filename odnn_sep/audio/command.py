@@ -33,8 +33,10 @@ def register(subparsers) -> None:
     p.add_argument("--harmonics", default="auto", metavar="auto|N|K,K,...",
                    help="auto: remove only harmonics that are present (default); N: remove harmonics 1..N; "
                         "a comma-separated list: remove exactly those (e.g. 1,3,5)")
-    p.add_argument("--tone", action="extend", nargs="+", type=float, default=[], metavar="HZ",
-                   help="extra fixed tone(s) to remove, in Hz (repeatable)")
+    # one value per option; the CLI turns "--tone 50 100" into "--tone 50 --tone 100", so the input
+    # file after the numbers is never taken as a tone
+    p.add_argument("--tone", action="append", type=float, default=[], metavar="HZ",
+                   help="extra fixed tone(s) to remove, in Hz (--tone 1000 2000 or --tone 1000 --tone 2000)")
     p.add_argument("--report", metavar="R.json", help="write a JSON report (track, amplitudes, phases, levels)")
     p.add_argument("--plot", metavar="P.png", help="write a figure: spectrograms, line levels, frequency track")
     p.add_argument("--solver", choices=("exact", "network"), default="exact",

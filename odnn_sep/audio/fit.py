@@ -22,7 +22,7 @@ COND_LIMIT = 1e8
 
 def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
                 ks, tones, nuisance: bool = True, cache: dict | None = None, step: int = 1,
-                dtype=np.float64) -> np.ndarray:
+                dtype=np.float64, phase=None) -> np.ndarray:
     """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
 
     ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
@@ -33,7 +33,8 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     axis, the nuisance columns and the output buffer (the result is overwritten by the next call).
     ``step``: evaluate only at samples idx0, idx0 + step, ... (rows of the full basis, taken
     every ``step``-th; used for the sub-sampled Gram matrix). ``dtype``: float32 suffices for the
-    Gram matrix (see :func:`solve_block`).
+    Gram matrix (see :func:`solve_block`). ``phase``: a finetrack.PhaseTrack; the harmonics then
+    follow its phase instead of the block's polynomial.
     """
     ks = list(ks)
     p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
@@ -53,7 +54,7 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     if ks:
         # phase in cycles reduced to its fraction in float64 (fewer passes over a long block
         # than radians)
-        cyc = tracked_cycles(tau, f0, rate, curv)
+        cyc = phase.cycles(idx0, n, centre, step) if phase is not None else tracked_cycles(tau, f0, rate, curv)
         cyc -= np.rint(cyc)
         _put_harmonics(F, 0, _unit_cycles(cyc), ks)
     col = 2 * len(ks)

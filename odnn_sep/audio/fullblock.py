@@ -51,6 +51,7 @@ class FullBlockFitter:
         self._win = {L: (w, w.astype(np.float32), float(w.sum()))}
         self._grr, self._near = {}, {}
         self.tau_cache = {"min_n": L}
+        self.phase = None      # finetrack.PhaseTrack: set to fit along the refined phase
         # chunk table: fixed columns over one chunk (as block_basis from sample 0), then 1 and u
         c = int(max(1, min(chunk, L)))
         self.c, self.nch = c, -(-L // c)
@@ -194,7 +195,10 @@ class FullBlockFitter:
             if n >= self.tau_cache["min_n"]:
                 self.tau_cache.update(key=key, tau=tau)
         # phase in cycles; its fraction is rounded to float32 as it is written
-        cyc = _fit.tracked_cycles(tau, f0, rate, curv)
+        if self.phase is not None:
+            cyc = self.phase.cycles(i0, n, centre)
+        else:
+            cyc = _fit.tracked_cycles(tau, f0, rate, curv)
         r32 = np.empty(n, np.float32)
         np.subtract(cyc, np.rint(cyc), out=r32, casting="same_kind")
         Z = self.Z[:, :n]
@@ -275,8 +279,11 @@ class FullBlockFitter:
             E_fix = np.exp(-2j * np.pi * np.mod(np.outer(self.kf * self.fc, t_d) / self.sr, 1.0))   # (nf, Jd)
             got = self._near[n] = (s_d, t_d, w_d, E_fix)
         s_d, t_d, w_d, E_fix = got
-        tau = (i0 + t_d - centre) / self.sr
-        phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
+        if self.phase is not None:
+            phi = 2 * np.pi * self.phase.cycles_at(i0 + t_d, centre)
+        else:
+            tau = (i0 + t_d - centre) / self.sr
+            phi = 2 * np.pi * tau * (f0 + tau * (rate / 2 + tau * (curv / 6)))
         kk = np.asarray(self.ks, float)
         rows = np.flatnonzero(near.any(axis=1))
         E_m = np.exp(1j * np.outer(kk[rows], phi)) * w_d[None, :]

@@ -70,6 +70,15 @@ class FileSource:
         if self.frames <= 0:
             self.f.close()
             raise FormatError(f"input audio file {self.name!r} has no samples (0 frames)")
+        self.truncated = None
+        declared = wav_declared_frames(self.path, self.channels, self.subtype) if self.format == "WAV" else None
+        if declared is not None and declared > self.frames:
+            self.truncated = (
+                f"input audio file {self.name!r} is truncated: its header declares {declared} frames "
+                f"({declared / self.sr:.2f} s) but the file holds {self.frames} "
+                f"({self.frames / self.sr:.2f} s); it ends at {self.frames / self.sr:.2f} s and only that much is "
+                f"processed")
+            log.warning(self.truncated)
 
     def read(self, start: int, n: int) -> np.ndarray:
         import soundfile as sf
@@ -163,3 +172,29 @@ class ClipCounter:
 
 def is_integer_subtype(subtype: str) -> bool:
     return subtype.startswith(("PCM", "ULAW", "ALAW", "DWVW", "DPCM", "IMA", "MS_ADPCM", "GSM", "G72"))
+
+
+_BYTES = {"PCM_U8": 1, "PCM_S8": 1, "PCM_16": 2, "PCM_24": 3, "PCM_32": 4, "FLOAT": 4, "DOUBLE": 8}
+
+
+def wav_declared_frames(path, channels: int, subtype: str) -> int | None:
+    """Frames the ``data`` chunk of a RIFF/WAVE header declares (None when not a plain PCM/float
+    WAV, or when the size field is a streaming placeholder)."""
+    width = _BYTES.get(subtype)
+    if width is None:
+        return None
+    with open(path, "rb") as fh:
+        head = fh.read(12)
+        if len(head) < 12 or head[:4] != b"RIFF" or head[8:12] != b"WAVE":
+            return None
+        for _ in range(64):            # chunks before "data" (fmt, LIST, fact, ...)
+            ch = fh.read(8)
+            if len(ch) < 8:
+                return None
+            size = int.from_bytes(ch[4:8], "little")
+            if ch[:4] == b"data":
+                if size in (0, 0xFFFFFFFF):
+                    return None
+                return size // (width * channels)
+            fh.seek(size + (size & 1), 1)
+    return None

@@ -63,3 +63,17 @@ def progress_bar(enabled: bool, total: int, desc: str):
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="smp", unit_scale=True, file=sys.stderr, leave=False)
+
+
+def parse_max_hz(max_hz, sr):
+    """``None`` (0.95 x Nyquist) or a positive frequency in Hz."""
+    if max_hz is None:
+        return None
+    try:
+        v = float(max_hz)
+    except (TypeError, ValueError):
+        raise InputError(f"max_hz must be a frequency in Hz; got {max_hz!r}") from None
+    if not np.isfinite(v) or v <= 0:
+        raise InputError(f"max_hz must be a positive frequency in Hz (the highest harmonic to consider); "
+                         f"got {max_hz!r}")
+    return v

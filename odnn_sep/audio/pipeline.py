@@ -21,11 +21,12 @@ import logging
 import numpy as np
 
 from odnn_sep.audio import amplitude as _amplitude
-from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import blockfit as _blockfit
 from odnn_sep.audio import blocklen as _blocklen
 from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
+from odnn_sep.audio import finetrack as _finetrack
+from odnn_sep.audio import lockcomb as _lockcomb
 from odnn_sep.audio import params as _params
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.result import DenoiseResult
@@ -57,6 +58,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     mains = _params.parse_mains(mains, sr)
     harmonics = _params.parse_harmonics(harmonics)
     tones = _params.parse_tones(tones, sr)
+    max_hz = _params.parse_max_hz(max_hz, sr)
     if solver not in ("exact", "network"):
         raise InputError(f"solver must be 'exact' or 'network'; got {solver!r}")
     auto_block = isinstance(block_s, str) and block_s.strip().lower() == "auto"
@@ -79,36 +81,40 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
                              max_hz=max_hz)
     ks, tl = det.harmonics, det.tones
+    ks_spec = list(ks)
     if auto_block and (not ks or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
         block_s, auto_block = _blocklen.CANDIDATES_S[0], False
     bar = _params.progress_bar(progress, (2 if ks else 1) * N, "denoise")
     tick = (lambda k: bar.update(k)) if bar is not None else None
-    trk, D3 = None, None
+    trk = None
     # only when the harmonics are the data's choice: a given count or list is removed as given
     look_again = bool(ks) and harmonics == "auto" and max_combs > 1
-    # gaps in the comb, for a second look once the track is known (isolated lines above the
-    # highest harmonic found are more likely tonal content than hum, as for further combs)
-    missing = [k for k in range(1, max(ks)) if k not in ks] if look_again else []
-    if ks:
-        weights = np.stack([1.0 / np.maximum(det.floors[("h", k)], 1e-300) for k in ks], axis=1)   # (C, K)
-        # one demodulation pass for the harmonics found and the gaps
-        D = _track.demodulate(source, det.mains_hz, list(ks) + missing, progress=tick)
-        D, D3 = D[:, :, : len(ks)], D[:, :, len(ks):]
-        if auto_block:
-            block_s, trk = _blocklen.choose_block(D, sr, N, det.mains_hz, ks, weights)
-        else:
-            trk = _track.track_fundamental(D, sr, N, det.mains_hz, ks, weights,
-                                           hop=max(1, int(round(block_s * sr / 2))))
-    hop = max(1, int(round(block_s * sr / 2)))
-    # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
     h_amp = {}
-    if ks:
-        h_amp = dict(zip(ks, _amplitude.steady_amplitudes(D, sr, det.mains_hz, ks, trk, hop, N).T, strict=True))
-        del D
+    comb = _lockcomb.choose(source, spec_before, det, mains=mains, harmonics=harmonics, alpha=alpha,
+                            max_hz=max_hz, tones=tl, progress=tick) if ks else None
+    if comb is None:
+        ks = []
+        if auto_block:
+            block_s, auto_block = _blocklen.CANDIDATES_S[0], False
+    else:
+        ks = comb.harmonics
+        det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
+        det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
+                            "p_value_bonferroni": p, "lock_index": ix, "significant": k in ks,
+                            "look": "phase lock"} for k, (p, ix, _) in sorted(comb.lock.items())]
+        if auto_block:
+            block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
+        hop = max(1, int(round(block_s * sr / 2)))
+        trk = _finetrack.track_from_phase(comb.psi, sr, comb.f_ref, N, hop)
+        # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
+        h_amp = dict(zip(ks, _amplitude.steady_amplitudes(comb.D, sr, comb.f_ref, ks, trk, hop, N).T,
+                         strict=True))
+        comb.D = None
+    hop = max(1, int(round(block_s * sr / 2)))
     nb = (N - 1) // hop + 2
     if not ks and not tl:
-        log.warning("no significant mains hum found (tested %s); the output equals the input",
-                    "50 and 60 Hz" if mains == "auto" else f"{mains:g} Hz")
+        log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
+                    "persist); the output equals the input", "50 and 60 Hz" if mains == "auto" else f"{mains:g} Hz")
     if not ks:
         t = np.arange(nb) * hop / sr
         z = np.zeros(nb)
@@ -116,27 +122,20 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
 
     # the finest spectrum at hand: the high-resolution one when the comb is looked at again
     combs, f_med, spec_fine = [], det.mains_hz, spec_before
+    look_again = look_again and bool(ks)
     if look_again:
         # further combs near the same nominal frequency, on a finer spectrum with the tracked
         # comb's lines (widened by how far the track wandered) masked out
         f_med = trk.median_f0(det.mains_hz)
-        spread = float(np.ptp(trk.f0[trk.confident])) if trk.confident.sum() > 1 else 0.0
+        spread = float(np.ptp(trk.f0)) if len(trk.f0) > 1 else 0.0
+        log.debug("track spread %.4f Hz", spread)
         seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
         spec_fine = _detect.excerpt_spectrum(source, seg_s=seg_hr,
                                              keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
         df_hr = spec_fine.df
-        k_top = max(ks)
-        if missing:
-            n_first = sum(1 for c in det.candidates if c["harmonic"] is not None)
-            more, cands2 = _baseband.second_look(D3, sr, det.mains_hz, missing, trk, alpha=alpha,
-                                                 n_tests=n_first + len(missing), seg_s=seg_hr)
-            det.candidates += cands2
-            if more:
-                cols = [missing.index(k) for k in more]
-                h_amp.update(zip(more, _amplitude.steady_amplitudes(D3[:, :, cols], sr, det.mains_hz, more, trk,
-                                                                   hop, N).T, strict=True))
-            ks = sorted(ks + more)
-        del D3
+        # as far up as the comb the spectrum showed (a line there that is not locked to the
+        # track may belong to a further comb), at most twice the locked comb's reach
+        k_top = max([k for k in ks_spec if k <= 2 * max(ks)] + ks)
         known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
         combs = _combs.detect_extra_combs(spec_fine, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
                                           alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,

@@ -69,6 +69,7 @@ class DenoiseResult:
     block_valid: np.ndarray | None = None
     amplitude_overall: np.ndarray | None = None
     clip_message: str | None = None
+    requantisation_message: str | None = None
     info: dict = field(default_factory=dict)
     spectra: dict = field(default_factory=dict, repr=False)
 
@@ -118,4 +119,5 @@ class DenoiseResult:
                       "level_above_floor_db": "mean PSD within the line band over the median local floor, "
                                               "dB, per channel"},
             "clipping": self.clip_message,
+            "requantisation": self.requantisation_message,
         }

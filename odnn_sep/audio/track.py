@@ -29,6 +29,7 @@ class Track:
     curv: np.ndarray       # (B,) d2f/dt2 (Hz/s^2)
     confident: np.ndarray  # (B,) bool: hum clearly present in the block
     strength: np.ndarray   # (B,) peak harmonic energy over its noise-only value
+    phase: object = None   # finetrack.PhaseTrack: the fundamental's phase at every sample, when refined
 
     def median_f0(self, default: float) -> float:
         """Median fundamental over the confident blocks, ``default`` when there are none."""
@@ -223,7 +224,7 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
     coarse_ks = ks <= max(k_coarse, ks.min())
     step = 0.25 / (L_s * k_coarse)
     if max_offset_hz is None:
-        max_offset_hz = max(0.5, 0.005 * f_ref)
+        max_offset_hz = max(1.0, 0.02 * f_ref)   # ramps of 50 mHz/s over 40 s reach +-1 Hz
     f = np.full(nb, np.nan)
     strength = np.zeros(nb)
     coverage = np.zeros(nb)
@@ -289,7 +290,7 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
     ok = np.isfinite(f) & (strength >= min_strength)
     ok &= coverage >= 0.25
     if ok.sum() == 0:
-        log.warning("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
+        log.info("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
                     f_ref)
         off = np.zeros(nb)
     elif ok.sum() == 1 or np.ptp(t_eff[ok]) == 0:

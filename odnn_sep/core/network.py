@@ -20,7 +20,7 @@ log = logging.getLogger(__name__)
 
 def fit_network(F, x, y, dist, projector, **kw):
     """Train the class's network jointly with theta (keywords: weights, random_state, epochs, lr, hidden,
-    depth, lbfgs_iter). Returns the solver dict without standard errors (see ``NetworkSolver``).
+    depth, lbfgs_iter, progress). Returns the solver dict without standard errors (see ``NetworkSolver``).
 
     Examples
     --------
@@ -59,7 +59,7 @@ def _lbfgs(params, loss_fn, *, max_iter, history_size):
 
 
 def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, epochs=1500, lr=1e-2,
-                 hidden=32, depth=3, lbfgs_iter=300):
+                 hidden=32, depth=3, lbfgs_iter=300, progress=False):
     """Body of :func:`fit_network`. More than 8 parameters: the problem's five arrays and objects
     plus one keyword per training knob of the paper's solver, each passed through unchanged."""
     import torch
@@ -89,7 +89,7 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
         r = Yt - Fn @ theta - layer(net(Xt))
         return torch.mean(r * r) if W is None else torch.mean(W * r * r)
 
-    history = _train(net, theta, loss_fn, epochs=epochs, lr=lr, lbfgs_iter=lbfgs_iter)
+    history = _train(net, theta, loss_fn, epochs=epochs, lr=lr, lbfgs_iter=lbfgs_iter, progress=progress)
     with torch.no_grad():
         final = float(loss_fn())
         g = layer(net(Xt))
@@ -107,15 +107,20 @@ def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, e
             "diagnostics": {"network_final_loss": final * ys * ys, "network": type(net).__name__}}
 
 
-def _train(net, theta, loss_fn, *, epochs: int, lr: float, lbfgs_iter: int) -> list:
+def _train(net, theta, loss_fn, *, epochs: int, lr: float, lbfgs_iter: int, progress: bool = False) -> list:
     """Adam with a cosine schedule, a joint L-BFGS polish, then L-BFGS on theta alone; leaves the
-    gradient of the final loss in ``theta.grad``. Returns the loss every 50 Adam steps."""
+    gradient of the final loss in ``theta.grad``. Returns the loss every 50 Adam steps. With
+    ``progress``, a bar on stderr counts the Adam epochs (training takes minutes on long inputs)."""
+    import sys
+
     import torch
+    from tqdm import tqdm
 
     history = []
     opt = torch.optim.Adam([{"params": net.parameters(), "lr": lr * 0.3}, {"params": [theta], "lr": lr}])
     sched = torch.optim.lr_scheduler.CosineAnnealingLR(opt, max(1, epochs), eta_min=lr * 1e-3)
-    for it in range(epochs):
+    for it in tqdm(range(epochs), desc="network solver", unit="epoch", file=sys.stderr, leave=False,
+                   disable=not progress):
         opt.zero_grad()
         loss = loss_fn()
         loss.backward()

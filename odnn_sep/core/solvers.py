@@ -94,6 +94,8 @@ class NetworkSolver(Solver):
         Adam step size for theta (the network's is 0.3 times it).
     hidden, depth : int
         Width and number of hidden layers of the disturbance network.
+    progress : bool
+        Show a progress bar of the training epochs on stderr.
 
     Its theta must agree with the exact solver's where both apply; its standard errors and
     identified sets come from the exact analysis of the same problem.
@@ -110,8 +112,10 @@ class NetworkSolver(Solver):
 
     name: ClassVar[str] = "network"
 
-    def __init__(self, epochs: int = 1500, lr: float = 1e-2, hidden: int = 32, depth: int = 3):
+    def __init__(self, epochs: int = 1500, lr: float = 1e-2, hidden: int = 32, depth: int = 3,
+                 progress: bool = False):
         self.epochs, self.lr, self.hidden, self.depth = epochs, lr, hidden, depth
+        self.progress = progress
 
     def solve(self, problem: Problem) -> dict:
         from odnn_sep.core.nets import require_torch
@@ -121,7 +125,7 @@ class NetworkSolver(Solver):
 
         out = fit_network(problem.F, problem.x, problem.y, problem.disturbance, problem.prepared,
                           weights=problem.weights, random_state=problem.random_state, epochs=self.epochs,
-                          lr=self.lr, hidden=self.hidden, depth=self.depth)
+                          lr=self.lr, hidden=self.hidden, depth=self.depth, progress=self.progress)
         exact = ExactSolver().solve(problem)
         out["stderr"], out["interval_exact"] = exact["stderr"], exact["interval"]
         out["diagnostics"] = {**exact["diagnostics"], **out.get("diagnostics", {}),

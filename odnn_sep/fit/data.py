@@ -1,58 +1,75 @@
 """Load a 1-D signal (CSV: first column x, value column chosen) or a 2-D field (.npz with x, y, z)."""
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
 
+from odnn_sep import limits
 from odnn_sep.errors import FormatError, InputError, check_finite
+from odnn_sep.io_read import count_lines, load_npz_arrays, looks_binary, pick_column
 from odnn_sep.io_utils import check_input_path
 
 
-def load_signal(path, column: str | int | None = None):
+def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):
     """Return (coords, values, coord_names, grid_shape).
 
-    CSV: header row, first column is x, the value column is ``column`` (name or index; default the
-    second). NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the (ny*nx, 2) points.
+    CSV: header row, first column is x, the value column is ``column`` (name, or index counted from
+    0 where 0 is x; default 1). NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the
+    (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``). If ``value_name``
+    is a list, the value column's name is appended to it (for labels).
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
-        try:
-            d = np.load(p)
-        except (OSError, ValueError) as exc:
-            raise FormatError(f"could not read {str(p)!r} as .npz: {exc}") from None
-        missing = [k for k in ("x", "y", "z") if k not in d.files]
-        if missing:
-            raise FormatError(f"{str(p)!r} lacks array(s) {missing}; a 2-D field needs x (nx,), y (ny,), z (ny, nx)")
-        x, y, z = (np.asarray(d[k], dtype=float) for k in ("x", "y", "z"))
-        if z.shape != (y.size, x.size):
-            raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match")
-        X, Y = np.meshgrid(x, y)
+        d = load_npz_arrays(p, max_points=True)
+        x, y, z = d["x"], d["y"], d["z"]
+        if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
+            raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
+                             "(x and y 1-D grid axes)")
+        limits.check("points", z.size, f"the field in {str(p)!r} has {z.shape[0]} x {z.shape[1]} points; its size")
+        check_finite("x", x)
+        check_finite("y", y)
         check_finite("z", z)
+        X, Y = np.meshgrid(x, y)
+        if value_name is not None:
+            value_name.append("z")
         return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
+    if p.suffix.lower() not in (".csv", ".txt", ".tsv", ""):
+        raise FormatError(f"{str(p)!r} has extension {p.suffix!r}; give a .csv (header; first column x) or an "
+                          ".npz with arrays x, y, z")
+    if looks_binary(p):
+        raise FormatError(f"{str(p)!r} is not a text CSV (it holds binary data); give a .csv with a header row "
+                          "or an .npz field")
+    rows = count_lines(p)
+    limits.check("points", max(rows - 1, 0), f"the row count of {str(p)!r}",
+                 hint="decimate the data")
     try:
-        with open(p, newline="") as fh:
+        with open(p, newline="", encoding="utf-8") as fh:
             header = [h.strip() for h in fh.readline().strip().split(",")]
-        data = np.genfromtxt(p, delimiter=",", skip_header=1, dtype=float)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
+            data = np.genfromtxt(p, delimiter=",", skip_header=1, dtype=float, invalid_raise=True)
     except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise FormatError(f"could not read {str(p)!r} as CSV: {exc}") from None
+        raise FormatError(f"could not read {str(p)!r} as CSV: {str(exc).strip().splitlines()[-1]}") from None
     data = np.atleast_2d(data)
-    if data.size == 0 or data.shape[1] < 2:
-        raise FormatError(f"{str(p)!r} needs a header row and at least two columns (x and a value)")
-    if column is None:
-        j = 1
-    elif isinstance(column, int) or str(column).isdigit():
-        j = int(column)
-    elif column in header:
-        j = header.index(column)
-    else:
-        raise InputError(f"column {column!r} is not in {str(p)!r}; columns are {header}")
-    if not 0 < j < data.shape[1]:
-        raise InputError(f"column index {j} is out of range; {str(p)!r} has columns 1..{data.shape[1] - 1} after x")
+    if data.size == 0 or data.shape[1] < 2 or data.shape[0] < 2:
+        raise FormatError(f"{str(p)!r} needs a header row, at least two data rows and at least two columns "
+                          "(x and a value)")
+    j = pick_column(header if len(header) == data.shape[1] else [f"col{k}" for k in range(data.shape[1])],
+                    column, path=p)
     x, v = data[:, 0], data[:, j]
-    check_finite(f"column {header[j] if j < len(header) else j!r}", v)
-    check_finite("x (first column)", x)
+    label = header[j] if j < len(header) else str(j)
+    for name, a in ((f"column {label!r}", v), ("x (first column)", x)):
+        if np.isnan(a).any():
+            k = int(np.argmax(np.isnan(a)))
+            raise InputError(f"{name} of {str(p)!r} has {int(np.isnan(a).sum())} missing or non-numeric value(s) "
+                             f"(first on data row {k + 1}); fix or remove those rows")
+        check_finite(name, a)
+        limits.check_magnitude(name, a)
     name = header[0] if header and header[0].isidentifier() else "x"
+    if value_name is not None:
+        value_name.append(label)
     return x, v, (name,), None
 
 

@@ -1,12 +1,15 @@
 """Safe parsing of basis expressions ("x**2*sin(5*x)") and disturbance specs ("periodic:1.25").
 
-Expressions are parsed with ``ast`` and only arithmetic, numbers, the coordinate names and a
-whitelist of numpy functions are allowed, so a basis string can never run arbitrary code.
+Expressions are parsed with ``ast`` and evaluated by a small tree walker: only arithmetic, numbers,
+the coordinate names and a whitelist of numpy functions are allowed, so a basis string can never
+run arbitrary code, and bounded sizes (length, parts, depth, exponents, literals) keep it from
+hanging or exhausting memory.
 """
 from __future__ import annotations
 
 import ast
 import difflib
+import warnings
 
 import numpy as np
 
@@ -15,35 +18,146 @@ from odnn_sep.errors import InputError
 FUNCS = {name: getattr(np, name) for name in (
     "sin", "cos", "tan", "exp", "log", "log10", "sqrt", "abs", "tanh", "sinh", "cosh", "arctan", "sign",
     "heaviside", "minimum", "maximum", "where")}
+ARITY = {"heaviside": 2, "minimum": 2, "maximum": 2, "where": 3}
 CONSTS = {"pi": np.pi, "e": np.e}
-OPS = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Load, ast.Constant, ast.Add, ast.Sub,
-       ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd, ast.Mod, ast.Compare, ast.Gt, ast.Lt, ast.GtE, ast.LtE)
+
+#: Bounds that keep any expression cheap to check and to evaluate (no big integers, no deep recursion).
+MAX_CHARS = 2000
+MAX_NODES = 1000
+MAX_DEPTH = 40
+MAX_EXPONENT = 100.0
+MAX_LITERAL = 1e100
+
+_BINOPS = {ast.Add: np.add, ast.Sub: np.subtract, ast.Mult: np.multiply, ast.Div: np.true_divide,
+           ast.Pow: np.power, ast.Mod: np.mod}
+_UNARY = {ast.USub: np.negative, ast.UAdd: np.positive}
+_COMPARE = {ast.Gt: np.greater, ast.Lt: np.less, ast.GtE: np.greater_equal, ast.LtE: np.less_equal}
+_NAMES = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**", ast.Mod: "%",
+          ast.FloorDiv: "//", ast.MatMult: "@", ast.BitAnd: "&", ast.BitOr: "|", ast.BitXor: "^",
+          ast.LShift: "<<", ast.RShift: ">>", ast.Eq: "==", ast.NotEq: "!=", ast.Is: "is", ast.In: "in",
+          ast.IsNot: "is not", ast.NotIn: "not in", ast.Not: "not", ast.Invert: "~"}
+
+
+def _fail(expr: str, why: str):
+    shown = expr if len(expr) <= 60 else expr[:57] + "..."
+    raise InputError(f"basis expression {shown!r} {why}")
+
+
+def _parse(expr: str) -> ast.Expression:
+    if not isinstance(expr, str) or not expr.strip():
+        raise InputError("basis expression is empty; write e.g. 'x**2*sin(5*x)'")
+    if len(expr) > MAX_CHARS:
+        _fail(expr, f"is {len(expr)} characters long; the limit is {MAX_CHARS}")
+    if any(ord(c) < 32 for c in expr):
+        _fail(expr, "contains a control character (newline, tab, ...); write it on one line")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SyntaxWarning)  # e.g. "1x": the error below says it better
+            return ast.parse(expr.strip(), mode="eval")
+    except SyntaxError as exc:
+        _fail(expr, f"is not valid: {exc.msg}; write e.g. 'x**2*sin(5*x)'")
+    except (RecursionError, MemoryError, ValueError):
+        _fail(expr, f"is nested too deeply or too large; the limit is {MAX_DEPTH} levels")
+
+
+def _check_tree(expr: str, tree: ast.Expression, coords) -> None:
+    """Walk the tree without recursion: size, depth, and only the allowed constructs."""
+    allowed = set(coords) | set(FUNCS) | set(CONSTS)
+    stack = [(tree.body, 1)]
+    count = 0
+    while stack:
+        node, depth = stack.pop()
+        count += 1
+        if count > MAX_NODES:
+            _fail(expr, f"has more than {MAX_NODES} parts; split it into several --basis terms")
+        if depth > MAX_DEPTH:
+            _fail(expr, f"is nested more than {MAX_DEPTH} levels deep; simplify it")
+        if isinstance(node, ast.BinOp):
+            if type(node.op) not in _BINOPS:
+                _fail(expr, f"uses the operator {_NAMES.get(type(node.op), type(node.op).__name__)!r}, which is "
+                      "not allowed; use + - * / ** %")
+            children = [node.left, node.right]
+        elif isinstance(node, ast.UnaryOp):
+            if type(node.op) not in _UNARY:
+                _fail(expr, f"uses {_NAMES.get(type(node.op), type(node.op).__name__)!r}, which is not allowed")
+            children = [node.operand]
+        elif isinstance(node, ast.Compare):
+            if len(node.ops) != 1:
+                _fail(expr, "chains comparisons (a < b < c); write where(a < b, where(b < c, 1, 0), 0) instead")
+            if type(node.ops[0]) not in _COMPARE:
+                _fail(expr, f"uses the comparison {_NAMES.get(type(node.ops[0]), '?')!r}; only < <= > >= are allowed")
+            children = [node.left, *node.comparators]
+        elif isinstance(node, ast.Call):
+            if not isinstance(node.func, ast.Name):
+                _fail(expr, "calls something that is not an allowed function")
+            name = node.func.id
+            if name not in FUNCS:
+                hint = difflib.get_close_matches(name, sorted(FUNCS), n=1)
+                extra = f" (did you mean {hint[0]!r}?)" if hint else ""
+                _fail(expr, f"calls unknown function {name!r}{extra}; allowed functions: {sorted(FUNCS)}")
+            if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
+                _fail(expr, f"passes keyword or starred arguments to {name!r}; give plain arguments")
+            if len(node.args) != ARITY.get(name, 1):
+                _fail(expr, f"calls {name!r} with {len(node.args)} argument(s); it takes {ARITY.get(name, 1)}")
+            children = list(node.args)
+        elif isinstance(node, ast.Name):
+            if node.id in FUNCS:  # call positions are not walked, so this is a bare function name
+                _fail(expr, f"uses the function {node.id!r} without calling it; write e.g. {node.id}(x)")
+            if node.id not in allowed:
+                hint = difflib.get_close_matches(node.id, sorted(allowed), n=1)
+                extra = f" (did you mean {hint[0]!r}?)" if hint else ""
+                _fail(expr, f"uses unknown name {node.id!r}{extra}; allowed: coordinates {list(coords)}, "
+                      f"functions {sorted(FUNCS)}, constants pi, e")
+            children = []
+        elif isinstance(node, ast.Constant):
+            v = node.value
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                _fail(expr, f"contains {v!r}, which is not a number")
+            try:
+                fv = float(v)
+            except OverflowError:
+                fv = float("inf")
+            if not abs(fv) <= MAX_LITERAL:
+                _fail(expr, f"contains a number too large to use (limit {MAX_LITERAL:g})")
+            children = []
+        else:
+            what = {"Constant": "a constant"}.get(type(node).__name__, type(node).__name__)
+            _fail(expr, f"uses {what}, which is not allowed; use arithmetic and functions like sin, cos, exp, "
+                  "log, sqrt")
+        stack.extend((c, depth + 1) for c in children)
+
+
+def _evaluate(expr: str, node, env):
+    """Evaluate a checked tree in float64 (numbers never become Python big integers)."""
+    if isinstance(node, ast.Constant):
+        return np.float64(node.value)
+    if isinstance(node, ast.Name):
+        return env[node.id]
+    if isinstance(node, ast.UnaryOp):
+        return _UNARY[type(node.op)](_evaluate(expr, node.operand, env))
+    if isinstance(node, ast.BinOp):
+        left, right = _evaluate(expr, node.left, env), _evaluate(expr, node.right, env)
+        if isinstance(node.op, ast.Pow) and np.ndim(right) == 0 and not abs(float(right)) <= MAX_EXPONENT:
+            _fail(expr, f"raises to the power {float(right):g}; exponents are limited to +-{MAX_EXPONENT:g}")
+        return _BINOPS[type(node.op)](left, right)
+    if isinstance(node, ast.Compare):
+        left, right = _evaluate(expr, node.left, env), _evaluate(expr, node.comparators[0], env)
+        return _COMPARE[type(node.ops[0])](left, right).astype(float)
+    if isinstance(node, ast.Call):
+        return FUNCS[node.func.id](*(_evaluate(expr, a, env) for a in node.args))
+    raise AssertionError(f"unchecked node {type(node).__name__}")  # _check_tree refuses the others
 
 
 def compile_expression(expr: str, coords: tuple[str, ...]):
-    """Return f(X) evaluating ``expr`` with X of shape (n,) or (n, len(coords))."""
-    try:
-        tree = ast.parse(expr, mode="eval")
-    except SyntaxError as exc:
-        raise InputError(f"basis expression {expr!r} is not valid: {exc.msg}; write e.g. 'x**2*sin(5*x)'") from None
-    allowed = set(coords) | set(FUNCS) | set(CONSTS)
-    for node in ast.walk(tree):
-        if not isinstance(node, OPS):
-            raise InputError(f"basis expression {expr!r} uses {type(node).__name__}, which is not allowed; "
-                             "use arithmetic and functions like sin, cos, exp, log, sqrt")
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id not in FUNCS:
-            hint = difflib.get_close_matches(node.func.id, sorted(FUNCS), n=1)
-            extra = f" (did you mean {hint[0]!r}?)" if hint else ""
-            raise InputError(f"basis expression {expr!r} calls unknown function {node.func.id!r}{extra}; "
-                             f"allowed functions: {sorted(FUNCS)}")
-        if isinstance(node, ast.Name) and node.id not in allowed:
-            hint = difflib.get_close_matches(node.id, sorted(allowed), n=1)
-            extra = f" (did you mean {hint[0]!r}?)" if hint else ""
-            raise InputError(f"basis expression {expr!r} uses unknown name {node.id!r}{extra}; "
-                             f"allowed: coordinates {list(coords)}, functions {sorted(FUNCS)}, constants pi, e")
-        if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in FUNCS):
-            raise InputError(f"basis expression {expr!r} calls something that is not an allowed function")
-    code = compile(tree, "<basis>", "eval")
+    """Return f(X) evaluating ``expr`` with X of shape (n,) or (n, len(coords)).
+
+    Only arithmetic (+ - * / ** %), single comparisons, numbers, the coordinate names, pi, e and
+    the functions in ``FUNCS`` are accepted, within the bounds ``MAX_CHARS``, ``MAX_NODES``,
+    ``MAX_DEPTH``, ``MAX_EXPONENT`` and ``MAX_LITERAL``; anything else is an InputError.
+    A column that is not finite everywhere is an InputError naming the first bad point.
+    """
+    tree = _parse(expr)
+    _check_tree(expr, tree, tuple(coords))
 
     def f(X):
         X = np.asarray(X, dtype=float)
@@ -53,7 +167,17 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
         else:
             env.update({c: X[:, i] for i, c in enumerate(coords)})
         with np.errstate(all="ignore"):
-            return np.broadcast_to(np.asarray(eval(code, {"__builtins__": {}}, env), dtype=float), X.shape[:1])
+            out = np.asarray(_evaluate(expr, tree.body, env), dtype=float)
+        if out.ndim > 1 or (out.ndim == 1 and out.shape[0] != X.shape[0]):
+            _fail(expr, f"gives an array of shape {out.shape}; it must give one value per point")
+        out = np.broadcast_to(out, X.shape[:1])
+        bad = ~np.isfinite(out)
+        if bad.any():
+            i = int(np.argmax(bad))
+            at = X[i] if X.ndim == 1 else tuple(float(v) for v in X[i])
+            _fail(expr, f"is not finite at {int(bad.sum())} of {bad.size} point(s) (first at {coords[0] if X.ndim == 1 else coords} = {at}: {out[i]}); "
+                  "change the expression or the data range")
+        return out
 
     return f
 

@@ -26,8 +26,19 @@ def register(subparsers) -> None:
     p.add_argument("--duration", type=float, default=None, help="use this many seconds of data")
     p.add_argument("--effects", default=None,
                    help="comma-separated effects to consider (default: all that apply to the model)")
-    p.add_argument("--disturbance", default="auto", choices=["auto", "slow", "none"],
-                   help="class the disturbance is confined to (default: slow band for oscillatory models)")
+    p.add_argument("--disturbance", default="auto", metavar="KINDS",
+                   help="known disturbances, comma-separated: auto (default: slow band for oscillatory "
+                        "models), slow, none, periodic:HZ (a known line), lines (every significant line of "
+                        "the residual). What is declared is absorbed and never named")
+    p.add_argument("--input", action="append", default=[], metavar="COLUMN",
+                   help="measured input column (repeatable) driving the model: oscillator/pendulum "
+                        "m x'' + c x' + k x = kd u(t); cooling dT/dt = -h (T - T_amb) + kd u(t)")
+    p.add_argument("--units", default=None, choices=["degC", "degF", "K"],
+                   help="temperature unit of the data (cooling): degF and K are converted to degC for the "
+                        "physics (vapour pressure, radiation) and the report gives degC")
+    p.add_argument("--folds", type=int, default=4,
+                   help="cross-validation folds of the held-out test (>= 2; default 4); fewer folds let short "
+                        "series (16 points) be analysed, with less power")
     p.add_argument("--report", default=None, metavar="R.json", help="write the JSON report here")
     p.add_argument("--plot", default=None, metavar="P.png", help="write the figure here")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary on stdout")
@@ -45,29 +56,69 @@ def _parse_params(items):
     return out
 
 
+def _pick_inputs(names, columns, info):
+    """{name: values} for each --input column (CSV header name or WAV channel ch<k>); clear errors."""
+    from odnn_sep.errors import InputError
+    out = {}
+    for name in names:
+        if name == info.get("column"):
+            raise InputError(f"--input {name!r} is the analysed column itself; pick the drive's own column")
+        if name not in columns:
+            import difflib
+            close = difflib.get_close_matches(name, list(columns), n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise InputError(f"--input {name!r} is not a numeric column of the data file; {hint}"
+                             f"other columns: {', '.join(columns) or 'none'}")
+        out[name] = columns[name]
+    return out
+
+
 def run(args) -> int:
     import sys
 
+    from odnn_sep.errors import InputError
     from odnn_sep.io_utils import check_output_path, write_json
+    from odnn_sep.mismatch.disturbances import parse_disturbance
     from odnn_sep.mismatch.explain import explain
     from odnn_sep.mismatch.io import load_data
     from odnn_sep.mismatch.model import make_model
     from odnn_sep.mismatch.report import plot, result_dict, summary_text
+    from odnn_sep.mismatch.units import to_celsius
 
     params = _parse_params(args.param)
+    parse_disturbance(args.disturbance)     # a clear error before reading anything
+    if not 2 <= args.folds <= 20:
+        raise InputError(f"--folds must be between 2 and 20 (cross-validation folds); got {args.folds}")
     model = make_model(args.model, params)  # validates the model and parameter names before reading
+    if args.units is not None and model.family != "cooling":
+        raise InputError(f"--units is for temperatures (--model cooling); model {args.model!r} has no "
+                         f"temperature physics")
     for out in (args.report, args.plot):
         if out is not None:
             check_output_path(out, args.data)
     t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
                                 with_aux=True)
+    inputs = _pick_inputs(args.input, aux, info)
     if args.no_aux or model.family != "hum":
         # other channels only enter through the hum preset's channel_coupling effect
         aux = {}
         info["aux_channels"] = []
+    unit = ""
+    if model.family == "cooling":
+        y, unit, note = to_celsius(y, args.units)
+        if note:
+            print(note, file=sys.stderr)
     effects = None if args.effects is None else [e.strip() for e in args.effects.split(",") if e.strip()]
     numeric = {k: v for k, v in model.start.items() if k in params and not isinstance(v, str)}
-    res = explain(model, t, y, params=numeric, effects=effects, disturbance=args.disturbance, aux=aux or None,
+    if inputs:
+        # a driven preset is built inside explain (its gains kd_<column> join the parameters)
+        structural = {k: v for k, v in params.items() if k in ("harmonics", "sources")}
+        target, numeric = args.model, {**numeric, **structural}
+        info["inputs"] = list(inputs)
+    else:
+        target = model
+    res = explain(target, t, y, params=numeric, effects=effects, disturbance=args.disturbance,
+                  aux=aux or None, inputs=inputs or None, unit=unit, folds=args.folds,
                   progress=not args.quiet and sys.stderr.isatty())
     if args.report:
         d = result_dict(res)

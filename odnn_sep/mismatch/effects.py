@@ -53,7 +53,13 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
     Effect("periodic_forcing", "periodic forcing F cos(omega t + phase) at an unknown frequency",
            {"F": 0.0, "omega_f": 1.0, "phase_f": 0.0},
            {"F": (-INF, INF), "omega_f": (0.0, INF), "phase_f": (-INF, INF)},
-           _MECH | {"cooling", "freefall", "user"}, generic=True),
+           _MECH, generic=True),
+    # an additive sinusoid (a pickup, a vibration of the sensor): for a linear model it gives the same
+    # data as a periodic force, so it is reported as a disturbance, never as physics
+    Effect("periodic_pickup", "an additive periodic component a cos(omega t) + b sin(omega t) in the recording",
+           {"a_pk": 0.0, "b_pk": 0.0, "omega_pk": 1.0},
+           {"a_pk": (-INF, INF), "b_pk": (-INF, INF), "omega_pk": (0.0, INF)},
+           _MECH | {"cooling", "freefall", "hum", "user"}, generic=True),
     Effect("offset", "constant offset added to the observations (sensor bias)",
            {"offset": 0.0}, {"offset": (-INF, INF)},
            _MECH | {"hum", "heat2d", "user"}, generic=True),
@@ -89,6 +95,18 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
 
 VOCABULARY = tuple(EFFECTS)
 
+# effects the data cannot tell apart from an additive disturbance: found, absorbed and reported as
+# disturbances (verdict.disturbances), never named as missing physics
+DISTURBANCE_EFFECTS = ("periodic_pickup", "offset", "drift")
+
+# effects that are alternatives, never added together (two drag laws for one falling body)
+EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),)
+
+
+def compatible(effect: str, present) -> bool:
+    """False when ``effect`` is an alternative to one already in the model."""
+    return not any(effect in g and (g - {effect}) & set(present) for g in EXCLUSIVE)
+
 
 def effect_param_names(effect: str, params: dict) -> list[str]:
     """The parameters of ``effect`` present in ``params`` (coupling gains are named per channel)."""
@@ -120,6 +138,8 @@ def apply_generic(names, predict_fn, *, t0: float):
             out = out * (1.0 + p["m_am"] * np.cos(2 * np.pi * p["f_am"] * t + p["phase_am"]))
         if "periodic_forcing" in names:
             out = out + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
+        if "periodic_pickup" in names:
+            out = out + p["a_pk"] * np.cos(p["omega_pk"] * t) + p["b_pk"] * np.sin(p["omega_pk"] * t)
         if "offset" in names:
             out = out + p["offset"]
         if "drift" in names:

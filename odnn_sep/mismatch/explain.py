@@ -1,86 +1,92 @@
-"""explain(): calibrate, locate, try every applicable effect, and name the one the data support.
+"""explain(): calibrate, locate, then add effects one at a time while the data support them.
 
 Decision rule (fixed in advance, calibrated on simulated nulls in ``recipes/bench_mismatch.py``
 with seeds disjoint from the evaluation cases):
 
-1. each applicable effect is refitted on all data; its evidence is the BIC drop against the
-   calibrated model (``score``; positive favours the effect). Effects with a discrete choice
-   (which harmonic) pay log(choices) instead of log(n) for it;
+1. forward selection: every applicable effect is refitted on top of the current model (at first
+   the calibrated one); its evidence is the BIC drop against the current model (``score``).
+   Effects with a discrete choice (which harmonic) pay log(choices) instead of log(n) for it;
 2. the best few by score are cross-validated on interleaved contiguous blocks (the model never
    sees the held-out blocks). The held-out gain is the drop of held-out squared error in units of
-   the noise variance, ``(SSE_base - SSE_effect) / sigma^2`` (twice a held-out log-likelihood
-   ratio): an effect that only fits noise makes it negative. A block-wise Wilcoxon p-value is
-   reported too, but not used: a mismatch confined to a few blocks (the first minutes of a
-   cooling curve) cannot reach block-count significance however large it is;
-3. the verdict is the best-scoring effect with ``score > bic_threshold`` and held-out gain above
-   ``heldout_threshold``; otherwise the verdict is null ("nothing missing that the data can show").
+   the noise variance, ``(SSE_current - SSE_effect) / sigma^2``: an effect that only fits noise
+   makes it negative;
+3. the best-scoring effect with ``score > bic_threshold`` and held-out gain above
+   ``heldout_threshold`` joins the model, and the rest are tested again on top of it;
+4. effects the data cannot tell apart from an additive disturbance (an additive periodic
+   component, an offset, a drift) join the model as *disturbances*: absorbed and reported in
+   plain words, never named as physics. ``periodic_forcing`` (forcing through the dynamics) is
+   eligible only when it beats the additive periodic component by the same BIC threshold;
+5. backward check: with two or more named effects, each must still pass both thresholds
+   against the model without it; one that does not is dropped.
 """
 from __future__ import annotations
 
 import logging
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.errors import ConvergenceWarning, InputError, as_float_array
+from odnn_sep.errors import InputError, as_float_array
 from odnn_sep.mismatch.calibrate import Calibration, calibrate, disturbance_columns
 from odnn_sep.mismatch.coupling import EFFECT as COUPLING
 from odnn_sep.mismatch.coupling import check_aux, coupling_regressors, coupling_start, with_coupling
-from odnn_sep.mismatch.effects import EFFECTS, effect_param_names
-from odnn_sep.mismatch.fitting import cross_validate, cv_folds, fit
+from odnn_sep.mismatch.disturbances import parse_disturbance, periodic_columns, residual_lines
+from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
+from odnn_sep.mismatch.fitting import cross_validate, cv_folds
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
-from odnn_sep.mismatch.presets import ModelIntegrationError
-from odnn_sep.mismatch.starts import effect_starts
+from odnn_sep.mismatch.select import Candidate, FailedFit  # noqa: F401  (re-exported)
+from odnn_sep.mismatch.selection import forward_backward
 
 log = logging.getLogger(__name__)
 
 BIC_THRESHOLD = 10.0
 HELDOUT_THRESHOLD = 6.0
 N_CV = 2
-
-
-@dataclass
-class Candidate:
-    effect: str
-    score: float                 # BIC(base) - BIC(with effect)
-    fit: object = field(repr=False)
-    cv_improvement: float | None = None   # 1 - heldout_rmse(effect) / heldout_rmse(base)
-    cv_p_value: float | None = None
-    heldout_gain: float | None = None     # (SSE_base - SSE_effect) on held-out blocks / sigma^2
-    heldout_rmse: float | None = None
-
-    @property
-    def effect_params(self) -> dict:
-        return {k: self.fit.params[k] for k in effect_param_names(self.effect, self.fit.params)}
-
-    def as_dict(self) -> dict:
-        return {"effect": self.effect, "score": self.score, "parameters": self.effect_params,
-                "stderr": {k: self.fit.stderr.get(k) for k in self.effect_params},
-                "residual_rms": self.fit.rms, "bic": self.fit.bic,
-                "heldout_improvement": self.cv_improvement, "heldout_gain": self.heldout_gain,
-                "heldout_p_value": self.cv_p_value}
+MAX_EFFECTS = 4
+SMALL_DATA = 60   # below this many samples the held-out test has little power (reported as a note)
 
 
 @dataclass
 class MismatchResult:
-    """What explain() found. ``verdict`` is the named effect or None; see :meth:`as_dict`."""
+    """What explain() found: ``named`` physics effects (in order), ``disturbances``, failed fits."""
 
     t: np.ndarray = field(repr=False)
     y: np.ndarray = field(repr=False)
     model: Model = field(repr=False)
     calibration: Calibration = field(repr=False)
     where: list = field(default_factory=list)
-    candidates: list = field(default_factory=list)
-    verdict: Candidate | None = None
+    candidates: list = field(default_factory=list)   # first-step candidates, best first
+    named: list = field(default_factory=list)        # Candidate per named physics effect, in order
+    disturbances: list = field(default_factory=list)  # dicts: effect, parameters, sentence, ...
+    failed: list = field(default_factory=list)       # FailedFit per effect fit that failed
+    final_fit: object = field(default=None, repr=False)
     heldout_rmse_before: float | None = None
+    heldout_rmse_after: float | None = None
     noise_sigma: float | None = None
     aux_channels: list = field(default_factory=list)
+    declared: list = field(default_factory=list)     # declared disturbances (sentences)
+    dropped: list = field(default_factory=list)      # effects removed by the backward check
+    unit: str = ""
+    warnings: list = field(default_factory=list)     # non-physical fitted values, in words
+    notes: list = field(default_factory=list)        # how the data were analysed (decimation, ...)
+
+    @property
+    def verdict(self):
+        """The first named effect (a Candidate) or None; kept for scripts written for one effect."""
+        return self.named[0] if self.named else None
 
     @property
     def effect(self):
-        return None if self.verdict is None else self.verdict.effect
+        return None if not self.named else self.named[0].effect
+
+    @property
+    def effects(self) -> list:
+        return [c.effect for c in self.named]
+
+    @property
+    def final_intervals(self) -> dict:
+        return (self.final_fit or self.calibration.fit).intervals()
 
     def as_dict(self) -> dict:
         from odnn_sep.mismatch.report import result_dict
@@ -107,30 +113,9 @@ def _validate(t, y, model):
     return t, y
 
 
-def _with_data_bounds(m, t, slow_hz=0.0):
-    """Frequencies an effect may take are limited by the record: at least 1.5 cycles, below Nyquist.
-
-    A 'modulation' slower than the record is a trend, which the calibration already covers; letting
-    it through would make amplitude modulation imitate damping. For oscillatory models the
-    modulation must also be slower than half the oscillation frequency (``slow_hz``).
-    """
-    if np.ndim(t) != 1:
-        return m
-    T = float(t[-1] - t[0])
-    nyq = 0.5 / float(np.median(np.diff(t)))
-    b = dict(m.bounds)
-    if "f_am" in m.start:
-        # a modulation as fast as the carrier is not an envelope: it would stand in for harmonics
-        b["f_am"] = (1.5 / T, slow_hz if slow_hz > 1.5 / T else nyq / 4)
-    if "omega_f" in m.start:
-        # forcing slower than the disturbance class's cut-off is indistinguishable from the disturbance
-        b["omega_f"] = (2 * np.pi * max(1.5 / T, slow_hz), 2 * np.pi * nyq)
-    from dataclasses import replace
-    return replace(m, bounds=b)
-
-
 def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=None, folds=4, blocks_per_fold=5,
-            bic_threshold=BIC_THRESHOLD, heldout_threshold=HELDOUT_THRESHOLD, n_cv=N_CV, alpha=0.05, progress=False):
+            bic_threshold=BIC_THRESHOLD, heldout_threshold=HELDOUT_THRESHOLD, n_cv=N_CV, alpha=0.05,
+            max_effects=MAX_EFFECTS, unit="", inputs=None, progress=False):
     """Find where a model and data disagree, name the missing effect, and refit with it.
 
     Parameters
@@ -146,13 +131,24 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         Starting guesses for the model's parameters (all are refitted except structural ones).
     effects : list of str, optional
         Restrict the candidate effects (default: every effect that applies to the model).
-    disturbance : {"auto", "slow", "none"} or array (n, q)
-        Class the disturbance is confined to during every fit.
+    disturbance : str or array (n, q)
+        Declared disturbances, comma-separated: the wander class ``auto`` (default: the slow band
+        for oscillatory models), ``slow`` or ``none``; ``periodic:HZ`` (a known line, absorbed
+        exactly); ``lines`` (every significant spectral line of the calibrated residual is
+        absorbed). Or an (n, q) array of disturbance columns. Declared disturbances are never named.
     aux : dict name -> array (n,), or array (n, k), optional
         The recording's other channels, sampled with ``y`` (``hum`` preset only). They make the
         ``channel_coupling`` effect a candidate: ``y`` may contain ``kappa_<name>`` times the
         channel's non-hum content plus ``kappaq_<name>`` times its Hilbert transform (crosstalk;
         see :mod:`odnn_sep.mismatch.coupling`).
+    max_effects : int
+        At most this many effects and disturbances join the model (forward-selection steps).
+    unit : str
+        Unit of ``y`` for the plain-language descriptions (e.g. "m", "degC").
+    inputs : dict name -> array (n,), optional
+        Measured inputs driving a preset (oscillator, pendulum, cooling): each enters the
+        equation with its own fitted gain ``kd_<name>`` (see :mod:`odnn_sep.mismatch.inputs`).
+        User ODE models take them in :func:`ode_model` instead.
 
     Returns
     -------
@@ -169,96 +165,121 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     >>> res.effect, round(res.verdict.fit.params["q_drag"], 2)
     ('quadratic_drag', 0.02)
     """
-    m = make_model(model, params) if not isinstance(model, Model) else model.with_start(params or {})
+    if inputs and isinstance(model, Model):
+        raise InputError("inputs of a user model are given to ode_model(..., inputs=...); "
+                         "explain(inputs=...) drives the presets")
+    if inputs:
+        from odnn_sep.mismatch.inputs import check_inputs
+        t_arr = as_float_array("t", t, ndim=(1,))
+        inputs = check_inputs(inputs, t_arr)
+    m = make_model(model, params, inputs=inputs) if not isinstance(model, Model) \
+        else model.with_start(params or {})
     t, y = _validate(t, y, m)
     aux = check_aux(aux, len(y))
+    from odnn_sep.mismatch.rate import reduce_rate
+    t, y, aux, rate_note = reduce_rate(m, t, y, aux)
     if aux and m.family != "hum":
         raise InputError(f"aux channels are used by the channel_coupling effect of the 'hum' preset only; "
                          f"model {m.name!r} has family {m.family!r}: drop aux (CLI: --no-aux)")
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
-    G = disturbance_columns(disturbance, m, t, y)
+    cls, declared_hz, want_lines = parse_disturbance(disturbance)
+    G = disturbance_columns(cls if cls is not None else "auto", m, t, y)
+    declared = [f"a periodic component at {f:.4g} Hz (declared; absorbed)" for f in declared_hz]
+    if declared_hz:
+        G = _stack(G, periodic_columns(t, declared_hz))
     cal = calibrate(m, t, y, user_params=params, G=G)
+    if want_lines and np.ndim(t) == 1:
+        found = residual_lines(t, cal.fit.residual)
+        if found:
+            G = _stack(G, periodic_columns(t, found))
+            cal = calibrate(m, t, y, user_params={**(params or {}), **_numeric(cal.fit.params, m)}, G=G)
+        declared.append("spectral lines of the residual (declared 'lines'; absorbed): " +
+                        (", ".join(f"{f:.4g} Hz" for f in found) if found else "none found"))
     slow_hz = 0.0
     if G is not None and np.ndim(t) == 1:
         from odnn_sep.mismatch.calibrate import slow_cutoff
         slow_hz = slow_cutoff(t, y, m)
     base = cal.fit
-    res = MismatchResult(t=t, y=y, model=m, calibration=cal)
+    res = MismatchResult(t=t, y=y, model=m, calibration=cal, declared=declared, unit=unit)
+    if rate_note:
+        res.notes.append(rate_note)
+    if len(y) < SMALL_DATA:
+        res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
+                         f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
     from odnn_sep.mismatch.locate import noise_sigma
     res.noise_sigma = noise_sigma(base.residual)
     res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)
 
+    names = _candidate_names(m, effects, aux, G, declared_hz or want_lines)
+    res.aux_channels = list(aux)
+
+    def make_candidate_model(e, cur, with_starts=True):
+        """(model with effect e on top of cur, starts) — the coupling effect needs the aux channels."""
+        if e == COUPLING:
+            regs = coupling_regressors(t, aux, f0=cur.params["f0"], harmonics=cur.params["harmonics"])
+            me = with_coupling(cur.model, regs)
+            return me, [coupling_start(me, cur, t, y, G, regs)]
+        from odnn_sep.mismatch.select import with_data_bounds
+        from odnn_sep.mismatch.starts import effect_starts
+        me = with_data_bounds(cur.model.with_effect(e), t, slow_hz)
+        if not with_starts:
+            return me
+        return me, effect_starts(e, cur, t, y, model=me, G=G)
+
+    import warnings
+
+    from odnn_sep.errors import ConvergenceWarning
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        mse0 = cross_validate(base.model, t, y, base.params, G=G, block_id=block_id, folds=folds)
+    held = np.isfinite(mse0)
+    res.heldout_rmse_before = float(np.sqrt(mse0[held].mean()))
+    out = forward_backward(base, mse0, names, make_candidate_model, t, y, G, block_id=block_id, folds=folds,
+                           bic_threshold=bic_threshold, heldout_threshold=heldout_threshold, n_cv=n_cv,
+                           max_steps=max_effects, progress=progress)
+    res.candidates, res.failed, res.final_fit, res.dropped = out.first_step, out.failed, out.fit, out.dropped
+    res.heldout_rmse_after = out.heldout_rmse if out.heldout_rmse is not None else res.heldout_rmse_before
+    res.named = [c for c in out.accepted if c.effect not in DISTURBANCE_EFFECTS]
+    res.disturbances = [_disturbance_entry(c, out.fit, unit) for c in out.accepted
+                        if c.effect in DISTURBANCE_EFFECTS]
+    from odnn_sep.mismatch.inputs import physical_warnings
+    res.warnings = physical_warnings(out.fit.params)
+    return res
+
+
+def _stack(G, P):
+    if P is None:
+        return G
+    return P if G is None else np.column_stack([G, P])
+
+
+def _numeric(p, m):
+    return {k: v for k, v in p.items() if k in m.start and not isinstance(v, str) and k not in m.fixed}
+
+
+def _candidate_names(m, effects, aux, G, periodic_declared):
     names = m.applicable_effects() if effects is None else list(effects)
     if COUPLING in names and not aux:
         if effects is not None:
             raise InputError("effect 'channel_coupling' needs the recording's other channels: pass aux= "
                              "(the CLI passes the other channels of a multichannel file unless --no-aux)")
         names.remove(COUPLING)
-    res.aux_channels = list(aux)
     if G is not None:
-        # the disturbance class contains a constant and a line: offset and drift are not identifiable
+        # a slow disturbance class contains a constant and a line: offset and drift are absorbed there
         names = [e for e in names if e not in ("offset", "drift")]
     for e in names:
         if e not in EFFECTS:
             from odnn_sep.mismatch.model import _suggest
             raise InputError(f"unknown effect {e!r}; {_suggest(e, EFFECTS)}known effects: {', '.join(EFFECTS)}")
-    it = names
-    if progress:
-        from tqdm import tqdm
-        it = tqdm(names, desc="effects", leave=False)
-    cands = []
-    for e in it:
-        if e == COUPLING:
-            regs = coupling_regressors(t, aux, f0=base.params["f0"], harmonics=base.params["harmonics"])
-            me = with_coupling(base.model, regs)
-            starts = [coupling_start(me, base, t, y, G, regs)]
-        else:
-            me = _with_data_bounds(base.model.with_effect(e), t, slow_hz)
-            starts = effect_starts(e, base, t, y, model=me, G=G)
-        best = None
-        for s in starts:
-            start = dict(me.start)
-            start.update(s)
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", ConvergenceWarning)
-                    f = fit(me, t, y, start=start, G=G, max_nfev=150)
-            except ModelIntegrationError as exc:
-                log.debug("effect %s: start failed: %s", e, exc)
-                continue
-            if best is None or f.rss < best.rss:
-                best = f
-        if best is None:
-            continue
-        cands.append(Candidate(e, float(base.bic - best.bic), best))
-    cands.sort(key=lambda c: -c.score)
+    return names
 
-    # held-out check of the strongest candidates (and the base model once)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        mse0 = cross_validate(base.model, t, y, base.params, G=G, block_id=block_id, folds=folds)
-        held = np.isfinite(mse0)
-        res.heldout_rmse_before = float(np.sqrt(mse0[held].mean()))
-        for c in cands[:n_cv]:
-            try:
-                mse1 = cross_validate(c.fit.model, t, y, c.fit.params, G=G, block_id=block_id, folds=folds)
-            except ModelIntegrationError:
-                continue
-            c.heldout_rmse = float(np.sqrt(mse1[held].mean()))
-            c.cv_improvement = float(1.0 - c.heldout_rmse / max(res.heldout_rmse_before, 1e-300))
-            d = (mse0 - mse1)[held]
-            sizes = np.bincount(block_id)[held]
-            sigma2 = c.fit.rss / max(c.fit.n_eff - len(c.fit.free), 1)
-            c.heldout_gain = float(np.sum(d * sizes) / max(sigma2, 1e-300))
-            if np.all(d == 0):
-                c.cv_p_value = 1.0
-            else:
-                from scipy import stats  # on use: the package is imported by every subcommand
 
-                c.cv_p_value = float(stats.wilcoxon(d, alternative="greater").pvalue)
-    res.candidates = cands
-    for c in cands:
-        if c.score > bic_threshold and c.heldout_gain is not None and c.heldout_gain > heldout_threshold:
-            res.verdict = c
-            break
-    return res
+def _disturbance_entry(c, final, unit):
+    """A found disturbance: its parameters (from the final fit), intervals and a plain sentence."""
+    from odnn_sep.mismatch.disturbances import describe, linear_model
+    p = {k: final.params[k] for k in c.effect_params}
+    iv = final.intervals()
+    return {"effect": c.effect, "parameters": p, "interval95": {k: list(iv[k]) if k in iv else None for k in p},
+            "score": c.score, "heldout_gain": c.heldout_gain, "note": c.note,
+            "description": describe(c.effect, final.params, model_family=final.model.family,
+                                    linear=linear_model(final.model), unit=unit)}

@@ -54,7 +54,17 @@ class Fit:
         return float(np.sqrt(np.mean(self.residual ** 2)))
 
     def intervals(self) -> dict:
-        return {k: (self.params[k] - 1.96 * s, self.params[k] + 1.96 * s) for k, s in self.stderr.items()}
+        """95 % intervals: Wald intervals on the robust standard errors, intersected with the bounds.
+
+        Cutting a Wald interval at a physical bound (a damping or drag >= 0) keeps its coverage
+        (the true value is inside the bounds) and never reports impossible values.
+        """
+        out = {}
+        for k, s in self.stderr.items():
+            lo, hi = self.model.bounds.get(k, (-np.inf, np.inf))
+            v = self.params[k]
+            out[k] = (float(max(lo, v - 1.96 * s)), float(min(hi, v + 1.96 * s)))
+        return out
 
 
 def orthonormal(G, rows=None):
@@ -121,14 +131,32 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     dof = max(n_eff - len(free), 1)
     stderr = {}
     if free:
-        s2 = rss / dof
-        cov = s2 * np.linalg.pinv(J.T @ J)
-        stderr = {k: float(np.sqrt(max(cov[i, i], 0.0))) for i, k in enumerate(free)}
+        stderr = dict(zip(free, robust_stderr(J, r[idx], dof), strict=True))
     if not converged and warn:
         warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
                       f"{max_nfev} evaluations before converging; treat its numbers with care",
                       ConvergenceWarning, stacklevel=2)
     return Fit(model, p, free, stderr, rss, n_eff, pred, dist, r, converged)
+
+
+def robust_stderr(J, r, dof):
+    """Standard errors that hold when the model or the noise is not quite right.
+
+    The larger of the classical Gauss-Newton error ``s^2 (J'J)^-1`` and a block sandwich
+    ``(J'J)^-1 (sum_b J_b' r_b r_b' J_b) (J'J)^-1`` over contiguous blocks of about 2 n^(1/3)
+    samples (so correlated noise and leftover structure within a block count fully), with the
+    small-sample factor nb / (nb - 1) * n / dof.
+    """
+    n = len(r)
+    JtJ_inv = np.linalg.pinv(J.T @ J)
+    classic = np.diag(JtJ_inv) * float(np.sum(r ** 2)) / dof
+    L = max(1, int(round(2 * n ** (1 / 3))))
+    nb = max(n // L, 1)
+    edges = np.linspace(0, n, nb + 1).astype(int)
+    S = np.stack([J[a:b].T @ r[a:b] for a, b in zip(edges[:-1], edges[1:], strict=True)])
+    meat = S.T @ S * (nb / max(nb - 1, 1)) * (n / dof)
+    sandwich = np.diag(JtJ_inv @ meat @ JtJ_inv)
+    return [float(np.sqrt(max(a, b, 0.0))) for a, b in zip(classic, sandwich, strict=True)]
 
 
 def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):
@@ -140,7 +168,8 @@ def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):
     bpf = min(blocks_per_fold, n // (folds * min_block))
     if bpf < 2:
         raise InputError(f"too little data for the held-out split: {n} samples; need at least "
-                         f"{folds * 2 * min_block} ({folds} folds x 2 blocks x {min_block} samples)")
+                         f"{folds * 2 * min_block} ({folds} folds x 2 blocks x {min_block} samples); fewer folds "
+                         f"(--folds 2, at least {2 * 2 * min_block} samples) analyse shorter series, with less power")
     n_blocks = folds * bpf
     return np.minimum((np.arange(n) * n_blocks) // n, n_blocks - 1)
 

@@ -10,24 +10,11 @@ from odnn_sep.errors import FormatError, InputError
 from odnn_sep.io_utils import check_input_path
 
 
-def _pick_column(header, column):
-    if column is None:
-        if len(header) < 2:
-            raise FormatError(f"CSV needs at least two columns (time, value); found header {header}")
-        return 1
-    names = [h.strip() for h in header]
-    if str(column) in names:
-        return names.index(str(column))
-    try:
-        i = int(column)
-    except (TypeError, ValueError):
-        import difflib
-        close = difflib.get_close_matches(str(column), names, n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        raise InputError(f"--column {column!r} is not a column of the CSV; {hint}columns: {', '.join(names)}") from None
-    if not 0 <= i < len(names):
-        raise InputError(f"--column {i} is out of range; the CSV has columns 0..{len(names) - 1} ({', '.join(names)})")
-    return i
+def _pick_column(header, column, path="the CSV"):
+    # the same --column rule as `separate` (name, or index from 0 where 0 is time)
+    from odnn_sep.io_read import pick_column
+
+    return pick_column(header, column, path=path)
 
 
 def _numeric_columns(rows, skip):
@@ -55,7 +42,7 @@ def read_csv(path, column=None, *, aux=False):
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = rows[0]
-    j = _pick_column(header, column)
+    j = _pick_column(header, column, path)
     t, y = [], []
     for k, r in enumerate(rows[1:], start=2):
         try:
@@ -75,9 +62,9 @@ def read_wav(path, column=None, *, aux=False):
 
     from odnn_sep.io_utils import ensure_readable
     data, sr = ensure_readable(path, lambda p: sf.read(str(p), dtype="float64", always_2d=True), what="WAV file")
-    ch = 0 if column is None else int(column)
-    if not 0 <= ch < data.shape[1]:
-        raise InputError(f"--column {ch} is not a channel; the WAV has channels 0..{data.shape[1] - 1}")
+    from odnn_sep.io_read import pick_channel
+
+    ch = pick_channel(column, data.shape[1], path=path)
     y = data[:, ch]
     info = {"format": "wav", "sr": sr, "channel": ch}
     if aux:
@@ -87,13 +74,9 @@ def read_wav(path, column=None, *, aux=False):
 
 
 def read_npz(path):
-    from odnn_sep.io_utils import ensure_readable
-    d = ensure_readable(path, np.load, what="NPZ file")
-    missing = [k for k in ("x", "y", "z") if k not in d]
-    if missing:
-        raise FormatError(f"NPZ {str(path)!r} must hold arrays x, y (grid axes) and z (values, len(y) x len(x)); "
-                          f"missing {', '.join(missing)}")
-    x, yy, z = (np.asarray(d[k], float) for k in ("x", "y", "z"))
+    from odnn_sep.io_read import load_npz_arrays
+    d = load_npz_arrays(path, max_points=True)  # shapes and types checked before loading
+    x, yy, z = (d[k] for k in ("x", "y", "z"))
     if z.shape != (len(yy), len(x)):
         raise FormatError(f"NPZ z has shape {z.shape}; expected (len(y), len(x)) = ({len(yy)}, {len(x)})")
     X, Y = np.meshgrid(x, yy)
@@ -110,6 +93,7 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
     p = check_input_path(path, what="data file")
     ext = Path(p).suffix.lower()
     aux = {}
+    _check_size_before_reading(p, ext, start, duration)
     if ext == ".csv":
         t, y, info, aux = read_csv(p, column, aux=True)
     elif ext in (".wav", ".flac"):
@@ -128,7 +112,35 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
                              f"the data spans {t[0]:g} to {t[-1]:g}")
         t, y = t[sel], y[sel]
         aux = {k: v[sel] for k, v in aux.items()}
+    _check_loaded(t, y, aux)
     if with_aux:
         info["aux_channels"] = list(aux)
         return t, y, info, aux
     return t, y, info
+
+
+def _check_size_before_reading(p, ext, start, duration):
+    """Binary data under .csv, and CSVs far beyond the row limit, are refused before parsing."""
+    from odnn_sep import limits
+    from odnn_sep.io_read import count_lines, looks_binary
+
+    if ext != ".csv":
+        return
+    if looks_binary(p):
+        raise FormatError(f"data file {str(p)!r} is not a text CSV (it holds binary data); give a CSV with a header "
+                          "row, a .wav or an .npz")
+    if start is None and duration is None:
+        n = count_lines(p) - 1
+        limits.check("rows", n, f"the row count of data file {str(p)!r}",
+                     hint="select a part with --start/--duration, or decimate the data")
+
+
+def _check_loaded(t, y, aux):
+    from odnn_sep import limits
+
+    limits.check("rows", int(np.size(y)), "the number of samples to analyse",
+                 hint="select a part with --start/--duration, or decimate the data")
+    limits.check_magnitude("the data values", y)
+    limits.check_magnitude("the time (or coordinate) values", t)
+    for name, a in aux.items():
+        limits.check_magnitude(f"channel {name!r}", a)

@@ -84,8 +84,11 @@ class Model:
         return replace(self, start=s)
 
 
-def make_model(name, params: dict | None = None) -> Model:
+def make_model(name, params: dict | None = None, *, inputs: dict | None = None) -> Model:
     """Build a preset model; ``params`` are starting guesses (unknown names raise with a suggestion).
+
+    ``inputs`` ({name: (t, u)}, see :mod:`odnn_sep.mismatch.inputs`) drive the oscillator,
+    pendulum or cooling preset; each gets a gain ``kd_<name>``.
 
     Examples
     --------
@@ -102,6 +105,15 @@ def make_model(name, params: dict | None = None) -> Model:
     preset = PRESETS[key]
     start = dict(preset.params)
     params = dict(params or {})
+    if inputs:
+        from odnn_sep.mismatch.inputs import DRIVEN_PRESETS, gain_names
+        if key not in DRIVEN_PRESETS:
+            raise InputError(f"measured inputs (--input) drive the presets {', '.join(DRIVEN_PRESETS)} and user "
+                             f"ODE models; model {key!r} takes none")
+        import copy
+        preset = copy.copy(preset)
+        preset.inputs = dict(inputs)
+        start.update({g: 0.0 for g in gain_names(inputs)})
     allowed = set(start)
     if key == "hum":
         allowed |= set(preset.amplitude_names(int(float(params.get("harmonics", start["harmonics"])))))
@@ -135,7 +147,7 @@ def make_model(name, params: dict | None = None) -> Model:
             start.setdefault(f"S{i + 1}", 1.0)
     return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
                  fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
-                 ndim=preset.ndim, autonomous=preset.autonomous, preset=preset)
+                 ndim=preset.ndim, autonomous=preset.autonomous and not inputs, preset=preset)
 
 
 def _check_user_params(func, params, what):
@@ -186,10 +198,12 @@ def custom_model(func, params: dict, *, bounds: dict | None = None, fixed=(), na
 
 
 def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None, fixed=(),
-              name="user_ode") -> Model:
+              name="user_ode", inputs: dict | None = None) -> Model:
     """Wrap an ODE ``rhs(t, state, **params) -> dstate/dt`` as a model observed through ``state[output]``.
 
     ``state0`` lists the initial state: numbers, or names of entries of ``params`` (refitted).
+    ``inputs`` ({name: (t, u)}) are measured inputs: ``rhs`` receives each one's value at the
+    current time as a keyword argument of that name (linear interpolation between samples).
 
     Examples
     --------
@@ -206,6 +220,9 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
             raise InputError(f"state0 entry {s!r} is not a parameter; {_suggest(s, start)}"
                              f"parameters: {', '.join(start)}")
     rhs_names = [k for k in start if k not in {s for s in state0 if isinstance(s, str)}]
+    from odnn_sep.mismatch.inputs import check_inputs, interpolator
+    ins = check_inputs(inputs, None) if inputs else {}
+    at = {k: interpolator(tu, u) for k, (tu, u) in ins.items()}
 
     def builder(effects):
         def predict(t, p):
@@ -213,7 +230,7 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
             kw = {k: p[k] for k in rhs_names}
 
             def f(tt, s):
-                return rhs(tt, s, **kw)
+                return rhs(tt, s, **kw, **{k: g(tt) for k, g in at.items()})
             try:
                 return _integrate(name, f, y0, t, p)[:, output]
             except (ArithmeticError, ValueError, TypeError) as exc:

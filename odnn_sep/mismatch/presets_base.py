@@ -47,6 +47,7 @@ class Preset:
     native: frozenset = frozenset()   # effects implemented inside the preset's equations
     autonomous = True
     ndim = 1
+    inputs: dict = {}   # measured inputs {name: (t, u)}: set on a per-model copy (see make_model)
 
     def build(self, effects):
         raise NotImplementedError

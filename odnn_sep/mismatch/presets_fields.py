@@ -4,6 +4,13 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.errors import InputError
+from odnn_sep.mismatch.inputs import (
+    drive_function,
+    drive_on_grid,
+    gain_names,
+    linear_response,
+    regression_start,
+)
 from odnn_sep.mismatch.presets_base import INF, Preset, _integrate
 
 
@@ -42,8 +49,13 @@ class Cooling(Preset):
         def predict(t, p):
             tau = t - t[0]
             ta = p["T_ambient"]
-            if not ode:
+            drive = drive_function(self.inputs, p)
+            if not ode and drive is None:
                 out = ta + (p["T0"] - ta) * np.exp(-p["h"] * tau)
+            elif not ode:
+                with np.errstate(all="ignore"):
+                    out = linear_response([[-p["h"]]], [1.0], [p["T0"]], t,
+                                          p["h"] * ta + drive_on_grid(self.inputs, p, t))[:, 0]
             else:
                 tak = ta + 273.15
                 rad_norm = 4.0 * tak ** 3
@@ -57,6 +69,8 @@ class Cooling(Preset):
                         d -= p["r_rad"] * ((T + 273.15) ** 4 - tak ** 4) / rad_norm
                     if "evaporation" in ode:
                         d -= p["e_evap"] * (_psat(T) - _psat(ta)) / evap_norm
+                    if drive is not None:
+                        d += drive(tt)
                     return [d]
 
                 out = _integrate(self.name, rhs, [p["T0"]], t, p)[:, 0]
@@ -67,6 +81,13 @@ class Cooling(Preset):
         return predict
 
     def initial_guess(self, t, y, p):
+        if self.inputs:
+            # regress T' on T, 1 and the inputs: h, h T_ambient and the gains
+            coef = regression_start(t, y, self.inputs, order=1)
+            h = float(max(coef[0], 1e-9))
+            out = {"h": h, "T_ambient": float(-coef[1] / h), "T0": float(y[0])}
+            out.update({g: float(c) for g, c in zip(gain_names(self.inputs), coef[2:], strict=True)})
+            return out
         return _newton_fit(t, y)
 
 

@@ -6,6 +6,13 @@ import math
 import numpy as np
 
 from odnn_sep.errors import InputError
+from odnn_sep.mismatch.inputs import (
+    drive_function,
+    drive_on_grid,
+    gain_names,
+    linear_response,
+    regression_start,
+)
 from odnn_sep.mismatch.presets_base import (
     INF,
     Preset,
@@ -64,10 +71,18 @@ class Oscillator(Preset):
 
         def predict(t, p):
             t0 = t[0]
-            if not effects:
+            if not effects and not self.inputs:
                 out = self._closed_form(t - t0, p)
                 if out is not None and all(np.all(np.isfinite(o)) for o in out):
                     return self._observe(t, out[0], out[1], p, effects, 0.0)
+            if not effects and self.inputs:
+                m = p.get("m", 1.0)
+                A = [[0.0, 1.0], [-self._stiffness(p), -float(p["c"]) / m]]
+                with np.errstate(all="ignore"):
+                    x = linear_response(A, [0.0, 1.0 / m], self._initial_state(p), t,
+                                        drive_on_grid(self.inputs, p, t))
+                if np.all(np.isfinite(x)):
+                    return self._observe(t, x[:, 0], x[:, 1], p, effects, 0.0)
             m = p.get("m", 1.0)
             eps = _friction_scale(max(abs(p.get("v0", p.get("omega0", 0.0))),
                                       np.sqrt(abs(self._stiffness(p))) * abs(self._amplitude(p))))
@@ -92,8 +107,13 @@ class Oscillator(Preset):
         wf = float(p.get("omega_f", 0.0))
         ph = float(p.get("phase_f", 0.0))
         sin, cos, tanh = math.sin, math.cos, math.tanh
+        drive = drive_function(self.inputs, p)
+        if drive is not None:
+            def driven(tt, st):
+                v, a = free(tt, st)
+                return (v, a + drive(tt) / m)
 
-        def rhs(tt, st):
+        def free(tt, st):
             x, v = st
             if s_ang:
                 a = -k * ((1.0 - s_ang) * x + s_ang * sin(x))
@@ -106,7 +126,7 @@ class Oscillator(Preset):
                 a += F * cos(wf * tt + ph)
             return (v, a)
 
-        return rhs
+        return free if drive is None else driven
 
     def _stiffness(self, p):
         return p["k"] / p.get("m", 1.0)
@@ -115,9 +135,20 @@ class Oscillator(Preset):
         return p["x0"]
 
     def initial_guess(self, t, y, p):
+        if self.inputs:
+            return self._driven_guess(t, y, p, "k", "x0", "v0")
         omega = _dominant_omega(t, y)
         x0, v0 = _sinusoid_start(t, y, omega)
         return {"k": p.get("m", 1.0) * omega ** 2, "c": 0.0, "x0": x0, "v0": v0}
+
+    def _driven_guess(self, t, y, p, kname, xname, vname):
+        """Driven: the dominant frequency is the drive's, not the system's; regress y'' on y, y', u."""
+        m = p.get("m", 1.0)
+        coef = regression_start(t, y, self.inputs, order=2)
+        out = {kname: float(max(coef[0], 1e-9)) * m, "c": float(coef[1]) * m, xname: float(y[0]),
+               vname: float((y[1] - y[0]) / (t[1] - t[0]))}
+        out.update({g: float(c) * m for g, c in zip(gain_names(self.inputs), coef[2:], strict=True)})
+        return out
 
 
 class Pendulum(Oscillator):
@@ -156,6 +187,8 @@ class Pendulum(Oscillator):
             a = a - p["mu"] * np.tanh(v / eps)
         if "periodic_forcing" in effects:
             a = a + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
+        if self.inputs:
+            a = a + drive_on_grid(self.inputs, p, t)
         return L * a
 
     def _stiffness(self, p):
@@ -164,13 +197,18 @@ class Pendulum(Oscillator):
     def _amplitude(self, p):
         return p["theta0"]
 
-    def initial_guess(self, t, y, p):
+    def _free_guess(self, t, y, p):
         omega = _dominant_omega(t, y)
         x0, v0 = _sinusoid_start(t, y, omega)
         L = float(p.get("L", 0.0))
         if L > 0:   # data are accelerations: -L w2 theta
             x0, v0 = -x0 / (L * omega ** 2), -v0 / (L * omega ** 2)
         return {"w2": omega ** 2, "c": 0.0, "theta0": x0, "omega0": v0}
+
+    def initial_guess(self, t, y, p):
+        if self.inputs and float(p.get("L", 0.0)) <= 0:
+            return self._driven_guess(t, y, p, "w2", "theta0", "omega0")
+        return self._free_guess(t, y, p)
 
 
 class Freefall(Preset):

@@ -1,7 +1,7 @@
 """Report of a mismatch analysis: the JSON the issue names, a text summary, and the figure."""
 from __future__ import annotations
 
-from odnn_sep.mismatch.effects import EFFECTS
+from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 
 
 def _params_table(fit):
@@ -15,38 +15,58 @@ def _fit_summary(fit, heldout):
             "bic": fit.bic, "n_params": len(fit.free), "parameters": _params_table(fit)}
 
 
+def _effect_entry(c, final, base):
+    iv = final.intervals()
+    p = {k: final.params[k] for k in c.effect_params}
+    return {"effect": c.effect, "description": EFFECTS[c.effect].description, "parameters": p,
+            "stderr": {k: final.stderr.get(k) for k in p},
+            "intervals": {k: list(iv[k]) if k in iv else None for k in p},
+            "score": c.score, "heldout_improvement": c.cv_improvement, "heldout_gain": c.heldout_gain,
+            "heldout_p_value": c.cv_p_value, "step": c.step}
+
+
 def result_dict(res) -> dict:
-    """JSON-ready dict with the keys verdict, candidates, calibration, where, fit (see the issue)."""
+    """JSON-ready dict with the keys verdict, candidates, calibration, where, fit (see the issue).
+
+    ``verdict.effects`` lists every named effect in order; ``verdict.effect`` (and the keys beside
+    it) describe the first one, or null, as before. ``verdict.disturbances`` lists what was found
+    and absorbed as a disturbance, ``verdict.declared`` what the user declared, ``failed_fits``
+    the effect fits that failed (never ranked).
+    """
     base = res.calibration.fit
-    v = res.verdict
-    if v is None:
+    final = res.final_fit or base
+    effects = [_effect_entry(c, final, base) for c in res.named]
+    if not effects:
         verdict = {"effect": None,
                    "description": "nothing missing that the data can show: no effect improved the fit "
                                   "beyond the noise and disturbance (BIC and held-out test)",
                    "parameters": {}}
-        after = _fit_summary(base, res.heldout_rmse_before)
     else:
-        verdict = {"effect": v.effect, "description": EFFECTS[v.effect].description,
-                   "parameters": v.effect_params,
-                   "intervals": {k: [v.effect_params[k] - 1.96 * (v.fit.stderr.get(k) or 0.0),
-                                     v.effect_params[k] + 1.96 * (v.fit.stderr.get(k) or 0.0)]
-                                 for k in v.effect_params if k in v.fit.stderr},
-                   "score": v.score, "heldout_improvement": v.cv_improvement,
-                   # runners-up within 6 BIC units are not clearly worse ("positive" evidence at most)
-                   "ambiguous_with": [c.effect for c in res.candidates
-                                      if c is not v and abs(v.score - c.score) < 6.0],
-                   "heldout_gain": v.heldout_gain, "heldout_p_value": v.cv_p_value}
-        after = _fit_summary(v.fit, v.heldout_rmse)
-        # how the calibrated parameters were biased by leaving the effect out
+        first = res.named[0]
+        verdict = dict(effects[0])
+        # runners-up of the first step within 6 BIC units are not clearly worse ("positive" evidence at most)
+        verdict["ambiguous_with"] = [c.effect for c in res.candidates if c.effect != first.effect
+                                     and c.step == 1 and abs(first.score - c.score) < 6.0
+                                     and c.effect not in DISTURBANCE_EFFECTS and first.step == 1]
+    verdict["effects"] = effects
+    verdict["disturbances"] = list(res.disturbances)
+    verdict["declared_disturbances"] = list(res.declared)
+    verdict["dropped_by_backward_check"] = list(res.dropped)
+    verdict["warnings"] = list(res.warnings)
+    verdict["notes"] = list(res.notes)
+    after = _fit_summary(final, res.heldout_rmse_after)
+    if final is not base:
+        # how the calibrated parameters were biased by leaving the effects out
         after["bias_of_calibration"] = {
-            k: {"without_effect": base.params[k], "with_effect": v.fit.params[k],
-                "shift": base.params[k] - v.fit.params[k],
-                "shift_in_stderr": ((base.params[k] - v.fit.params[k]) / v.fit.stderr[k]
-                                    if v.fit.stderr.get(k) else None)}
-            for k in base.free}
+            k: {"without_effect": base.params[k], "with_effect": final.params[k],
+                "shift": base.params[k] - final.params[k],
+                "shift_in_stderr": ((base.params[k] - final.params[k]) / final.stderr[k]
+                                    if final.stderr.get(k) else None)}
+            for k in base.free if k in final.params}
     return {
         "verdict": verdict,
         "candidates": [c.as_dict() for c in res.candidates],
+        "failed_fits": [f.as_dict() for f in res.failed],
         "calibration": res.calibration.as_dict(),
         "where": res.where,
         "fit": {"before": _fit_summary(base, res.heldout_rmse_before), "after": after},
@@ -71,12 +91,31 @@ def summary_text(res) -> str:
     if v["effect"] is None:
         lines.append(f"Verdict: {v['description']}")
     else:
-        ps = ", ".join(f"{k}={_fmt(x)}" for k, x in v["parameters"].items())
-        lines.append(f"Verdict: {v['effect']} — {v['description']} ({ps}); "
-                     f"BIC drop {v['score']:.1f}, held-out RMSE {100 * v['heldout_improvement']:.1f}% lower "
-                     f"(held-out gain {v['heldout_gain']:.1f})")
+        lines.append(f"Verdict: {len(v['effects'])} effect(s) missing from the model, in the order found:")
+        for i, e in enumerate(v["effects"], 1):
+            lines.append(f"  {i}. {e['effect']} — {e['description']}; BIC drop {e['score']:.1f}, "
+                         f"held-out gain {e['heldout_gain']:.1f}")
+            for k, x in e["parameters"].items():
+                lo, hi = e["intervals"].get(k) or (None, None)
+                lines.append(f"       {k} = {_fmt(x)}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
         if v.get("ambiguous_with"):
-            lines.append(f"  not clearly better than: {', '.join(v['ambiguous_with'])} (BIC within 6)")
+            lines.append(f"  first effect not clearly better than: {', '.join(v['ambiguous_with'])} (BIC within 6)")
+    for dd in v["disturbances"]:
+        lines.append(f"Disturbance found (absorbed, not physics): {dd['description']}")
+    for dd in v["declared_disturbances"]:
+        lines.append(f"Disturbance declared: {dd}")
+    for dd in v["dropped_by_backward_check"]:
+        lines.append(f"Dropped by the backward check: {dd['effect']} (BIC drop against the others "
+                     f"{_fmt(dd['score_against_others'])})")
+    for w in v["warnings"]:
+        lines.append(f"Warning: {w}")
+    for w in v["notes"]:
+        lines.append(f"Note: {w}")
+    if d["failed_fits"]:
+        for f in d["failed_fits"]:
+            lines.append(f"Fit failed (not ranked): {f['effect']} at step {f['step']}: {f['reason']}")
+    else:
+        lines.append("Effect fits: none failed (every refit ended at least as good as the model it extends)")
     lines.append("Calibration (without the effect):")
     for k, p in d["calibration"]["parameters"].items():
         lo, hi = p["interval95"] or (None, None)
@@ -95,17 +134,19 @@ def summary_text(res) -> str:
                              f"rms {w['rms_over_noise']:.2f}x noise (p={w['p_value']:.2g})")
     else:
         lines.append("Where: nowhere does the residual exceed the noise significantly.")
-    lines.append("Candidates (score = BIC drop; a verdict needs score > 10 and held-out gain > 6):")
+    lines.append("Candidates of the first step (score = BIC drop; an effect needs score > 10 and held-out "
+                 "gain > 6):")
     for c in d["candidates"][:6]:
         hi = "" if c["heldout_gain"] is None else \
             f", held-out RMSE {100 * c['heldout_improvement']:+.1f}%, gain {c['heldout_gain']:.1f}"
-        lines.append(f"  {c['effect']:<22} score {c['score']:9.1f}{hi}")
+        note = f"  ({c['note']})" if c.get("note") else ""
+        lines.append(f"  {c['effect']:<22} score {c['score']:9.1f}{hi}{note}")
     b, a = d["fit"]["before"], d["fit"]["after"]
     lines.append(f"{'':22}{'before':>12}{'after':>12}")
     for key in ("residual_rms", "heldout_rmse", "bic"):
         lines.append(f"  {key:<20}{_fmt(b[key]):>12}{_fmt(a[key]):>12}")
     if "bias_of_calibration" in a:
-        lines.append("Calibration bias from leaving the effect out (without -> with):")
+        lines.append("Calibration bias from leaving the effects out (without -> with):")
         for k, s in a["bias_of_calibration"].items():
             lines.append(f"  {k}: {_fmt(s['without_effect'])} -> {_fmt(s['with_effect'])}"
                          f" ({_fmt(s['shift_in_stderr'])} stderr)")
@@ -120,33 +161,44 @@ def plot(res, out) -> None:
 
     plt = pyplot()
     base = res.calibration.fit
-    after = base if res.verdict is None else res.verdict.fit
+    after = res.final_fit or base
+    added = list(res.effects) + [d["effect"] for d in res.disturbances]
+    unit = f" ({res.unit})" if res.unit else " (data units)"
     t, y = res.t, res.y
     if t.ndim == 2:
         fig, ax = plt.subplots(1, 3, figsize=(13, 4))
         for a, (vals, title) in zip(ax, [(y, "data"), (base.residual, "residual before"),
                                          (after.residual, "residual after")], strict=True):
             sc = a.scatter(t[:, 0], t[:, 1], c=vals, s=8, cmap="RdBu_r" if "res" in title else "viridis")
-            fig.colorbar(sc, ax=a)
-            a.set_title(title)
+            fig.colorbar(sc, ax=a, label="value" + unit)
+            a.set_title(title + (" (+ " + ", ".join(added) + ")" if title == "residual after" and added else ""))
+            a.set_xlabel("x")
+            a.set_ylabel("y")
         for w in res.where:
             ax[1].add_patch(plt.Rectangle((w["x"][0], w["y"][0]), w["x"][1] - w["x"][0], w["y"][1] - w["y"][0],
                                           fill=False, ec="k", lw=1.5))
+        if res.where:
+            ax[1].plot([], [], "s", mfc="none", mec="k", label="residual above the noise (5% FDR)")
+            ax[1].legend(loc="upper right", fontsize=7)
     else:
         fig, ax = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
         ax[0].plot(t, y, ".", ms=2, color="0.5", label="data")
         ax[0].plot(t, base.prediction + base.disturbance, lw=1, label="calibrated model")
-        if res.verdict is not None:
-            ax[0].plot(t, after.prediction + after.disturbance, lw=1, label=f"+ {res.verdict.effect}")
+        if after is not base:
+            ax[0].plot(t, after.prediction + after.disturbance, lw=1, label="+ " + ", ".join(added))
+        ax[0].set_ylabel("value" + unit)
         ax[0].legend(loc="best", fontsize=8)
         ax[1].plot(t, base.residual, lw=0.7, label=f"before (rms {base.rms:.3g})")
         ax[1].plot(t, after.residual, lw=0.7, label=f"after (rms {after.rms:.3g})")
-        ax[1].legend(loc="best", fontsize=8)
-        ax[1].set_ylabel("residual")
+        ax[1].set_ylabel("residual" + unit)
+        shaded = False
         for w in res.where:
             if w["kind"] == "time":
-                for a in ax[:2]:
-                    a.axvspan(w["start"], w["end"], color="red", alpha=0.1)
+                for i, a in enumerate(ax[:2]):
+                    a.axvspan(w["start"], w["end"], color="red", alpha=0.1,
+                              label=None if shaded or i == 0 else "residual above the noise (5% FDR)")
+                shaded = True
+        ax[1].legend(loc="best", fontsize=8)
         # where: residual RMS over the noise level per window, before and after
         sigma = res.noise_sigma or 1.0
         nw = int(np.clip(len(t) // 50, 4, 20))
@@ -161,7 +213,9 @@ def plot(res, out) -> None:
         if np.any(base.disturbance):
             ax[0].plot(t, base.disturbance + np.mean(y), lw=0.8, color="C2", label="disturbance (shifted)")
             ax[0].legend(loc="best", fontsize=8)
-        ax[2].set_xlabel("t")
-        title = "verdict: " + (res.verdict.effect if res.verdict else "nothing missing")
+        ax[2].set_xlabel("time (s)")
+        title = "verdict: " + (", ".join(res.effects) if res.effects else "nothing missing")
+        if res.disturbances:
+            title += "; disturbances: " + ", ".join(d["effect"] for d in res.disturbances)
         ax[0].set_title(title)
     save_figure(fig, out)

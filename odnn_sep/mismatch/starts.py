@@ -91,6 +91,11 @@ def effect_starts(effect, base, t, y, model=None, G=None):
                 m = p.get("m", 1.0)
                 X = X * (k - m * w ** 2 + 1j * p["c"] * w)
             out.append({**p, "omega_f": w, "F": float(abs(X)), "phase_f": float(np.angle(X))})
+    elif effect == "periodic_pickup" and tt is not None:
+        for f in _not_harmonics(_peaks(tt, r, n_peaks=4), base, tt)[:2]:
+            w = 2 * np.pi * f
+            a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
+            out.append({**p, "omega_pk": w, "a_pk": float(a), "b_pk": float(b)})
     elif effect == "amplitude_modulation" and tt is not None:
         pred = base.prediction
         env = r * pred / max(np.mean(pred ** 2), 1e-300)
@@ -113,8 +118,9 @@ def effect_starts(effect, base, t, y, model=None, G=None):
         for k in range(H + 1, H + 7):
             if k * p["f0"] >= nyq:
                 break
-            w = 2 * np.pi * k * p["f0"] * tt
-            a, b = _ls([np.cos(w), np.sin(w)], r)
+            # the harmonic's own columns from the model, so it follows a frequency drift already found
+            cols = _harmonic_columns(model, {**model.start, **p}, tt, k)
+            a, b = _ls(cols, r)
             gain = a * a + b * b
             if best is None or gain > best[0]:
                 best = (gain, k, a, b)
@@ -134,6 +140,38 @@ def effect_starts(effect, base, t, y, model=None, G=None):
         s = one_step(model, {**model.start, **p}, t, y, G) if model is not None else None
         out.append(p if s is None else s)
     return out
+
+
+def near_system_line(f, fit, t, *, harmonics=8):
+    """True when ``f`` lies within 1.5 resolution cells of the system's own frequency or a harmonic.
+
+    A nonlinearity (Duffing stiffness, a large swing, drag) changes the oscillation there and puts
+    lines at its harmonics; an additive disturbance at those frequencies would claim physics the
+    model should be tested for, so it is not offered there (hum: the harmonics are the
+    missing_harmonic effect's).
+    """
+    p = fit.params
+    fam = fit.model.family
+    if fam == "oscillator":
+        f_sys = np.sqrt(max(p["k"] / p.get("m", 1.0), 0.0)) / (2 * np.pi)
+    elif fam == "pendulum":
+        f_sys = np.sqrt(max(p["w2"], 0.0)) / (2 * np.pi)
+    elif fam == "hum":
+        f_sys = p["f0"]
+    else:
+        return False
+    cell = 1.5 / float(t[-1] - t[0])
+    return min(abs(f - k * f_sys) for k in range(1, harmonics + 1)) <= cell
+
+
+def _not_harmonics(freqs, base, t):
+    return [f for f in freqs if not near_system_line(f, base, t)]
+
+
+def _harmonic_columns(model, p, t, k):
+    q = {**p, "k_h": float(k), "a_h": 0.0, "b_h": 0.0}
+    base = model.predict(t, q)
+    return [model.predict(t, {**q, "a_h": 1.0}) - base, model.predict(t, {**q, "b_h": 1.0}) - base]
 
 
 def _nyq_quarter(t):

@@ -83,6 +83,8 @@ def run(args) -> int:
              "extras": {k: (list(v) if isinstance(v, tuple) else v) for k, v in ds.extras.items()}}
     if args.truth:
         write_json(args.truth, truth)
+    if getattr(args, "quiet", False):
+        return 0
     print(ds.description)
     print("true parameters: " + ", ".join(f"{k} = {v:.6g}" for k, v in ds.theta_true.items()))
     hint = SEPARATE_HINTS.get(ds.name)

@@ -68,7 +68,7 @@ def test_steady_tone_amplitude_is_pooled_and_changing_tone_is_followed():
     assert left < 0.02 * 0.2, left
 
 
-def test_second_look_records_gap_harmonics_and_keeps_absent_ones_out():
+def test_lock_test_records_gap_harmonics_and_keeps_absent_ones_out():
     rng = np.random.default_rng(6)
     sr = 4000
     t = np.arange(40 * sr) / sr
@@ -76,5 +76,6 @@ def test_second_look_records_gap_harmonics_and_keeps_absent_ones_out():
     y = _hum(t, amps=(1.0, 0.5, 0.3, 0.0, 0.3)) + 0.3 * rng.standard_normal(len(t))
     r = denoise(y, sr)
     assert {1, 2, 3, 5} <= set(r.harmonics) and 4 not in r.harmonics
-    looks = [c for c in r.candidates if c.get("look") == "tracked baseband"]
-    assert [c["harmonic"] for c in looks] == [4] and not looks[0]["significant"]
+    looks = {c["harmonic"]: c for c in r.candidates if c.get("look") == "phase lock"}
+    assert looks[5]["significant"] and looks[5]["lock_index"] > 0.9
+    assert not looks[4]["significant"] and looks[4]["lock_index"] < 0.7

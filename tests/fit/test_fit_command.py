@@ -65,4 +65,4 @@ def test_cli_errors_exit_1(csv, tmp_path, capsys):
     assert main(["separate", str(csv), "--basis", "x", "-o", str(csv)]) == 1
     assert "is the input file" in capsys.readouterr().err
     assert main(["separate", str(csv), "--basis", "x", "--column", "Q"]) == 1
-    assert "column 'Q' is not in" in capsys.readouterr().err
+    assert "--column 'Q' is not a column of the CSV" in capsys.readouterr().err

@@ -61,3 +61,29 @@ def test_unknown_effect():
 def test_bad_sources_spec():
     with pytest.raises(InputError, match=r"sources must be x:y pairs separated by ';'"):
         make_model("heat2d", {"sources": "0.3,0.4"}).predict(np.zeros((4, 2)))
+
+
+def test_cli_input_disturbance_units_errors(tmp_path, capsys):
+    from odnn_sep.cli import main
+    t = np.linspace(0, 100, 120)
+    p = tmp_path / "c.csv"
+    p.write_text("time,temp,heater\n" + "\n".join(f"{a},{20 + 70 * np.exp(-0.03 * a)},{1.0}" for a in t))
+    for argv, msg in ((["--input", "heatr"], "heater"), (["--disturbance", "wobble"], "wobble"),
+                      (["--input", "temp"], "analysed column")):
+        assert main(["mismatch", str(p), "--model", "cooling", *argv]) == 1
+        err = capsys.readouterr().err
+        assert msg in err and len(err.strip().splitlines()) == 1
+
+
+def test_folds_option_and_small_data_note(tmp_path, capsys):
+    from odnn_sep.cli import main
+    t = np.linspace(0, 100, 16)
+    y = 20 + 70 * np.exp(-0.03 * t) + 0.1 * np.random.default_rng(0).normal(size=16)
+    p = tmp_path / "short.csv"
+    p.write_text("time,temp\n" + "\n".join(f"{a},{b}" for a, b in zip(t, y)))
+    assert main(["mismatch", str(p), "--model", "cooling", "--folds", "1"]) == 1
+    assert "--folds must be between 2 and 20" in capsys.readouterr().err
+    assert main(["mismatch", str(p), "--model", "cooling"]) == 1
+    assert "--folds 2" in capsys.readouterr().err
+    res = explain("cooling", t, y, folds=2)
+    assert any("little power" in n for n in res.notes)

@@ -88,7 +88,10 @@ def test_user_model_with_generic_effect():
     # a delay of an exponential is exactly a change of amplitude: nothing to name
     assert res.effect is None
     g = custom_model(lambda t, v0: v0 * t, {"v0": 1.0})
-    res = explain(g, t, _noisy(g.with_effect("periodic_forcing", {"F": 0.2, "omega_f": 3.0, "phase_f": 0.5}),
+    res = explain(g, t, _noisy(g.with_effect("periodic_pickup", {"a_pk": 0.2, "b_pk": 0.1, "omega_pk": 3.0}),
                                t, 0.02, 7))
-    assert res.effect == "periodic_forcing"
-    assert abs(res.verdict.fit.params["omega_f"] - 3.0) < 0.05
+    # an additive sinusoid on a user model is a disturbance (a drive and a pickup give the same data)
+    assert res.effect is None
+    assert [d["effect"] for d in res.disturbances] == ["periodic_pickup"]
+    assert abs(res.disturbances[0]["parameters"]["omega_pk"] - 3.0) < 0.05
+    assert "a periodic component at 0.477" in res.disturbances[0]["description"]

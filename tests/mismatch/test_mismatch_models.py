@@ -12,7 +12,9 @@ def test_vocabulary_is_the_documented_one():
                  "channel_coupling", "extra_source"]:
         assert name in VOCABULARY
     assert set(PRESETS) == {"oscillator", "pendulum", "cooling", "hum", "heat2d", "freefall"}
-    assert "periodic_forcing" in applicable("user") and "cubic_stiffness" not in applicable("user")
+    # on a user model a periodic force is an additive sinusoid: offered as the periodic_pickup disturbance
+    assert "periodic_pickup" in applicable("user") and "periodic_forcing" not in applicable("user")
+    assert "cubic_stiffness" not in applicable("user")
 
 
 def test_oscillator_closed_form_matches_ode():

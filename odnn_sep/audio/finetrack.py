@@ -1,0 +1,169 @@
+"""The instantaneous hum fundamental at 0.1 s resolution, shared by all harmonics, from their phases.
+
+The block tracker (track.py) gives one fundamental per block; it cannot follow a grid frequency that
+swings within a block (sinusoidal FM with a 5 s period) and leaves that error to the block fit. Here
+every harmonic's complex baseband (pass 1's chunk sums, turned by the block track's phase) is
+low-passed to 10 Hz; its phase against its complex mean over the whole input is ``k`` times the
+error of the track's phase at that instant (hum keeps one phase against the fundamental). The harmonics' phase errors are combined with weights
+``k^2 |mean|^2 / noise`` (each harmonic's SNR: the minimum-variance combination of the ``k``-scaled
+estimates), low-passed to ``SMOOTH_HZ`` (zero phase) and added to the track's phase; three rounds,
+the first on the low harmonics only (a phase error that is small at ``k = 1`` can wrap at ``k = 20``).
+
+The result is one unwrapped phase of the fundamental ``psi(t)`` (cycles, relative to ``f_ref * t``)
+at every chunk centre (100 per second); the block fit evaluates ``k (f_ref t + psi(t))`` at every
+sample (linear interpolation: the error is below 1e-6 cycle for the drifts of real grids).
+Memory: the chunk sums are already held (J x C x K complex64); this adds a few arrays of J / 10.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+from odnn_sep.audio import track as _track
+
+DECIM = 10            # chunks (10 ms) per sample of the low-passed baseband: 10 Hz
+SMOOTH_HZ = 0.6       # bandwidth of the phase correction (resolution ~0.5 s)
+K_CAPS = (2, 4, 8, 16, None)  # harmonics used in each round
+
+
+def chunk_times(J: int, sr: int) -> np.ndarray:
+    m = _track.chunk_length(sr)
+    return (np.arange(J) * m + (m - 1) / 2) / sr
+
+
+def block_track_phase(trk, tc: np.ndarray, f_ref: float, sr: int) -> np.ndarray:
+    """Phase (cycles, relative to ``f_ref t``) of the block track at chunk centres ``tc``."""
+    m = _track.chunk_length(sr)
+    dfreq = np.interp(tc, trk.t, trk.f0) - f_ref
+    return np.cumsum(dfreq) * (m / sr)
+
+
+def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.ndarray:
+    """Refined phase ``psi`` (cycles, at the chunk centres) of the fundamental; see the module text.
+
+    ``D`` (J, C, K) chunk sums at ``k f_ref``; ``weights`` (C, K) inverse floor PSDs (only relative
+    weights between channels of one harmonic matter: the SNR comes from the data); ``psi0`` the
+    starting phase (the block track's).
+    """
+    J, C, K = D.shape
+    ks = np.asarray(ks, float)
+    nd = J // DECIM
+    if nd < 16:
+        return psi0
+    fs_d = sr / _track.chunk_length(sr) / DECIM
+    tc = chunk_times(J, sr)
+    td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
+    psi = psi0.copy()
+    # Hann kernel whose half-power frequency is SMOOTH_HZ (0.72 / length)
+    kern = np.hanning(max(3, int(round(0.72 / SMOOTH_HZ * fs_d)) + 2))[1:-1]
+    for cap in K_CAPS:
+        use = np.ones(K, bool) if cap is None else ks <= cap
+        if not use.any():
+            use = ks == ks.min()
+        rot = np.exp(-2j * np.pi * np.outer(psi, ks[use]))                                 # (J, Ku)
+        v = (D[:, :, use] * rot[:, None, :].astype(np.complex64))[: nd * DECIM]
+        v = v.reshape(nd, DECIM, C, -1).mean(axis=1).astype(np.complex128)              # (nd, C, Ku)
+        # each harmonic's complex amplitude over the whole input: hum keeps one phase against
+        # the fundamental, so every slow or fast phase error of the track shows against it
+        c = v.mean(axis=0, keepdims=True)
+        # local noise of each line (1 s): a loud note on a harmonic makes its phase worthless
+        # for a while, and its weight drops for that while only
+        r2 = np.abs(v - c) ** 2
+        noise = ndimage.uniform_filter1d(r2, size=max(1, int(round(fs_d))), axis=0, mode="nearest")
+        noise = np.maximum(noise, 1e-12 * np.median(r2) + 1e-300)
+        theta = np.angle(v * np.conj(c))                                                # rad, k x error
+        w = (np.abs(c) ** 2 / noise) * ks[use] ** 2                                     # (nd, C, Ku)
+        w = np.minimum(w, 1e8)
+        num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
+        den = w.sum(axis=(1, 2))
+        # normalised convolution: the low-pass of the weighted estimates over that of the weights
+        # (instants with little hum evidence borrow from their neighbours)
+        # (a positive kernel, so the ratio stays a weighted mean)
+        err = (ndimage.convolve1d(num, kern, mode="constant")
+               / np.maximum(ndimage.convolve1d(den, kern, mode="constant"), 1e-300))
+        psi = psi + np.interp(tc, td, err)
+    return psi
+
+
+def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray, h: float = 0.25):
+    """Fundamental, rate and curvature at the block centres from the phase ``psi`` (for the parts
+    of the pipeline that work per block: reports, the block-length choice, pooling)."""
+    # the phase's slope over +-h (default 0.25 s, the track's resolution), not chunk to chunk
+    lo, hi = np.clip(t_blocks - h, tc[0], tc[-1]), np.clip(t_blocks + h, tc[0], tc[-1])
+    f_b = f_ref + (np.interp(hi, tc, psi) - np.interp(lo, tc, psi)) / np.maximum(hi - lo, 1e-9)
+    h = np.diff(t_blocks).mean() if len(t_blocks) > 1 else 1.0
+    rate = np.gradient(f_b, h) if len(f_b) > 1 else np.zeros_like(f_b)
+    curv = np.gradient(rate, h) if len(f_b) > 2 else np.zeros_like(f_b)
+    return f_b, rate, curv
+
+
+class PhaseTrack:
+    """Evaluates the tracked phase ``f_ref t + psi(t)`` (cycles) at sample indices."""
+
+    def __init__(self, psi: np.ndarray, sr: int, f_ref: float):
+        self.sr, self.f_ref = sr, float(f_ref)
+        self.m = _track.chunk_length(sr)
+        self.x0 = (self.m - 1) / 2                            # first chunk centre (samples)
+        self.psi = np.asarray(psi, float)
+        if len(self.psi) < 2:
+            self.psi = np.r_[self.psi, self.psi][:2] if len(self.psi) else np.zeros(2)
+        self.slope = np.diff(self.psi)
+
+    def offset_cycles(self, idx: np.ndarray) -> np.ndarray:
+        """``psi`` at sample indices (linear interpolation, held flat beyond the ends). The chunk
+        centres are uniform, so the interval of each index is found by division (no search)."""
+        m = self.m
+        x = (np.asarray(idx, float) - self.x0) * (1.0 / m)
+        np.clip(x, 0.0, len(self.psi) - 1.0, out=x)
+        j = x.astype(np.int64)
+        np.minimum(j, len(self.psi) - 2, out=j)
+        x -= j
+        out = self.slope[j]
+        out *= x
+        out += self.psi[j]
+        return out
+
+    def cycles(self, i0: int, n: int, centre: int, step: int = 1) -> np.ndarray:
+        """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at
+        ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``."""
+        if step != 1:
+            return self.cycles_at(np.arange(i0, i0 + n, step, dtype=float), centre)
+        # contiguous samples: on the grid of chunk centres x0 + j m the interpolant is
+        # psi_j + slope_j r / m for the r-th sample after centre j: one broadcast add per block
+        m, x0 = self.m, self.x0
+        first = int(np.floor((i0 - x0) / m))
+        last = int(np.floor((i0 + n - 1 - x0) / m)) + 1
+        lo, hi = max(first, 0), min(last, len(self.psi) - 1)
+        if hi - lo < 2 or first < 0 or last > len(self.psi) - 1:
+            return self.cycles_at(np.arange(i0, i0 + n, dtype=float), centre)
+        c0 = int(np.ceil(x0))              # first sample at or after a chunk centre
+        r = (np.arange(m) + (c0 - x0)) * (1.0 / m)
+        grid = self.psi[lo:hi, None] + self.slope[lo:hi, None] * r[None, :]
+        start = i0 - (c0 + lo * m)
+        psi_s = grid.reshape(-1)[start: start + n] if start >= 0 else grid[:0].reshape(-1)
+        if psi_s.shape[0] != n:
+            return self.cycles_at(np.arange(i0, i0 + n, dtype=float), centre)
+        cyc = np.arange(i0 - centre, i0 - centre + n, dtype=float)
+        cyc *= self.f_ref / self.sr
+        cyc += psi_s
+        cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
+        return cyc
+
+    def cycles_at(self, idx: np.ndarray, centre: float) -> np.ndarray:
+        """As :meth:`cycles` at (possibly fractional) sample positions ``idx``."""
+        cyc = (idx - centre) * (self.f_ref / self.sr)
+        cyc += self.offset_cycles(idx) - float(self.offset_cycles(np.array([float(centre)]))[0])
+        return cyc
+
+
+def track_from_phase(psi: np.ndarray, sr: int, f_ref: float, n_frames: int, hop: int):
+    """A :class:`track.Track` for blocks of ``2 hop`` samples centred at ``b hop`` whose phase is
+    ``psi`` (the per-block fundamental, rate and curvature follow from it)."""
+    nb = (n_frames - 1) // hop + 2
+    t = np.arange(nb) * hop / sr
+    tc = chunk_times(len(psi), sr)
+    # per block: the mean frequency over the middle half of the block (reports, comb masks)
+    f0, rate, curv = block_params(psi, tc, f_ref, t, h=max(0.25, 0.5 * hop / sr))
+    ones = np.ones(nb)
+    return _track.Track(t=t, f0=f0, rate=rate, curv=curv, confident=np.ones(nb, bool), strength=ones,
+                        phase=PhaseTrack(psi, sr, f_ref))

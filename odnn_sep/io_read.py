@@ -1,0 +1,132 @@
+"""Reading helpers shared by the front-ends: one --column rule, safe .npz and CSV checks.
+
+Each refuses bad input with one line before any large allocation: a small file that declares a huge
+array, a pickled object, a damaged archive, or binary data under a .csv name.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from odnn_sep.errors import FormatError, InputError
+
+
+def pick_column(header, column, *, path) -> int:
+    """Index of the value column of a CSV: the same rule for every command.
+
+    ``column`` is a header name or an index counted from 0, where column 0 is the coordinate
+    (time or x) and cannot be the value; the default is column 1.
+    """
+    import difflib
+
+    names = [str(h).strip() for h in header]
+    where = f"{str(path)!r} has columns {', '.join(f'{k}={n!r}' for k, n in enumerate(names))}"
+    if column is None:
+        if len(names) < 2:
+            raise FormatError(f"{str(path)!r} needs a header row and at least two columns (coordinate, value); "
+                              f"found {names}")
+        return 1
+    col = str(column).strip()
+    if col in names:
+        j = names.index(col)
+    else:
+        try:
+            j = int(col)
+        except ValueError:
+            close = difflib.get_close_matches(col, names, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise InputError(f"--column {col!r} is not a column of the CSV; {hint}{where}") from None
+    if j == 0:
+        raise InputError(f"--column {col!r} is the coordinate column (time or x); pick a value column: {where}")
+    if not 0 < j < len(names):
+        raise InputError(f"--column {col!r} is out of range; {where}")
+    return j
+
+
+def pick_channel(column, n_channels: int, *, path) -> int:
+    """Index of an audio channel given as ``--column`` (counted from 0; default 0)."""
+    if column is None:
+        return 0
+    col = str(column).strip()
+    try:
+        ch = int(col)
+    except ValueError:
+        raise InputError(f"--column {col!r} is not a channel number; {str(path)!r} has channels "
+                         f"0..{n_channels - 1}") from None
+    if not 0 <= ch < n_channels:
+        raise InputError(f"--column {ch} is not a channel; {str(path)!r} has channels 0..{n_channels - 1}")
+    return ch
+
+
+def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
+    """Read numeric arrays ``keys`` from an .npz safely.
+
+    Shapes and types are read from the array headers first, so a small file that declares a huge
+    array, a pickled object, or a damaged archive is refused with one line before any allocation.
+    """
+    import zipfile
+
+    import numpy as np
+
+    from odnn_sep import limits
+
+    p = Path(path)
+    try:
+        with zipfile.ZipFile(p) as zf:
+            headers = {}
+            for name in zf.namelist():
+                if not name.endswith(".npy"):
+                    continue
+                with zf.open(name) as fh:
+                    version = np.lib.format.read_magic(fh)
+                    read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                            else np.lib.format.read_array_header_2_0)
+                    shape, _, dtype = read(fh)
+                headers[name[:-4]] = (tuple(shape), np.dtype(dtype))
+    except (zipfile.BadZipFile, OSError, ValueError, EOFError, KeyError) as exc:
+        raise FormatError(f"could not read {str(p)!r} as .npz (a zip of .npy arrays): "
+                          f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None
+    missing = [k for k in keys if k not in headers]
+    if missing:
+        raise FormatError(f"{str(p)!r} lacks array(s) {missing}; a 2-D field needs x (nx,), y (ny,), z (ny, nx); "
+                          f"found {sorted(headers)}")
+    for k in keys:
+        shape, dtype = headers[k]
+        if dtype.kind not in "iufb":
+            raise FormatError(f"array {k!r} in {str(p)!r} holds {dtype} values; it must be numeric")
+        n = int(np.prod(shape, dtype=np.float64))
+        if max_points is not None:
+            limits.check("points", n, f"array {k!r} in {str(p)!r} (shape {shape}) size",
+                         hint="use a coarser grid")
+    try:
+        with np.load(p, allow_pickle=False) as d:
+            out = {k: np.asarray(d[k], dtype=float) for k in keys}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+        raise FormatError(f"could not read {str(p)!r} as .npz: {str(exc).splitlines()[0]} (truncated or "
+                          "damaged file?)") from None
+    for k, a in out.items():
+        limits.check_magnitude(f"array {k!r}", a)
+    return out
+
+
+def looks_binary(path, nbytes: int = 8192) -> bool:
+    """True if the start of ``path`` holds NUL bytes or is not UTF-8 text (not a CSV)."""
+    with open(path, "rb") as fh:
+        head = fh.read(nbytes)
+    if b"\0" in head:
+        return True
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return exc.start < len(head) - 4  # a multi-byte character cut by the read is fine
+    return False
+
+
+def count_lines(path, stop_after: int | None = None) -> int:
+    """Number of lines of a text file, counted in binary blocks (cheap even for large files)."""
+    n = 0
+    with open(path, "rb") as fh:
+        while block := fh.read(1 << 20):
+            n += block.count(b"\n")
+            if stop_after is not None and n > stop_after:
+                break
+    return n

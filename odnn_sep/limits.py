@@ -1,0 +1,68 @@
+"""Limits on every user-controlled size, each with a clear message and an environment variable
+that raises it.
+
+| name        | default    | variable                 | what                                           |
+|-------------|------------|--------------------------|------------------------------------------------|
+| points      | 4 000 000  | ODNN_SEP_MAX_POINTS      | samples of a `separate` signal or field        |
+| rows        | 2 000 000  | ODNN_SEP_MAX_ROWS        | samples `mismatch` analyses                    |
+| megapixels  | 100        | ODNN_SEP_MAX_MEGAPIXELS  | image size for `unwatermark` (input and mask)  |
+| text_chars  | 200        | ODNN_SEP_MAX_TEXT        | length of `unwatermark --text`                 |
+| magnitude   | 1e150      | ODNN_SEP_MAX_MAGNITUDE   | largest absolute data value (squares overflow) |
+| harmonics   | 200        | ODNN_SEP_MAX_HARMONICS   | highest harmonic number `denoise --harmonics`  |
+"""
+from __future__ import annotations
+
+import os
+
+from odnn_sep.errors import InputError
+
+DEFAULTS = {
+    "points": ("ODNN_SEP_MAX_POINTS", 4_000_000),
+    "rows": ("ODNN_SEP_MAX_ROWS", 2_000_000),
+    "megapixels": ("ODNN_SEP_MAX_MEGAPIXELS", 100),
+    "text_chars": ("ODNN_SEP_MAX_TEXT", 200),
+    "magnitude": ("ODNN_SEP_MAX_MAGNITUDE", 1e150),
+    "harmonics": ("ODNN_SEP_MAX_HARMONICS", 200),
+}
+
+
+def limit(name: str) -> float:
+    """The current value of limit ``name`` (its environment variable, else the default)."""
+    var, default = DEFAULTS[name]
+    raw = os.environ.get(var)
+    if raw is None or not raw.strip():
+        return default
+    try:
+        v = float(raw)
+    except ValueError:
+        raise InputError(f"environment variable {var}={raw!r} is not a number; unset it or give e.g. "
+                         f"{var}={default:g}") from None
+    if not v > 0:
+        raise InputError(f"environment variable {var}={raw!r} must be positive")
+    return v
+
+
+def check(name: str, value: float, what: str, *, hint: str = "") -> None:
+    """Raise InputError if ``value`` exceeds limit ``name``; the message says how to raise it."""
+    lim = limit(name)
+    if value > lim:
+        var = DEFAULTS[name][0]
+        extra = f"; {hint}" if hint else ""
+        raise InputError(f"{what} is {value:,.6g}, above the limit of {lim:,.6g}{extra}; "
+                         f"to allow it, set {var} (e.g. {var}={max(lim * 4, value):.6g})")
+
+
+def check_magnitude(name: str, a) -> None:
+    """Refuse values so large that sums of squares overflow float64 (a unit or parsing error)."""
+    import numpy as np
+
+    a = np.asarray(a)
+    if a.size == 0 or not np.issubdtype(a.dtype, np.number):
+        return
+    with np.errstate(invalid="ignore"):
+        big = np.abs(a) > limit("magnitude")
+    if big.any():
+        i = int(np.argmax(big.ravel()))
+        raise InputError(f"{name}: {int(big.sum())} value(s) beyond +-{limit('magnitude'):g} (first at "
+                         f"index {i}: {a.ravel()[i]:g}); rescale the data (squares would overflow), or set "
+                         f"{DEFAULTS['magnitude'][0]}")

@@ -1,0 +1,120 @@
+"""Declared and found disturbances: what the recording carries besides the physics.
+
+A disturbance the user declares (``--disturbance periodic:HZ``, ``lines``, ``slow``, ``none``) is
+absorbed exactly: its columns are projected out of every fit (the core engine's ``Subspace``
+class), so it can never be named. A disturbance the finder meets on its own (an additive
+sinusoid, an offset, a drift: effects whose data cannot be told apart from an additive
+component) is fitted like an effect, absorbed into the model, and reported in plain words.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+
+KINDS_HELP = "auto, slow, none, lines, periodic:HZ (comma-separated, e.g. slow,periodic:3.7)"
+MAX_DECLARED_LINES = 20
+
+
+def parse_disturbance(spec):
+    """Parse the ``disturbance`` option into (class, [declared Hz], lines?).
+
+    ``class`` is "auto", "slow" or "none" (the wander class); ``periodic:HZ`` items add known
+    line frequencies; ``lines`` asks to absorb every significant spectral line of the residual.
+    """
+    if isinstance(spec, np.ndarray) or spec is None:
+        return spec, [], False
+    cls, freqs, lines = "auto", [], False
+    for item in str(spec).split(","):
+        item = item.strip().lower()
+        if not item:
+            continue
+        if item in ("auto", "slow", "none"):
+            cls = item
+        elif item == "lines":
+            lines = True
+        elif item.startswith("periodic:"):
+            try:
+                f = float(item.split(":", 1)[1])
+            except ValueError:
+                raise InputError(f"--disturbance {item!r}: periodic needs a frequency in Hz, "
+                                 f"e.g. periodic:3.7") from None
+            if not np.isfinite(f) or f <= 0:
+                raise InputError(f"--disturbance {item!r}: the frequency must be a positive number of Hz")
+            freqs.append(f)
+        else:
+            raise InputError(f"unknown --disturbance kind {item!r}; use {KINDS_HELP}")
+    if len(freqs) > MAX_DECLARED_LINES:
+        raise InputError(f"--disturbance declares {len(freqs)} periodic lines; at most {MAX_DECLARED_LINES}")
+    return cls, freqs, lines
+
+
+def periodic_columns(t, freqs):
+    """cos/sin columns at each frequency (Hz) that lies below the Nyquist frequency. Shape (n, 2k)."""
+    t = np.asarray(t, float)
+    nyq = 0.5 / float(np.median(np.diff(t)))
+    cols = []
+    for f in freqs:
+        if f >= nyq:
+            raise InputError(f"--disturbance periodic:{f:g}: the frequency is above the Nyquist frequency "
+                             f"{nyq:g} Hz of the data")
+        cols += [np.cos(2 * np.pi * f * t), np.sin(2 * np.pi * f * t)]
+    return np.column_stack(cols) if cols else None
+
+
+def residual_lines(t, r, *, alpha=0.01, max_lines=MAX_DECLARED_LINES):
+    """Frequencies (Hz) of the spectral lines of a residual: periodogram ordinates above the noise
+    floor with a Bonferroni-corrected exponential test, strongest first, one per resolution cell."""
+    t = np.asarray(t, float)
+    r = np.asarray(r, float) - np.mean(r)
+    n = len(r)
+    dt = float(np.median(np.diff(t)))
+    spec = np.abs(np.fft.rfft(r * np.hanning(n))) ** 2
+    f = np.fft.rfftfreq(n, dt)
+    spec[0] = 0.0
+    floor = np.median(spec[1:]) / np.log(2.0)     # median of an exponential is mean * ln 2
+    thresh = floor * np.log(len(spec) / alpha)
+    out = []
+    s = spec.copy()
+    for _ in range(max_lines):
+        i = int(np.argmax(s))
+        if s[i] <= thresh:
+            break
+        # refine by the parabola through the log peak
+        if 0 < i < len(s) - 1 and spec[i - 1] > 0 and spec[i + 1] > 0:
+            a, b, c = np.log(spec[i - 1:i + 2])
+            d = 0.5 * (a - c) / (a - 2 * b + c) if (a - 2 * b + c) != 0 else 0.0
+        else:
+            d = 0.0
+        out.append(float((i + np.clip(d, -0.5, 0.5)) * (f[1] - f[0])))
+        s[max(0, i - 3): i + 4] = 0.0
+    return out
+
+
+def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
+    """One plain sentence for a disturbance that was absorbed (see module docstring)."""
+    u = f" {unit}" if unit else ""
+    if effect == "periodic_pickup":
+        f = params["omega_pk"] / (2 * np.pi)
+        amp = float(np.hypot(params["a_pk"], params["b_pk"]))
+        if model_family in ("oscillator", "pendulum"):
+            why = ("for this linear model an external periodic force and a periodic pickup give the same data"
+                   if linear else "a periodic force through the dynamics did not fit significantly better "
+                   "than this additive component")
+        else:
+            why = "the data cannot tell a periodic drive from a periodic pickup in the recording"
+        return f"a periodic component at {f:.4g} Hz, {amp:.3g}{u}; {why}"
+    if effect == "offset":
+        return (f"a constant offset of {params['offset']:.4g}{u}; a sensor bias and a constant disturbance "
+                f"give the same data")
+    if effect == "drift":
+        return (f"a linear drift of {params['drift']:.4g}{u} per time unit; a drifting sensor and a slow "
+                f"disturbance give the same data")
+    return effect
+
+
+def linear_model(model):
+    """True when no nonlinear effect is in the model (then forcing and pickup are equivalent)."""
+    nonlinear = {"quadratic_drag", "coulomb_friction", "cubic_stiffness", "large_angle", "radiation",
+                 "evaporation"}
+    return not (set(model.effects) & nonlinear)

@@ -1,0 +1,158 @@
+"""Measured inputs (a drive angle, a heater power, an ambient temperature) fed into a model.
+
+An input column ``u`` enters the model's equation with its own gain ``kd_<name>``:
+
+- oscillator / pendulum: ``m x'' + c x' + k x = sum_j kd_j u_j(t)`` (a driven, damped oscillator);
+- cooling: ``dT/dt = -h (T - T_ambient) + sum_j kd_j u_j(t)`` (a heater power, or an ambient
+  temperature that follows ``u``: ``h (T_amb(t) - T)`` is the same form);
+- user ODEs (:func:`odnn_sep.mismatch.ode_model` with ``inputs=``): the right-hand side receives
+  each input's value at the current time as a keyword argument of that name.
+
+Between samples the input is interpolated linearly.
+"""
+from __future__ import annotations
+
+import bisect
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+
+DRIVEN_PRESETS = ("oscillator", "pendulum", "cooling")
+MAX_INPUTS = 8
+
+
+def check_inputs(inputs, t):
+    """Validate ``inputs`` (dict name -> array aligned with ``t``) into {name: (t, u)} float arrays."""
+    if not inputs:
+        return {}
+    if len(inputs) > MAX_INPUTS:
+        raise InputError(f"{len(inputs)} input columns given; at most {MAX_INPUTS}")
+    t = None if t is None else np.asarray(t, float)
+    out = {}
+    for name, u in inputs.items():
+        if isinstance(u, tuple):
+            tu, u = (np.asarray(a, float) for a in u)
+        elif t is None:
+            raise InputError(f"input {name!r}: give a (t, u) pair of arrays (time stamps and values)")
+        else:
+            tu, u = t, np.asarray(u, float)
+        if u.ndim != 1 or len(u) != len(tu):
+            raise InputError(f"input {name!r} has {np.size(u)} values but the data have {len(tu)} time stamps; "
+                             f"give one input value per sample")
+        if not np.all(np.isfinite(u)):
+            i = int(np.argmax(~np.isfinite(u)))
+            raise InputError(f"input {name!r} has a missing or non-finite value at sample {i}; "
+                             f"fill or remove those rows")
+        if not str(name).isidentifier():
+            raise InputError(f"input name {name!r} must be a plain identifier (letters, digits, _)")
+        out[str(name)] = (tu, u)
+    return out
+
+
+def gain_names(inputs) -> list[str]:
+    return [f"kd_{name}" for name in inputs]
+
+
+def interpolator(tu, u):
+    """Fast scalar linear interpolation (LSODA calls it thousands of times per integration)."""
+    tl, ul = [float(v) for v in tu], [float(v) for v in u]
+    n = len(tl)
+    d = np.diff(tu)
+    if n > 1 and np.ptp(d) <= 1e-9 * abs(d[0]):
+        # uniform grid: the sample index is arithmetic, no search
+        t0, step, slope = tl[0], float(d[0]), [b - a for a, b in zip(ul[:-1], ul[1:], strict=True)]
+
+        def at_uniform(tt):
+            x = (tt - t0) / step
+            i = int(x)
+            if i < 0:
+                return ul[0]
+            if i >= n - 1:
+                return ul[-1]
+            return ul[i] + (x - i) * slope[i]
+
+        return at_uniform
+
+    def at(tt):
+        i = bisect.bisect_right(tl, tt)
+        if i <= 0:
+            return ul[0]
+        if i >= n:
+            return ul[-1]
+        w = (tt - tl[i - 1]) / (tl[i] - tl[i - 1])
+        return ul[i - 1] + w * (ul[i] - ul[i - 1])
+
+    return at
+
+
+def drive_function(inputs, p):
+    """f(tt) = sum_j kd_j u_j(tt), or None without inputs."""
+    if not inputs:
+        return None
+    parts = [(float(p[f"kd_{name}"]), interpolator(tu, u)) for name, (tu, u) in inputs.items()]
+
+    def drive(tt):
+        return sum(g * f(tt) for g, f in parts)
+
+    return drive
+
+
+def drive_on_grid(inputs, p, t):
+    """The drive sum_j kd_j u_j evaluated on an array of times."""
+    out = np.zeros(len(t))
+    for name, (tu, u) in inputs.items():
+        out += float(p[f"kd_{name}"]) * np.interp(t, tu, u)
+    return out
+
+
+def regression_start(t, y, inputs, order):
+    """Least-squares start from smoothed derivatives: y'' (order 2) or y' (order 1) on y, y', inputs.
+
+    Returns (coefficients of [y, (y'), 1, u_j ...], ok). A start only: the ODE fit refines it.
+    """
+    from scipy.signal import savgol_filter
+    n = len(y)
+    dt = float(np.median(np.diff(t)))
+    win = max(7, (n // 60) | 1)
+    d1 = savgol_filter(y, win, 3, deriv=1, delta=dt)
+    us = [np.interp(t, tu, u) for tu, u in inputs.values()]
+    if order == 2:
+        d2 = savgol_filter(y, win, 3, deriv=2, delta=dt)
+        A = np.column_stack([-y, -d1] + us)
+        target = d2
+    else:
+        A = np.column_stack([-y, np.ones(n)] + us)
+        target = d1
+    coef = np.linalg.lstsq(A, target, rcond=None)[0]
+    return coef
+
+
+def physical_warnings(params) -> list[str]:
+    """Plain warnings for fitted values outside what the physics allows (kept, not clipped)."""
+    out = []
+    c = params.get("c")
+    if c is not None and not isinstance(c, str) and c < 0:
+        out.append(f"negative damping c = {c:.4g}: the fitted system gains energy; a drive the model lacks "
+                   f"(measure it and pass --input) or a wrong model is more likely than negative friction")
+    for k, what in (("h", "heat-transfer rate"), ("k", "stiffness"), ("w2", "g/L"), ("g", "gravity"),
+                    ("alpha", "diffusivity")):
+        v = params.get(k)
+        if v is not None and not isinstance(v, str) and v <= 0:
+            out.append(f"{what} {k} = {v:.4g} sits at its physical bound (0): the model does not describe "
+                       f"these data")
+    return out
+
+
+def linear_response(A, B, x0, t, drive):
+    """States of the linear system x' = A x + B d(t), x(t0) = x0, on ``t`` (first-order hold on d).
+
+    ``scipy.signal.lsim`` steps with matrix exponentials, exact for a piecewise-linear input: a
+    driven linear oscillator or cooling law costs one call instead of an ODE integration.
+    """
+    from scipy.signal import StateSpace, lsim
+    A = np.atleast_2d(np.asarray(A, float))
+    ss = StateSpace(A, np.asarray(B, float).reshape(-1, 1), np.eye(A.shape[0]), np.zeros((A.shape[0], 1)))
+    _, _, x = lsim(ss, U=np.asarray(drive, float), T=np.asarray(t, float) - float(t[0]), X0=np.asarray(x0, float))
+    x = np.asarray(x, float).reshape(len(t), A.shape[0])
+    return x

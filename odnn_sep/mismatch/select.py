@@ -1,0 +1,148 @@
+"""Effect candidates on top of a current model: robust refits, held-out gains, forward/backward selection.
+
+Every refit also starts from the current (calibrated) model with the effect at its neutral value,
+so a refit can never end worse than the model it extends. One that does anyway (the solver
+diverged, the ODE failed) is retried from that start with more evaluations; if it still ends worse,
+it is recorded as a failed fit and never ranked.
+"""
+from __future__ import annotations
+
+import logging
+import warnings
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from odnn_sep.errors import ConvergenceWarning
+from odnn_sep.mismatch.effects import effect_param_names
+from odnn_sep.mismatch.fitting import cross_validate, fit
+from odnn_sep.mismatch.presets import ModelIntegrationError
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Candidate:
+    effect: str
+    score: float                 # BIC(current) - BIC(current + effect)
+    fit: object = field(repr=False)
+    cv_improvement: float | None = None   # 1 - heldout_rmse(effect) / heldout_rmse(current)
+    cv_p_value: float | None = None
+    heldout_gain: float | None = None     # (SSE_current - SSE_effect) on held-out blocks / sigma^2
+    heldout_rmse: float | None = None
+    heldout_mse: object = field(default=None, repr=False)
+    step: int = 1                          # forward-selection step at which it was scored
+    note: str | None = None
+
+    @property
+    def effect_params(self) -> dict:
+        return {k: self.fit.params[k] for k in effect_param_names(self.effect, self.fit.params)}
+
+    @property
+    def intervals(self) -> dict:
+        iv = self.fit.intervals()
+        return {k: iv.get(k) for k in self.effect_params}
+
+    def as_dict(self) -> dict:
+        iv = self.intervals
+        return {"effect": self.effect, "score": self.score, "parameters": self.effect_params,
+                "stderr": {k: self.fit.stderr.get(k) for k in self.effect_params},
+                "interval95": {k: (list(v) if v is not None else None) for k, v in iv.items()},
+                "residual_rms": self.fit.rms, "bic": self.fit.bic, "step": self.step,
+                "heldout_improvement": self.cv_improvement, "heldout_gain": self.heldout_gain,
+                "heldout_p_value": self.cv_p_value, "note": self.note}
+
+
+@dataclass
+class FailedFit:
+    effect: str
+    reason: str
+    step: int = 1
+
+    def as_dict(self) -> dict:
+        return {"effect": self.effect, "reason": self.reason, "step": self.step}
+
+
+def with_data_bounds(m, t, slow_hz=0.0):
+    """Frequencies an effect may take are limited by the record: at least 1.5 cycles, below Nyquist.
+
+    A 'modulation' slower than the record is a trend, which the calibration already covers; letting
+    it through would make amplitude modulation imitate damping. For oscillatory models the
+    modulation must also be slower than half the oscillation frequency (``slow_hz``).
+    """
+    if np.ndim(t) != 1:
+        return m
+    T = float(t[-1] - t[0])
+    nyq = 0.5 / float(np.median(np.diff(t)))
+    b = dict(m.bounds)
+    if "f_am" in m.start:
+        # a modulation as fast as the carrier is not an envelope: it would stand in for harmonics
+        b["f_am"] = (1.5 / T, slow_hz if slow_hz > 1.5 / T else nyq / 4)
+    for key in ("omega_f", "omega_pk"):
+        if key in m.start:
+            # slower than the disturbance class's cut-off is indistinguishable from the disturbance
+            b[key] = (2 * np.pi * max(1.5 / T, slow_hz), 2 * np.pi * nyq)
+    return replace(m, bounds=b)
+
+
+def _quiet_fit(model, t, y, start, G, max_nfev):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        return fit(model, t, y, start=start, G=G, max_nfev=max_nfev)
+
+
+def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
+    """Best fit of ``model`` over ``starts`` plus the current model's own start; (fit, None) or (None, reason)."""
+    base_start = {**model.start, **{k: v for k, v in cur.params.items() if k in model.start}}
+    best, errors = None, []
+    for s in list(starts) + [base_start]:
+        try:
+            f = _quiet_fit(model, t, y, {**model.start, **s}, G, max_nfev)
+        except ModelIntegrationError as exc:
+            errors.append(str(exc))
+            continue
+        if best is None or f.rss < best.rss:
+            best = f
+    if best is None or best.rss > cur.rss * (1 + 1e-6):
+        # worse than the model it extends (which it contains): a failed fit; retry from that model
+        try:
+            f = _quiet_fit(model, t, y, base_start, G, 4 * max_nfev)
+            if best is None or f.rss < best.rss:
+                best = f
+        except ModelIntegrationError as exc:
+            errors.append(str(exc))
+    if best is None:
+        return None, "the model could not be evaluated from any start" + (f" ({errors[0]})" if errors else "")
+    if best.rss > cur.rss * (1 + 1e-6):
+        return None, (f"refit ended worse than the model without it (RSS {best.rss:.4g} > {cur.rss:.4g}) "
+                      f"after a retry")
+    return best, None
+
+
+def heldout(c, cur_mse, t, y, G, block_id, folds):
+    """Cross-validate candidate ``c`` against the current model's held-out errors ``cur_mse``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        try:
+            mse1 = cross_validate(c.fit.model, t, y, c.fit.params, G=G, block_id=block_id, folds=folds)
+        except ModelIntegrationError:
+            return
+    held = np.isfinite(cur_mse) & np.isfinite(mse1)
+    if not held.any():
+        return
+    c.heldout_mse = mse1
+    c.heldout_rmse = float(np.sqrt(mse1[held].mean()))
+    c.cv_improvement = float(1.0 - c.heldout_rmse / max(float(np.sqrt(cur_mse[held].mean())), 1e-300))
+    d = (cur_mse - mse1)[held]
+    sizes = np.bincount(block_id)[held]
+    sigma2 = c.fit.rss / max(c.fit.n_eff - len(c.fit.free), 1)
+    c.heldout_gain = float(np.sum(d * sizes) / max(sigma2, 1e-300))
+    if np.all(d == 0):
+        c.cv_p_value = 1.0
+    else:
+        from scipy import stats  # on use: the package is imported by every subcommand
+        c.cv_p_value = float(stats.wilcoxon(d, alternative="greater").pvalue)
+
+
+def passes(c, bic_threshold, heldout_threshold):
+    return c.score > bic_threshold and c.heldout_gain is not None and c.heldout_gain > heldout_threshold

@@ -1,0 +1,148 @@
+"""Cheap checks of command-line options, run before a command reads or computes anything.
+
+Front-ends validate their own options too; these checks sit at the command boundary so that every
+user-controlled size has a limit (:mod:`odnn_sep.limits`) and every nonsensical number gives one
+clear line before any expensive work (a 2000-word ``--text`` must not be rendered first).
+"""
+from __future__ import annotations
+
+import math
+
+from odnn_sep import limits
+from odnn_sep.errors import InputError
+
+
+def _number(flag: str, value, *, positive=True, allow=()) -> None:
+    if value is None or str(value).strip().lower() in allow:
+        return
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{flag} must be a number{' or ' + ' / '.join(allow) if allow else ''}; got "
+                         f"{value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{flag} must be a finite number; got {value!r}")
+    if positive and v <= 0:
+        raise InputError(f"{flag} must be > 0; got {value!r}")
+
+
+def _denoise(args) -> None:
+    _number("--mains", args.mains, allow=("auto",))
+    _number("--block-s", args.block_s, allow=("auto",))
+    _number("--max-hz", args.max_hz)
+    for t in args.tone or ():
+        _number("--tone", t)
+    h = str(args.harmonics).strip().lower()
+    if h != "auto":
+        parts = h.split(",")
+        if not all(p.strip().isdigit() and int(p) >= 1 for p in parts):
+            raise InputError(f"--harmonics must be auto, a count N >= 1, or a list of harmonic numbers such as "
+                             f"1,3,5; got {args.harmonics!r}")
+        top = max(int(p) for p in parts)
+        limits.check("harmonics", top, f"--harmonics {args.harmonics!r}: the highest harmonic number")
+
+
+def _text(text) -> None:
+    if text is None:
+        return
+    if not text.strip():
+        raise InputError("--text is empty; give the watermark's visible text")
+    bad = sorted({repr(c) for c in text if ord(c) < 32 or 0x7F <= ord(c) < 0xA0})
+    if bad:
+        raise InputError(f"--text contains control character(s) {', '.join(bad)}; a watermark is one line of "
+                         "visible text (give one line; run once per line of a multi-line mark)")
+    limits.check("text_chars", len(text), "--text length (characters)", hint="give the mark's visible text only")
+
+
+def image_megapixels(path) -> float | None:
+    """Pixel count of an image from its header, in millions (None if the header cannot be read)."""
+    import warnings
+
+    try:
+        from PIL import Image
+
+        Image.MAX_IMAGE_PIXELS = None  # the size is judged here, against our own limit
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a damaged header is reported by the image reader
+            with Image.open(path) as im:
+                w, h = im.size
+    except Exception:  # noqa: BLE001 - any unreadable header: the image reader reports it properly
+        return None
+    return w * h / 1e6
+
+
+def _unwatermark(args) -> None:
+    _text(args.text)
+    if args.min_score is not None and not math.isfinite(args.min_score):
+        raise InputError(f"--min-score must be a finite number; got {args.min_score!r}")
+    from odnn_sep.io_utils import check_input_path
+
+    for flag, p in (("input image", args.input), ("--mask", args.mask)):
+        if p is None:
+            continue
+        check_input_path(p, what=flag)  # never open a pipe or a device to read its header
+        mp = image_megapixels(p)
+        if mp is not None:
+            limits.check("megapixels", mp, f"{flag} {str(p)!r} size in megapixels",
+                         hint="crop or downscale the image first")
+
+
+# Parameters that only make sense when positive, whatever the model.
+POSITIVE_PARAMS = {"m": "a mass", "harmonics": "a count of harmonics", "alpha": "a diffusivity"}
+
+
+def _mismatch(args) -> None:
+    for flag in ("start", "duration"):
+        v = getattr(args, flag)
+        if v is not None and not math.isfinite(v):
+            raise InputError(f"--{flag} must be a finite number of seconds; got {v!r}")
+    if args.duration is not None and args.duration <= 0:
+        raise InputError(f"--duration must be > 0 seconds; got {args.duration!r}")
+    for item in args.param or ():
+        name, _, value = str(item).partition("=")
+        if not name.strip():
+            raise InputError(f"--param expects NAME=VALUE; got {item!r}")
+        if name.strip() == "sources" or not value.strip():
+            continue
+        try:
+            v = float(value)
+        except ValueError:
+            raise InputError(f"--param {name.strip()} must be a number; got {value.strip()!r}") from None
+        if not math.isfinite(v):
+            raise InputError(f"--param {name.strip()} must be a finite number; got {value.strip()!r}")
+        limits.check("magnitude", abs(v), f"--param {name.strip()}")
+        if name.strip() in POSITIVE_PARAMS and v <= 0:
+            raise InputError(f"--param {name.strip()} must be > 0 ({POSITIVE_PARAMS[name.strip()]}); got {value.strip()!r}")
+    if args.effects is not None and not [e for e in args.effects.split(",") if e.strip()]:
+        raise InputError(f"--effects {args.effects!r} names no effect; give a comma-separated list, or leave it out "
+                         "to try every effect that applies")
+
+
+def _simulate(args) -> None:
+    if not math.isfinite(args.snr_db):
+        raise InputError(f"--snr-db must be a finite number of dB; got {args.snr_db!r}")
+    if abs(args.snr_db) > 300:
+        raise InputError(f"--snr-db {args.snr_db:g} is outside -300..300 dB")
+
+
+CHECKS = {"denoise": _denoise, "unwatermark": _unwatermark, "mismatch": _mismatch, "simulate": _simulate}
+
+
+def require_optional(module: str, extra: str, what: str) -> None:
+    """One clear line when an optional dependency is missing, naming the extra that installs it."""
+    import importlib.util
+
+    if importlib.util.find_spec(module) is None:
+        raise InputError(f"{what} needs {module}, which is not installed; install it with: "
+                         f'pip install "odnn-sep[{extra}]"')
+
+
+def validate(args) -> None:
+    """Run the checks of ``args.command`` (nothing for commands without any)."""
+    if getattr(args, "solver", None) == "network":
+        require_optional("torch", "network", "--solver network")
+    if getattr(args, "dask", None):
+        require_optional("distributed", "dask", "--dask")
+    check = CHECKS.get(args.command)
+    if check is not None:
+        check(args)
