@@ -13,7 +13,8 @@ from __future__ import annotations
 import logging
 
 import numpy as np
-from scipy import linalg
+
+from odnn_sep.core.linalg import factor_gram, solve
 
 log = logging.getLogger(__name__)
 
@@ -153,25 +154,17 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
         G = _weighted_gram(F, w, 1.0)
     # np.dot, not "@": with a Fortran-ordered F, matmul here can take a non-BLAS loop (50x slower)
     rhs = np.dot(F.T, (Y * w[:, None]).astype(dt, copy=False)).astype(np.float64)
-    G = G.astype(np.float64)
-    d = np.sqrt(np.maximum(np.diag(G), 1e-300))
-    Gs = G / np.outer(d, d)
-    try:
-        c, low = linalg.cho_factor(Gs, check_finite=False)
-        rc = np.diag(c).min() / np.diag(c).max()
-    except linalg.LinAlgError:
-        rc = 0.0
+    fac = factor_gram(G.astype(np.float64))
     single = dt == np.float32 or (sub and Fs.dtype == np.float32)
-    if single and rc ** 2 < 1e-3:
+    if single and fac.rcond < 1e-3:
         # float32 sums (relative error ~1e-6: a hum residual ~120 dB under the hum; the basis
         # values themselves come from float32 sines) are used only while the basis is well
         # conditioned (cond < 1e3), which a many-cycle hum block is; otherwise redo in float64
         return solve_block(np.asfortranarray(F, dtype=np.float64), Y, w, gram_step=gram_step)
-    if rc ** 2 >= 1.0 / COND_LIMIT:
-        return linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
-    from odnn_sep.core.linear import lstsq
-
-    theta, _, rank = lstsq(np.asarray(F, dtype=np.float64), Y, w)
+    if fac.rcond >= 1.0 / COND_LIMIT:
+        return fac.solve(rhs)
+    theta, _, rank = solve(np.asarray(F, dtype=np.float64), np.asarray(Y, dtype=np.float64), weights=w,
+                           method="qr", return_cov=True)
     if rank < F.shape[1]:
         log.debug("block basis rank %d < %d columns (short block); minimum-norm solution", rank, F.shape[1])
     return theta.reshape(F.shape[1], -1)

@@ -3,10 +3,10 @@ Gram in closed form (see :class:`FullBlockFitter`)."""
 from __future__ import annotations
 
 import numpy as np
-from scipy import linalg
 
 from odnn_sep.audio import fit as _fit
 from odnn_sep.audio import gram as _gram
+from odnn_sep.core.linalg import factor_gram
 
 NEAR_BINS = 64.0   # lines closer than this many window bins are coupled in the Gram matrix
 CHUNK = 4096       # samples per chunk of the fixed-line table (its products stay in cache)
@@ -141,13 +141,8 @@ class FullBlockFitter:
                 G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
         else:
             G = G_rr
-        d = np.sqrt(np.maximum(np.diag(G), 1e-300))
-        try:
-            c, low = linalg.cho_factor(G / np.outer(d, d), check_finite=False)
-            rc = np.diag(c).min() / np.diag(c).max()
-        except linalg.LinAlgError:
-            return None
-        if rc ** 2 < 1e-3:
+        fac = factor_gram(G)
+        if fac.rcond < 1e-3:                 # not positive definite (rcond 0) or cond > 1e3: general path
             return None
         Yw = self.weighted(parts, w32)
         rhs_r = self.fixed_sums(Yw, n)
@@ -156,7 +151,7 @@ class FullBlockFitter:
             rhs = np.vstack([self.tracked_sums(Yw, n), rhs_r])
         else:
             rhs = rhs_r
-        theta = linalg.cho_solve((c, low), rhs / d[:, None], check_finite=False) / d[:, None]
+        theta = fac.solve(rhs)
         pf = self.pf
         th_m, th_f = theta[:pm], theta[pm: pm + pf]
         if pf:

@@ -30,7 +30,7 @@ from odnn_sep.audio import lockcomb as _lockcomb
 from odnn_sep.audio import params as _params
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.result import DenoiseResult
-from odnn_sep.errors import InputError
+from odnn_sep.errors import InputError, check_option
 
 log = logging.getLogger(__name__)
 
@@ -59,8 +59,7 @@ def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha,
     harmonics = _params.parse_harmonics(harmonics)
     tones = _params.parse_tones(tones, sr)
     max_hz = _params.parse_max_hz(max_hz, sr)
-    if solver not in ("exact", "network"):
-        raise InputError(f"solver must be 'exact' or 'network'; got {solver!r}")
+    check_option("solver", solver, ("exact", "network"))
     auto_block = isinstance(block_s, str) and block_s.strip().lower() == "auto"
     if not auto_block:
         try:

@@ -122,7 +122,7 @@ def test_no_offline_distortion(res50, mix50):
     ({"harmonics": "1,x"}, r"harmonics must be 'auto', a positive integer or a list of them \(1,3,5\); got 'x'"),
     ({"harmonics": []}, r"harmonics must be 'auto', a positive integer or a non-empty list of them; got \[\]"),
     ({"tones": [4500]}, r"tone=4500 Hz must be between 0 and the Nyquist frequency \(4000 Hz\)"),
-    ({"solver": "magic"}, r"solver must be 'exact' or 'network'; got 'magic'"),
+    ({"solver": "magic"}, r"solver must be one of 'exact', 'network'; got 'magic'"),
     ({"block_s": 0.01}, r"block_s must be between 0.1 and 60 s; got 0.01"),
 ])
 def test_option_errors(kw, msg):
