@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.errors import InputError, NotIdentifiableError
 from odnn_sep.mismatch.fitting import Fit, fit
 from odnn_sep.mismatch.presets import _dominant_omega
@@ -53,9 +54,7 @@ def slow_disturbance(t, *, cutoff_hz=None, y=None, model=None):
     K = min(K, MAX_SLOW_MODES, len(t) // 10)
     u = (t - t[0]) / max(T, 1e-300)
     cols = np.column_stack([np.ones_like(u), u - 0.5] + [np.cos(np.pi * k * u) for k in range(1, K + 1)])
-    q, r = np.linalg.qr(cols)
-    keep = np.abs(np.diag(r)) > 1e-8 * np.abs(np.diag(r)).max()
-    return q[:, keep]
+    return orthonormal_basis(cols, method="qr", rtol=1e-8)
 
 
 def disturbance_columns(disturbance, model, t, y):

@@ -25,6 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from odnn_sep.core.linalg import solve
 from odnn_sep.errors import InputError, as_float_array
 
 EFFECT = "channel_coupling"
@@ -131,11 +132,12 @@ def coupling_start(model, base, t, y, G, regressors):
     cols = [v for c, q in regressors.values() for v in (c, q)]
     A = np.column_stack(cols)
     r = base.residual
-    if G is not None:
-        from odnn_sep.mismatch.fitting import orthonormal
-        Q = orthonormal(G)
-        A = A - Q @ (Q.T @ A)
-    kap = np.linalg.lstsq(A, r, rcond=None)[0]
+    from odnn_sep.mismatch.fitting import disturbance_projector
+
+    P = disturbance_projector(G)
+    if P is not None:
+        A = P.project_out(A)
+    kap = solve(A, r, method="lstsq")
     s = dict(model.start)
     s.update(base.params)
     s.update(zip(param_names(regressors), (float(v) for v in kap), strict=True))

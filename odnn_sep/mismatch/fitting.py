@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from odnn_sep.core.linalg import Projector, intervals, orthonormal_basis, solve, varpro
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
 from odnn_sep.mismatch.presets import ModelIntegrationError
@@ -59,21 +60,31 @@ class Fit:
         Cutting a Wald interval at a physical bound (a damping or drag >= 0) keeps its coverage
         (the true value is inside the bounds) and never reports impossible values.
         """
+        names = list(self.stderr)
+        wald = intervals([self.params[k] for k in names], [self.stderr[k] for k in names])
         out = {}
-        for k, s in self.stderr.items():
+        for k, (a, b) in zip(names, wald, strict=True):
             lo, hi = self.model.bounds.get(k, (-np.inf, np.inf))
-            v = self.params[k]
-            out[k] = (float(max(lo, v - 1.96 * s)), float(min(hi, v + 1.96 * s)))
+            out[k] = (float(max(lo, a)), float(min(hi, b)))
         return out
 
 
+# Rank rule of the disturbance columns: a QR direction counts when |R_jj| > 1e-10 max(1, max |R_jj|).
+_BASIS_RULE = {"method": "qr", "rtol": 1e-10, "min_scale": 1.0}
+
+
 def orthonormal(G, rows=None):
+    """Orthonormal basis (n, r) of the disturbance columns ``G`` (rows ``rows``), or None without columns."""
     if G is None or G.shape[1] == 0:
         return None
-    A = G if rows is None else G[rows]
-    q, r = np.linalg.qr(A)
-    keep = np.abs(np.diag(r)) > 1e-10 * max(1.0, np.abs(np.diag(r)).max())
-    return q[:, keep]
+    return orthonormal_basis(G if rows is None else G[rows], **_BASIS_RULE)
+
+
+def disturbance_projector(G, rows=None):
+    """The core's :class:`~odnn_sep.core.linalg.Projector` onto span(G) (rows ``rows``), or None without columns."""
+    if G is None or G.shape[1] == 0:
+        return None
+    return Projector(G if rows is None else G[rows], **_BASIS_RULE)
 
 
 def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) -> Fit:
@@ -81,7 +92,7 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     p0 = dict(model.start if start is None else start)
     free = model.free
     idx = np.arange(len(y)) if rows is None else np.asarray(rows)
-    Q = orthonormal(G, idx)
+    P = disturbance_projector(G, idx)
     yy = y[idx]
     lo = np.array([model.bounds.get(k, (-np.inf, np.inf))[0] for k in free], float)
     hi = np.array([model.bounds.get(k, (-np.inf, np.inf))[1] for k in free], float)
@@ -100,34 +111,32 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
             r = yy - model.predict(t, unpack(x))[idx]
         except ModelIntegrationError:
             return np.full(len(yy), big)
-        if Q is not None:
-            r = r - Q @ (Q.T @ r)
+        if P is not None:
+            r = P.project_out(r)
         return r
 
     if free:
-        from scipy.optimize import least_squares  # on use: the package is imported by every subcommand
-
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            res = least_squares(resid, x0, bounds=(lo, hi), x_scale="jac", max_nfev=max_nfev,
-                                method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                                # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
-                                # finite-difference Jacobians well above that floor
-                                diff_step=1e-5)
+            res = varpro(resid, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
+                         method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
+                         # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
+                         # finite-difference Jacobians well above that floor
+                         diff_step=1e-5).result
         x, J, converged = res.x, res.jac, bool(res.status > 0)
     else:
         x, J, converged = x0, np.zeros((len(yy), 0)), True
     p = unpack(x)
     pred = model.predict(t, p)
     r_all = y - pred
-    if Q is not None:
-        beta = np.linalg.lstsq(G[idx], r_all[idx], rcond=None)[0]
+    if P is not None:
+        beta = solve(G[idx], r_all[idx], method="lstsq")
         dist = G @ beta
     else:
         dist = np.zeros_like(y)
     r = (r_all - dist)
     rss = float(np.sum(r[idx] ** 2))
-    n_eff = len(idx) - (0 if Q is None else Q.shape[1])
+    n_eff = len(idx) - (0 if P is None else P.rank)
     dof = max(n_eff - len(free), 1)
     stderr = {}
     if free:

@@ -16,6 +16,7 @@ import bisect
 
 import numpy as np
 
+from odnn_sep.core.linalg import solve
 from odnn_sep.errors import InputError
 
 DRIVEN_PRESETS = ("oscillator", "pendulum", "cooling")
@@ -124,7 +125,7 @@ def regression_start(t, y, inputs, order):
     else:
         A = np.column_stack([-y, np.ones(n)] + us)
         target = d1
-    coef = np.linalg.lstsq(A, target, rcond=None)[0]
+    coef = solve(A, target, method="lstsq")
     return coef
 
 

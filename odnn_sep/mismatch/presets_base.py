@@ -5,13 +5,10 @@ import warnings
 
 import numpy as np
 
-from odnn_sep.errors import InputError
+from odnn_sep.core.linalg import solve
+from odnn_sep.errors import InputError, ModelIntegrationError  # noqa: F401  (re-exported)
 
 INF = np.inf
-
-
-class ModelIntegrationError(InputError):
-    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values)."""
 
 
 def _integrate(name, rhs, state0, t, p):
@@ -72,5 +69,5 @@ def _sinusoid_start(t, y, omega):
     """Amplitudes (x0, v0) of a pure oscillation at omega matched to the data by least squares."""
     tau = t - t[0]
     F = np.column_stack([np.cos(omega * tau), np.sin(omega * tau), np.ones_like(tau)])
-    coef = np.linalg.lstsq(F, y, rcond=None)[0]
+    coef = solve(F, y, method="lstsq")
     return float(coef[0]), float(coef[1] * omega)

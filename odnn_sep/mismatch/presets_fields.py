@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.core.linalg import solve
 from odnn_sep.errors import InputError
 from odnn_sep.mismatch.inputs import (
     drive_function,
@@ -26,7 +27,7 @@ def _newton_fit(t, y):
     best = None
     for h in np.geomspace(0.05 / span, 50.0 / span, 60):
         F = np.column_stack([np.ones_like(tau), np.exp(-h * tau)])
-        coef, *_ = np.linalg.lstsq(F, y, rcond=None)
+        coef = solve(F, y, method="lstsq")
         rss = float(np.sum((F @ coef - y) ** 2))
         if best is None or rss < best[0]:
             best = (rss, h, coef)
@@ -130,7 +131,7 @@ class Hum(Preset):
         best = None
         for f in f0 + np.linspace(-0.5, 0.5, 201) / max(span, 1e-9) * 4:
             F = _hum_columns(t, f, H)
-            coef, *_ = np.linalg.lstsq(F, y, rcond=None)
+            coef = solve(F, y, method="lstsq")
             rss = float(np.sum((F @ coef - y) ** 2))
             if best is None or rss < best[0]:
                 best = (rss, f, coef)
@@ -186,7 +187,7 @@ class Heat2D(Preset):
             s2 = 4 * a * tt
             F = np.column_stack([np.exp(-((xy[:, 0] - sx) ** 2 + (xy[:, 1] - sy) ** 2) / s2) / (np.pi * s2)
                                  for sx, sy in srcs])
-            coef, *_ = np.linalg.lstsq(F, z, rcond=None)
+            coef = solve(F, z, method="lstsq")
             rss = float(np.sum((F @ coef - z) ** 2))
             if best is None or rss < best[0]:
                 best = (rss, a, coef)

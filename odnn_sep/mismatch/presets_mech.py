@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 
+from odnn_sep.core.linalg import solve
 from odnn_sep.errors import InputError
 from odnn_sep.mismatch.inputs import (
     drive_function,
@@ -245,5 +246,5 @@ class Freefall(Preset):
 
     def initial_guess(self, t, y, p):
         F = np.column_stack([np.ones_like(t), -0.5 * np.maximum(t, 0) ** 2])
-        h0, g = np.linalg.lstsq(F, y, rcond=None)[0]
+        h0, g = solve(F, y, method="lstsq")
         return {"h0": float(h0), "g": float(max(g, 1e-6))}

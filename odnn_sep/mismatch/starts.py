@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.core.linalg import solve
+
 
 def _peaks(t, r, *, n_peaks=3, fmin=0.0, fmax=None):
     n = len(r)
@@ -30,7 +32,7 @@ def _peaks(t, r, *, n_peaks=3, fmin=0.0, fmax=None):
 
 
 def _ls(cols, r):
-    return np.linalg.lstsq(np.column_stack(cols), r, rcond=None)[0]
+    return solve(np.column_stack(cols), r, method="lstsq")
 
 
 def one_step(model, start, t, y, G=None, rel_step=1e-4):
@@ -56,12 +58,13 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
         return None
     J = np.column_stack(cols)
     r = y - base_pred
-    if G is not None:
-        from odnn_sep.mismatch.fitting import orthonormal
-        Q = orthonormal(G)
-        J = J - Q @ (Q.T @ J)
-        r = r - Q @ (Q.T @ r)
-    delta = np.linalg.lstsq(J, r, rcond=None)[0]
+    from odnn_sep.mismatch.fitting import disturbance_projector
+
+    P = disturbance_projector(G)
+    if P is not None:
+        J = P.project_out(J)
+        r = P.project_out(r)
+    delta = solve(J, r, method="lstsq")
     out = dict(start)
     for k, d in zip(free, delta, strict=True):
         lo, hi = model.bounds.get(k, (-np.inf, np.inf))
