@@ -35,6 +35,19 @@ CLIP = 2.0
 FULL_WEIGHT_PATCHES = 100
 
 
+def principal_halves(xx, yy, py, px, ps):
+    """Split edge patches (top-left corners ``py``, ``px``, size ``ps``) into the two halves of the
+    mark along its principal axis (from the mark's pixel coordinates ``xx``, ``yy``): the held-out
+    fit predicts one half from the other. Returns the boolean mask of the first half, or None when
+    either half has fewer than two patches."""
+    d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
+    pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]
+    low = pos <= np.median(pos)
+    if low.sum() < 2 or (~low).sum() < 2:
+        return None
+    return low
+
+
 def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     """Mean clipped log-ratio of photo-only to held-out blend residual over the mark's edge patches.
 
@@ -73,11 +86,8 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
         return 0.0
     Phi = design(ps, 1)
     rss0 = plane_rss(Yp, orthonormal_basis(Phi, method="qr", rtol=None))
-    # the two halves along the mark's principal axis
-    d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
-    pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]
-    low = pos <= np.median(pos)
-    if low.sum() < 2 or (~low).sum() < 2:
+    low = principal_halves(xx, yy, py, px, ps)
+    if low is None:
         return 0.0
     rss1 = np.empty_like(rss0)
     for fit_on in (low, ~low):

@@ -76,7 +76,7 @@ def coloured_detection_score(y, M, L, *, random_state=0) -> float:
     """``detect.detection_score`` for a logo of known colours: the opacity fitted on one half of the
     edge patches (along the mark's principal axis) predicts the other half; the score is the mean
     clipped log-ratio of photo-only to predicted residual, discounted for few patches."""
-    from odnn_sep.image.detect import CLIP, FULL_WEIGHT_PATCHES
+    from odnn_sep.image.detect import CLIP, FULL_WEIGHT_PATCHES, principal_halves
     from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, stroke_width, take_patches
     from odnn_sep.image.profile import DataProfile, design, plane_rss
 
@@ -91,10 +91,8 @@ def coloured_detection_score(y, M, L, *, random_state=0) -> float:
     Phi = design(ps, 1)
     prof = ColouredProfile(Yp, Mp, Lp, Phi)
     rss0 = plane_rss(Yp, prof.Q)
-    d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
-    pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]
-    low = pos <= np.median(pos)
-    if low.sum() < 2 or (~low).sum() < 2:
+    low = principal_halves(xx, yy, py, px, ps)
+    if low is None:
         return 0.0
     rss1 = np.empty_like(rss0)
     for fit_on in (low, ~low):
