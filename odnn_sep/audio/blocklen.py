@@ -37,12 +37,8 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
     ``D``: chunk sums (J, C, K) from :func:`track.demodulate` at ``f_ref`` for harmonics ``ks``;
     ``weights`` (C, K) as for :func:`track.track_fundamental`.
     """
-    m = _track.chunk_length(sr)
     J = D.shape[0]
-    j_ex = int(EXCERPT_S * sr / m)
-    j0 = max(0, (J - j_ex) // 2)
-    De = D[j0: j0 + j_ex]
-    n_ex = min(n_frames - j0 * m, De.shape[0] * m)
+    j0, De, n_ex = _excerpt(D, sr, n_frames)
     whole = j0 == 0 and De.shape[0] == J
     # one track (the longest candidate's: fewest blocks) serves every emulation; the chosen
     # length's own track is computed only when it is another one
@@ -123,15 +119,20 @@ def _score(u, Pu, welch, sr, n_frames, hop) -> float:
     return float(np.abs(level).mean(axis=0).mean() + np.maximum(0.0, -cut.mean(axis=0)).mean())
 
 
+def _excerpt(D, sr: int, n_frames: int):
+    """The central EXCERPT_S of the chunk sums ``D``: ``(j0, D[j0:...], n_ex)`` with its first chunk
+    and its length in samples; the block-length choice emulates the fit there only."""
+    m = _track.chunk_length(sr)
+    j_ex = int(EXCERPT_S * sr / m)
+    j0 = max(0, (D.shape[0] - j_ex) // 2)
+    De = D[j0: j0 + j_ex]
+    return j0, De, min(n_frames - j0 * m, De.shape[0] * m)
+
+
 def choose_block_phase(D, psi, sr: int, n_frames: int, f_ref: float, ks, *, candidates=CANDIDATES_S) -> float:
     """As :func:`choose_block`, with the lines turned by the refined phase ``psi`` (cycles, at the
     chunk centres; finetrack.py) instead of a block track: returns the best block length."""
-    m = _track.chunk_length(sr)
-    J = D.shape[0]
-    j_ex = int(EXCERPT_S * sr / m)
-    j0 = max(0, (J - j_ex) // 2)
-    De = D[j0: j0 + j_ex]
-    n_ex = min(n_frames - j0 * m, De.shape[0] * m)
+    j0, De, n_ex = _excerpt(D, sr, n_frames)
     u = _baseband.derotate(De, ks, 2 * np.pi * (psi[j0: j0 + De.shape[0]] - psi[j0])).astype(np.complex64)
     welch = _Welch(u.shape[0], sr)
     Pu = welch(u)
