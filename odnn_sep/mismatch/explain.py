@@ -28,6 +28,7 @@ import numpy as np
 
 from odnn_sep.errors import InputError, as_float_array
 from odnn_sep.mismatch.calibrate import Calibration, calibrate, disturbance_columns
+from odnn_sep.mismatch.candidates import Candidate, FailedFit  # noqa: F401  (re-exported)
 from odnn_sep.mismatch.coupling import EFFECT as COUPLING
 from odnn_sep.mismatch.coupling import check_aux, coupling_regressors, coupling_start, with_coupling
 from odnn_sep.mismatch.disturbances import parse_disturbance, periodic_columns, residual_lines
@@ -35,7 +36,6 @@ from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 from odnn_sep.mismatch.fitting import cross_validate, cv_folds
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
-from odnn_sep.mismatch.select import Candidate, FailedFit  # noqa: F401  (re-exported)
 from odnn_sep.mismatch.selection import forward_backward
 
 log = logging.getLogger(__name__)
@@ -219,7 +219,7 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
             regs = coupling_regressors(t, aux, f0=cur.params["f0"], harmonics=cur.params["harmonics"])
             me = with_coupling(cur.model, regs)
             return me, [coupling_start(me, cur, t, y, G, regs)]
-        from odnn_sep.mismatch.select import with_data_bounds
+        from odnn_sep.mismatch.candidates import with_data_bounds
         from odnn_sep.mismatch.starts import effect_starts
         me = with_data_bounds(cur.model.with_effect(e), t, slow_hz)
         if not with_starts:

@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
+from odnn_sep.mismatch.candidates import Candidate, FailedFit, heldout, passes, refit_robust
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, compatible
 from odnn_sep.mismatch.presets import ModelIntegrationError
-from odnn_sep.mismatch.select import Candidate, FailedFit, heldout, passes, refit_robust
 
 # the additive stand-in of each effect that a linear model cannot tell from it
 # (a release-time offset of a body falling from rest is a drift plus an offset of its height)

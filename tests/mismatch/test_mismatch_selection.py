@@ -4,11 +4,11 @@ import pytest
 
 from odnn_sep.errors import InputError
 from odnn_sep.mismatch import explain, make_model
+from odnn_sep.mismatch.candidates import refit_robust
 from odnn_sep.mismatch.disturbances import parse_disturbance
 from odnn_sep.mismatch.inputs import check_inputs
 from odnn_sep.mismatch.presets import ModelIntegrationError
 from odnn_sep.mismatch.report import summary_text
-from odnn_sep.mismatch.select import refit_robust
 from odnn_sep.mismatch.units import to_celsius
 
 T = np.linspace(0, 200, 200)

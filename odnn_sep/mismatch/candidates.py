@@ -1,4 +1,4 @@
-"""Effect candidates on top of a current model: robust refits, held-out gains, forward/backward selection.
+"""Effect candidates on top of a current model: robust refits and held-out gains (selection.py ranks them).
 
 Every refit also starts from the current (calibrated) model with the effect at its neutral value,
 so a refit can never end worse than the model it extends. One that does anyway (the solver
