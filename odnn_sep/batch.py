@@ -192,12 +192,18 @@ def run(args) -> int:
     created = _make_dirs([out_dir, *sorted({d.parent for d in dsts})])
     jobs = [(args.target, str(f), str(d), extra) for f, d in zip(files, dsts)]
     from odnn_sep.batch_runner import run_jobs
+    from odnn_sep.io_utils import remove_temporaries_of
 
+    stopped: list[int] = []
+    # a worker killed after its grace time could not remove its own temporary folder
+    sweep = lambda: remove_temporaries_of(stopped, {d.parent for d in dsts} | {summary.parent})  # noqa: E731
     try:
-        results, interrupt = run_jobs(jobs, args)
+        results, interrupt = run_jobs(jobs, args, stopped)
     except BaseException:
+        sweep()
         _remove_empty(created)  # e.g. the Dask scheduler could not be reached: leave nothing behind
         raise
+    sweep()
     return _finish(args, jobs, results, interrupt, summary, sys.stderr, os)
 
 

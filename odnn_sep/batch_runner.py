@@ -53,8 +53,12 @@ def _start_orphan_watch(parent: int) -> None:
     threading.Thread(target=watch, name="odnn-sep-orphan-watch", daemon=True).start()
 
 
-def run_jobs(jobs, args):
-    """Run ``jobs`` (process_one argument tuples); return (results, interrupt name or None)."""
+def run_jobs(jobs, args, stopped=None):
+    """Run ``jobs`` (process_one argument tuples); return (results, interrupt name or None).
+
+    The pids of local workers stopped by an interrupt are appended to ``stopped``, so the caller can
+    sweep temporary files a worker had no time to remove.
+    """
     from tqdm import tqdm
 
     show = not args.quiet and sys.stderr.isatty()
@@ -65,7 +69,7 @@ def run_jobs(jobs, args):
         if args.dask:
             _run_dask(jobs, args, results, bar)
         else:
-            _run_pool(jobs, args, results, bar)
+            _run_pool(jobs, args, results, bar, stopped if stopped is not None else [])
     except KeyboardInterrupt as exc:
         interrupt = "Terminated" if type(exc).__name__ == "Terminated" else "Interrupted"
     finally:
@@ -73,7 +77,7 @@ def run_jobs(jobs, args):
     return results, interrupt
 
 
-def _run_pool(jobs, args, results, bar) -> None:
+def _run_pool(jobs, args, results, bar, stopped) -> None:
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     from odnn_sep.batch import process_one
@@ -93,13 +97,14 @@ def _run_pool(jobs, args, results, bar) -> None:
             results.append(fut.result())
             bar.update(1)
     except BaseException:
-        _stop_pool(pool)
+        stopped.extend(_stop_pool(pool))
         raise
     pool.shutdown(wait=True)
 
 
-def _stop_pool(pool) -> None:
-    """Drop queued jobs and terminate the workers (each rolls back the file it was writing)."""
+def _stop_pool(pool) -> list[int]:
+    """Drop queued jobs and terminate the workers (each rolls back the file it was writing); return
+    their pids."""
     # the executor keeps its worker processes in a private mapping; there is no public terminate()
     procs = list(getattr(pool, "_processes", {}).values())
     pool.shutdown(wait=False, cancel_futures=True)
@@ -111,6 +116,7 @@ def _stop_pool(pool) -> None:
         if p.is_alive():
             p.kill()
             p.join(timeout=5)
+    return [p.pid for p in procs if p.pid is not None]
 
 
 def _run_dask(jobs, args, results, bar) -> None:

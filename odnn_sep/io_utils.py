@@ -184,7 +184,8 @@ def atomic_output(out, suffix: str | None = None):
     o = check_output_target(out)
     ext = (suffix if suffix is not None else o.suffix)[:32]
     # the name is known before the folder exists, so an interrupt at any point can still remove it
-    tmpdir = o.resolve().parent / (TMP_PREFIX + secrets.token_hex(6))
+    # the writer's pid is in the name, so whoever stops a killed writer can sweep what it left
+    tmpdir = o.resolve().parent / f"{TMP_PREFIX}{os.getpid()}-{secrets.token_hex(6)}"
     record = None
     try:
         os.mkdir(tmpdir, 0o700)
@@ -215,6 +216,26 @@ def atomic_output(out, suffix: str | None = None):
         raise
     if record is None:
         shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+def remove_temporaries_of(pids, folders) -> None:
+    """Remove the temporary folders that processes ``pids`` (stopped, dead) left directly in ``folders``.
+
+    A writer killed before its clean-up ran (SIGKILL, or SIGTERM while a long numerical call held
+    the interpreter) leaves its ``.odnn-tmp-PID-XXXX`` folder; only the process that stopped it
+    knows it is dead, so that process sweeps. Other processes' temporaries are left alone.
+    """
+    prefixes = tuple(f"{TMP_PREFIX}{int(pid)}-" for pid in pids)
+    if not prefixes:
+        return
+    for folder in {Path(f) for f in folders}:
+        try:
+            entries = list(os.scandir(folder))
+        except OSError:
+            continue
+        for e in entries:
+            if e.name.startswith(prefixes) and e.is_dir(follow_symlinks=False):
+                shutil.rmtree(e.path, ignore_errors=True)
 
 
 def is_temporary(path) -> bool:

@@ -265,3 +265,14 @@ def test_killing_batch_parent_orphans_no_worker(tmp_path):
 def test_run_cli_helper_reports_error(tmp_path):
     r = run_cli(["separate", tmp_path / "missing.csv", "--basis", "x"], tmp_path)
     assert r.returncode == 1 and one_error_line(r.stderr)
+
+
+def test_sweep_removes_only_the_stopped_writers_temporaries(tmp_path):
+    from odnn_sep.io_utils import TMP_PREFIX, remove_temporaries_of
+
+    for name in (f"{TMP_PREFIX}111-aa", f"{TMP_PREFIX}1112-bb", f"{TMP_PREFIX}222-cc"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "part.wav").write_bytes(b"x")
+    (tmp_path / "keep.wav").write_bytes(b"y")
+    remove_temporaries_of([111], [tmp_path])
+    assert sorted(os.listdir(tmp_path)) == [f"{TMP_PREFIX}1112-bb", f"{TMP_PREFIX}222-cc", "keep.wav"]
