@@ -9,6 +9,7 @@ that raises it.
 | text_chars  | 200        | ODNN_SEP_MAX_TEXT        | length of `unwatermark --text`                 |
 | magnitude   | 1e150      | ODNN_SEP_MAX_MAGNITUDE   | largest absolute data value (squares overflow) |
 | harmonics   | 200        | ODNN_SEP_MAX_HARMONICS   | highest harmonic number `denoise --harmonics`  |
+| channels    | 1024       | ODNN_SEP_MAX_CHANNELS    | channels `denoise` cleans in an EEG/MEG array  |
 """
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ DEFAULTS = {
     "text_chars": ("ODNN_SEP_MAX_TEXT", 200),
     "magnitude": ("ODNN_SEP_MAX_MAGNITUDE", 1e150),
     "harmonics": ("ODNN_SEP_MAX_HARMONICS", 200),
+    "channels": ("ODNN_SEP_MAX_CHANNELS", 1024),
 }
 
 

@@ -13,9 +13,9 @@ from odnn_sep.audio.result import DenoiseResult
 log = logging.getLogger(__name__)
 
 
-def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", solver: str = "exact",
+def denoise(y, sr=None, *, mains="auto", harmonics="auto", tones=(), block_s="auto", solver: str = "exact",
             alpha: float = 1e-3, max_hz: float | None = None, progress: bool = False,
-            random_state=0) -> DenoiseResult:
+            random_state=0, **channel_options):
     """Remove mains hum (drift-tracked fundamental and harmonics) and named tones from audio.
 
     Parameters
@@ -46,10 +46,14 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
         Show a progress bar on stderr (only when it is a terminal).
     random_state : int
         Seed for the network solver.
+    **channel_options
+        EEG/MEG use (``sfreq=``, ``picks=``, ``channel_axis=``, ``spatial=``, ``return_report=``):
+        ``y`` is then a channels-first array with a float ``sfreq`` or an MNE Raw, and the result
+        has the input's type; see :func:`odnn_sep.audio.channels.denoise_channels`.
 
     Returns
     -------
-    DenoiseResult
+    DenoiseResult (the input's type for EEG/MEG use)
 
     Examples
     --------
@@ -59,6 +63,12 @@ def denoise(y, sr, *, mains="auto", harmonics="auto", tones=(), block_s="auto", 
     >>> r.nominal_hz, r.harmonics[:2]
     (50.0, [1, 2])
     """
+    from odnn_sep.audio import channels
+
+    if channels.is_channel_call(y, sr, channel_options):
+        return channels.denoise_channels(y, sr, **channel_options, mains=mains, harmonics=harmonics, tones=tones,
+                                         block_s=block_s, solver=solver, alpha=alpha, max_hz=max_hz,
+                                         progress=progress, random_state=random_state)
     return _denoise_array(y, sr, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                           alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
 
