@@ -8,11 +8,12 @@ Every nuisance is drawn per case from the seed:
   cases are low-passed at 40 Hz like many clinical recordings (the line then sits 40-60 dB above
   the floor of that band);
 - hum: one grid fundamental drifting by a sinusoidal FM (0.01-0.08 Hz, periods 10-60 s) plus a
-  slow random walk, seen through 1-3 sources (e.g. a cable and a device), each with harmonics 1..K
-  of its own random
-  amplitudes (a weak fundamental in a quarter of the cases), an amplitude envelope (slow AM of
-  depth 0-60 % with periods 2-30 s), and a spatial pattern per harmonic: a smooth gain over the
-  channels times a per-channel phase spread of 0-0.6 rad (so the hum is not in phase everywhere);
+  slow random walk, seen through 1-3 sources (e.g. a cable and a device), each with harmonics
+  1..K of its own random amplitudes (a weak fundamental in a quarter of the cases), an amplitude
+  envelope (slow AM of depth 0-60 % with periods 2-30 s, or bursts: a log-normal envelope
+  changing within 1-5 s over a factor of 3-10, as the real EEG file's line does), and a spatial
+  pattern per harmonic: a smooth gain over the channels times a per-channel phase spread of
+  0-0.6 rad (so the hum is not in phase everywhere);
 - SNR: hum RMS over brain RMS on the channels' median, -25 to 0 dB.
 """
 from __future__ import annotations
@@ -72,6 +73,17 @@ def _f0_track(rng, n, sfreq, mains):
     return f0, float(np.max(np.abs(f0 - mains)))
 
 
+def _envelope(rng, t, sfreq):
+    """Slow sinusoidal AM (half the sources) or bursty line noise as in the real EEG file: a
+    log-normal envelope low-passed at 0.2-1 Hz, ranging over a factor of about 3-10."""
+    if rng.random() < 0.5:
+        depth, period = rng.uniform(0, 0.6), rng.uniform(2, 30)
+        return 1 + depth * np.sin(2 * np.pi * t / period + rng.uniform(0, 2 * np.pi))
+    g = rng.standard_normal(t.size)
+    g = signal.sosfiltfilt(signal.butter(2, rng.uniform(0.2, 1.0), fs=sfreq, output="sos"), g)
+    return np.exp(rng.uniform(0.4, 0.8) * g / g.std())
+
+
 def _hum(rng, C, n, sfreq, mains):
     t = np.arange(n) / sfreq
     kmax = int(min(6, (0.45 * sfreq) // (mains * 1.01)))
@@ -85,8 +97,7 @@ def _hum(rng, C, n, sfreq, mains):
         amps = rng.uniform(0.2, 1.0, K) / np.arange(1, K + 1) ** rng.uniform(0, 1)
         if rng.random() < 0.25 and K > 1:
             amps[0] *= 0.1                       # weak fundamental, 2nd/3rd harmonic dominant
-        depth, period = rng.uniform(0, 0.6), rng.uniform(2, 30)
-        env = 1 + depth * np.sin(2 * np.pi * t / period + rng.uniform(0, 2 * np.pi))
+        env = _envelope(rng, t, sfreq)
         centre, width = rng.uniform(0, 1), rng.uniform(0.3, 1.5)
         for k in range(1, K + 1):
             gain = np.exp(-((pos - centre) / width) ** 2) * rng.uniform(0.7, 1.3, C)

@@ -9,7 +9,7 @@ import numpy as np
 
 from odnn_sep.errors import InputError
 
-# MNE's data channel types (mne._fiff.pick._DATA_CH_TYPES_SPLIT): what picks=None and "data" mean
+# MNE's data channel types (its _DATA_CH_TYPES_SPLIT): what picks=None and "data" mean
 DATA_TYPES = ("mag", "grad", "eeg", "csd", "seeg", "ecog", "dbs", "hbo", "hbr", "fnirs_cw_amplitude",
               "fnirs_fd_ac_amplitude", "fnirs_fd_phase", "fnirs_od", "fnirs_td_gated_amplitude",
               "fnirs_td_moments_intensity", "fnirs_td_moments_mean", "fnirs_td_moments_variance")

@@ -44,8 +44,7 @@ CHANNEL_OPTIONS = ("sfreq", "picks", "channel_axis", "spatial", "return_report")
 
 def is_raw(obj) -> bool:
     """True for an MNE Raw; never imports MNE (an object of MNE's has already imported it)."""
-    mne = sys.modules.get("mne")
-    if mne is None or not type(obj).__module__.startswith("mne"):
+    if sys.modules.get("mne") is None:
         return False
     from mne.io import BaseRaw
 
@@ -220,7 +219,7 @@ def _check_picked(view, idx, sfreq, opts, spatial):
     check_engine_options(opts, sfreq, view.shape[1])
     _check_count(len(idx), spatial)
     if view.dtype.kind == "f":
-        _check_nan(view[idx], [int(i) for i in idx])
+        _check_nan((view[i] for i in idx), [int(i) for i in idx])
 
 
 def _check_count(n: int, spatial: bool) -> None:
@@ -232,12 +231,14 @@ def _check_count(n: int, spatial: bool) -> None:
 
 
 def _check_nan(x, labels) -> None:
-    bad = ~np.isfinite(x)
-    if bad.any():
-        c, s = np.argwhere(bad)[0]
-        kind = "NaN" if np.isnan(x[c, s]) else "inf"
-        raise InputError(f"channel {labels[c]!r} contains {int(bad[c].sum())} {kind}/inf value(s) (first at sample "
-                         f"{int(s)}); interpolate them or crop that stretch before removing the hum")
+    """Refuse NaN/inf in the rows of ``x``, one row at a time (no copy of the whole block)."""
+    for row, label in zip(x, labels, strict=True):
+        bad = ~np.isfinite(row)
+        if bad.any():
+            s = int(np.argmax(bad))
+            kind = "NaN" if np.isnan(row[s]) else "inf"
+            raise InputError(f"channel {label!r} contains {int(bad.sum())} NaN or inf value(s) (first: {kind} at "
+                             f"sample {s}); interpolate them or crop that stretch before removing the hum")
 
 
 def _cast(v: np.ndarray, dtype) -> np.ndarray:

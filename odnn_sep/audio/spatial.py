@@ -27,14 +27,14 @@ import numpy as np
 from odnn_sep.audio.channel_engine import clean_columns
 from odnn_sep.core.linalg import solve
 
-ODDS_RATIO = 2.0         # a hum component's band/flank power ratio is >= 2x the median component's (dev seeds)
+ODDS_RATIO = 4.0         # a hum component's band/flank power ratio is >= 4x the median component's (dev seeds)
 MAX_COMPONENTS = 6
 SEGMENT_S = 16.0         # covariance segments (0.0625 Hz bins)
 FLANK_HZ = 3.0           # reference band on each side of a line band: the local floor
 BAND_HZ = 0.4            # half-width of each band: BAND_HZ + BAND_REL * frequency (drift grows with k)
 BAND_REL = 0.004
 MAX_HARMONIC = 40
-SHORT_BLOCK_S = 2.0      # block length (s) of the components' refit when the hum changes faster than 'auto' follows
+SHORT_BLOCK_S = 0.5      # block length (s) of the components' refit when the hum changes faster than 'auto' follows
 REFIT_LEVEL_DB = 6.0     # ... i.e. when a line stays this far above its floor in a component (dev seeds)
 
 
@@ -201,12 +201,13 @@ def spatial_hum(x: np.ndarray, sfreq: float, opts: dict):
         refit = residual_channels(x - hum, sfreq, comp["line_freqs_hz"])
     else:   # nothing shared: every channel on its own
         refit = np.arange(x.shape[0])
-    channels = [{"harmonics": [], "tones_hz": [], "spatial_harmonics": list(comp["harmonics"])}
-                for _ in range(x.shape[0])]
+    channels = [{"mains_hz": None, "nominal_hz": None, "harmonics": [], "tones_hz": [], "line_freqs_hz": [],
+                 "level_before_db": [], "level_after_db": [], "refit": False,
+                 "spatial_harmonics": list(comp["harmonics"])} for _ in range(x.shape[0])]
     for c in refit:
         h, summary = clean_columns(x[c] - hum[c], sfreq, resid_opts)
         hum[c] += h
-        channels[c].update(summary)
+        channels[c].update(summary, refit=True)
     spatial = {"scores": scores.tolist(), "n_components": r, "components": comp,
                "bands_hz": [list(b) for b in bands], "residual_refit": refit.tolist()}
     return hum, spatial, channels

@@ -116,7 +116,7 @@ def test_more_errors(monkeypatch):
         denoise(x.astype(complex), sfreq=SFREQ)
     bad = x.copy()
     bad[1, 17] = np.nan
-    with pytest.raises(InputError, match=r"channel 1 contains 1 NaN/inf value\(s\) \(first at sample 17\)"):
+    with pytest.raises(InputError, match=r"channel 1 contains 1 NaN or inf value\(s\) \(first: NaN at sample 17\)"):
         denoise(bad, sfreq=SFREQ)
     bad[1, 17] = 0.0
     bad[2, 5:7] = np.nan
@@ -156,6 +156,13 @@ def test_raw_in_raw_out_info_untouched():
     assert _line_reduction_db(got[[0, 2]], brain[[0, 2]], hum[[0, 2]]) > 12
     with pytest.raises(InputError, match=r"sfreq=250 differs from the Raw's own \(512.5 Hz\)"):
         denoise(raw, sfreq=250)
+    raw._data[2, 40] = np.inf   # noqa: SLF001 - a broken recording
+    with pytest.raises(InputError, match=r"channel 'EEG2' contains 1 NaN or inf value\(s\) \(first: inf at "
+                                         r"sample 40\)"):
+        denoise(raw, picks="eeg")
+    with pytest.raises(InputError, match=r"picks 'misc' is neither a channel name .* nor a channel type present "
+                                         r"\(eeg, stim\)"):
+        denoise(raw, picks="misc")
 
 
 def test_picks_match_mne():
@@ -179,3 +186,16 @@ def test_epochs_get_a_hint():
     with pytest.raises(InputError, match=r"got Epochs \(for MNE Epochs or Evoked, remove the hum from the "
                                          r"continuous Raw before epoching\)"):
         denoise(epochs)
+
+
+def test_readme_eeg_example_runs():
+    pytest.importorskip("mne", reason="the README's EEG example builds an MNE Raw")
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    section = text[text.index("#### EEG / MEG (Python)"):]
+    code = section[section.index("```python") + len("```python"): section.index("```", section.index("```python") + 9)]
+    ns: dict = {}
+    exec(compile(code, "README.md", "exec"), ns)   # noqa: S102 - our own README
+    assert ns["report"]["spatial"]["components"]["harmonics"] == [1]
+    assert type(ns["clean_raw"]) is type(ns["raw"]) and ns["clean"].shape == (8, 15_375)
