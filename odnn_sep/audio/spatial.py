@@ -15,10 +15,14 @@ removed:
    ``MAX_COMPONENTS``) are handed to the single-channel engine together: one tracked fundamental,
    phase-locked line test, block-wise amplitude/phase fit in each component. Their summed
    power at the line is far above any single channel's, so weak hum is detected and tracked.
-3. The fitted hum is mapped back to the channels by the components' patterns (least squares of the
-   channels on the component time courses) and subtracted: off the lines the data are untouched.
-4. Residual check: every channel then goes through the engine on its own at the fundamental
-   found, so hum outside the component subspace (one bad electrode) is removed too.
+   Where a line stays more than ``REFIT_LEVEL_DB`` above its floor (line noise whose amplitude
+   changes within seconds), the components are fitted again with ``SHORT_BLOCK_S`` blocks.
+3. The fitted hum is mapped back to the channels line by line, with a complex gain per channel and
+   component (least squares of the channels' DFT bins on the components' bins in the line's band,
+   over windowed segments), and subtracted: off the lines the data are untouched.
+4. Residual check: channels whose lines still stand out against their flanks go through the
+   engine on their own at the fundamental found (hum outside the component subspace, e.g. one
+   bad electrode); when the components show no hum, every channel does.
 """
 from __future__ import annotations
 
