@@ -175,7 +175,9 @@ def _denoise_array(y, rate, picks, channel_axis, spatial, opts):
 
         x = view[idx].astype(np.float64)
         hum, report["spatial"], report["channels"] = spatial_hum(x, sfreq, opts)
-        out_view[idx] = _cast(x - hum, arr.dtype)
+        np.subtract(x, hum, out=x)
+        del hum
+        out_view[idx] = _cast(x, arr.dtype)
         return out, report
     report["channels"] = []
     for c in idx:
@@ -243,7 +245,7 @@ def _check_nan(x, labels) -> None:
 
 def _cast(v: np.ndarray, dtype) -> np.ndarray:
     if np.dtype(dtype).kind == "f":
-        return v.astype(dtype)
+        return v                    # the assignment into the output casts
     info = np.iinfo(dtype)
     r = np.rint(v)
     n = int(np.count_nonzero((r < info.min) | (r > info.max)))

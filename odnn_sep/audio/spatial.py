@@ -160,7 +160,9 @@ def channel_hum(x: np.ndarray, S: np.ndarray, hum_s: np.ndarray, line_freqs, sfr
     for j, fl in enumerate(lines):
         Hj = np.where(nearest == j, H, 0)
         z = np.fft.irfft(Hj, n=N, axis=1) + 1j * np.fft.irfft(-1j * Hj, n=N, axis=1)   # analytic signal
-        out += (line_patterns(x, S, sfreq, fl) @ z).real
+        A = line_patterns(x, S, sfreq, fl)
+        out += A.real @ z.real      # Re(A z), without a complex (n_channels, n_times) temporary
+        out -= A.imag @ z.imag
     return out
 
 
