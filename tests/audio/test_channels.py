@@ -199,3 +199,12 @@ def test_readme_eeg_example_runs():
     exec(compile(code, "README.md", "exec"), ns)   # noqa: S102 - our own README
     assert ns["report"]["spatial"]["components"]["harmonics"] == [1]
     assert type(ns["clean_raw"]) is type(ns["raw"]) and ns["clean"].shape == (8, 15_375)
+
+
+def test_channel_axis_settles_a_square_array():
+    sfreq = 250.0
+    t = np.arange(300) / sfreq
+    x = np.random.default_rng(3).standard_normal((300, 300)) + np.cos(2 * np.pi * 50 * t)[:, None]
+    out = denoise(x, sfreq=sfreq, channel_axis=1, picks=[0], mains=50, harmonics=1)   # samples along axis 0
+    assert out.shape == x.shape and np.array_equal(out[:, 1:], x[:, 1:])
+    assert np.std(out[:, 0] - (x[:, 0] - np.cos(2 * np.pi * 50 * t))) < 0.5 * np.std(np.cos(2 * np.pi * 50 * t))
