@@ -47,6 +47,12 @@ def register(subparsers) -> None:
                    help="highest harmonic frequency to consider (default 0.95 x Nyquist, 40 harmonics)")
     p.add_argument("--subtype", default=None, metavar="ST",
                    help="output subtype, e.g. PCM_16, PCM_24, FLOAT (default: same as the input)")
+    p.add_argument("--picks", metavar="I,J,...", default=None,
+                   help="multichannel files: clean only these channels (0-based); the others are written as read. "
+                        "Reads the whole file into memory")
+    p.add_argument("--spatial", action="store_true",
+                   help="multichannel files whose channels share the hum (EEG-like): find its spatial components "
+                        "first, then fit the lines (see README). Reads the whole file into memory")
     p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
     p.set_defaults(func=run)
 
@@ -71,6 +77,8 @@ def run(args) -> int:
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
 
+    if args.picks is not None or args.spatial:
+        return _run_channels(args, inp)
     res = denoise_file(inp, args.output, subtype=args.subtype, mains=args.mains, harmonics=args.harmonics,
                        tones=args.tone, block_s=args.block_s, solver=args.solver, max_hz=args.max_hz,
                        progress=not args.quiet)
@@ -94,4 +102,25 @@ def run(args) -> int:
             print(f"removed hum: fundamental {f0} (family {res.nominal_hz}), lines {lines} -> {args.output}")
         else:
             print(f"no significant hum found; wrote the input unchanged -> {args.output}")
+    return 0
+
+
+def _run_channels(args, inp) -> int:
+    """--picks/--spatial: the whole file in memory through the EEG/MEG path (channels_file.py)."""
+    from odnn_sep.audio.channels_file import denoise_file_channels, parse_picks, summary_line
+    from odnn_sep.errors import InputError
+    from odnn_sep.io_utils import write_json
+
+    if args.plot:
+        raise InputError("--plot is not available with --picks/--spatial; use --report for the lines removed")
+    rep = denoise_file_channels(inp, args.output, picks=parse_picks(args.picks), spatial=args.spatial,
+                                subtype=args.subtype, mains=args.mains, harmonics=args.harmonics, tones=args.tone,
+                                block_s=args.block_s, solver=args.solver, max_hz=args.max_hz,
+                                progress=not args.quiet)
+    if rep["clipping"]:
+        print(f"Warning: {rep['clipping']}", file=sys.stderr)
+    if args.report:
+        write_json(args.report, rep)
+    if not args.quiet:
+        print(summary_line(rep))
     return 0
