@@ -151,7 +151,8 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
 
     The profile-RSS excess of a shape-constrained fit is not chi-square distributed (the active set
     moves with theta), so the 95 % threshold is calibrated by a parametric bootstrap around the
-    fitted model (``n_boot`` replicates); it is never below the chi-square(1) threshold.
+    fitted model (``n_boot`` replicates, drawn with seed ``random_state``, 0 when None, so a fit is
+    reproducible); it is never below the chi-square(1) threshold.
 
     Returns a dict with theta_ls, interval (p, 2), theta_mid, g (at theta_mid), rss_min, sigma2,
     active (number of active cone generators).
@@ -179,7 +180,7 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     solvers = [_ConeLS(np.hstack([Fs[:, [k for k in range(p) if k != j]], A0]), H) for j in range(p)]
     excess = np.full(p, level_chi2 * sigma2)
     if n_boot and sigma2 > 1e-20 * scale / xs.size:
-        rng = np.random.default_rng(random_state)
+        rng = np.random.default_rng(0 if random_state is None else random_state)   # reproducible by default
         full = _ConeLS(A, H)
         mu = A @ u + H @ d
         T = np.empty((n_boot, p))

@@ -46,7 +46,7 @@ def phi_starts(basis, cost, *, n_starts: int, random_state=None) -> list[np.ndar
         costs = [cost(np.array(c)) for c in cand]
         starts += [np.array(cand[i]) for i in np.argsort(costs)[:3]]
     elif np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and n_starts > 1:
-        rng = np.random.default_rng(random_state)
+        rng = np.random.default_rng(0 if random_state is None else random_state)   # reproducible by default
         starts += [lo + (hi - lo) * rng.random(len(keys)) for _ in range(n_starts - 1)]
     return starts
 

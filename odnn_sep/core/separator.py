@@ -43,7 +43,8 @@ class Separator:
         it must agree with the exact solver where both apply. Any name registered with
         :func:`~odnn_sep.core.solvers.register_solver`, or a :class:`~odnn_sep.core.solvers.Solver`.
     random_state : int, optional
-        Seed for the network solver, the cone bootstrap and the multi-start search.
+        Seed for the network solver, the cone bootstrap and the multi-start search; None means 0, so
+        the same data and options always give the same result.
     n_starts : int
         Random starts for nonlinear parameters without a grid.
     epochs : int
