@@ -20,39 +20,130 @@ import numpy as np
 
 
 class OdnnSepError(Exception):
-    """Base class of every error this package raises on purpose."""
+    """Base class of every error this package raises on purpose.
+
+    Examples
+    --------
+    >>> try:
+    ...     check_option("solver", "fast", ("exact", "network"))
+    ... except OdnnSepError as exc:          # one except clause for every deliberate error
+    ...     print(type(exc).__name__)
+    InputError
+    """
 
 
 class InputError(OdnnSepError, ValueError):
-    """The caller passed data or options that cannot be used."""
+    """The caller passed data or options that cannot be used.
+
+    Examples
+    --------
+    >>> as_float_array("y", [1.0, float("nan")])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: y contains 1 NaN value(s) (first at index 1); remove or interpolate them before fitting
+    >>> issubclass(InputError, ValueError)     # code that catches ValueError keeps working
+    True
+    """
 
 
 class FormatError(OdnnSepError, ValueError):
-    """A file could not be read or written in the requested format."""
+    """A file could not be read or written in the requested format.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.fit.data import load_signal
+    >>> path = os.path.join(tempfile.mkdtemp(), "data.xyz")
+    >>> _ = open(path, "w").write("1 2")
+    >>> try:
+    ...     load_signal(path)
+    ... except FormatError as exc:
+    ...     print("FormatError")
+    FormatError
+    """
 
 
 class ModelIntegrationError(InputError):
-    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values)."""
+    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values).
+
+    Examples
+    --------
+    >>> issubclass(ModelIntegrationError, InputError)     # the CLI reports it as bad input (exit 1)
+    True
+    """
 
 
 class NotFittedError(InputError, AttributeError):
-    """A fitted attribute or ``predict`` was used before ``fit`` (scikit-learn's convention)."""
+    """A fitted attribute or ``predict`` was used before ``fit`` (scikit-learn's convention).
+
+    Examples
+    --------
+    >>> from odnn_sep.core import Basis, Separator
+    >>> try:
+    ...     Separator(Basis([lambda x: x], names=["a"])).predict([0.0, 1.0])
+    ... except NotFittedError:
+    ...     print("fit first")
+    fit first
+    """
 
 
 class NotIdentifiableError(OdnnSepError):
-    """The physics basis lies (nearly) inside the disturbance class, so theta is not determined."""
+    """The physics basis lies (nearly) inside the disturbance class, so theta is not determined.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 41)
+    >>> try:                                   # x**2 is even: an even disturbance can imitate it
+    ...     Separator(Basis([lambda x: x**2], names=["a"]), disturbance=Even()).fit(x, x**2)
+    ... except NotIdentifiableError:
+    ...     print("not identifiable")
+    not identifiable
+    """
 
 
 class IdentifiabilityWarning(UserWarning):
-    """Theta is only weakly determined (ill-conditioned, or only set-identified)."""
+    """Theta is only weakly determined (ill-conditioned, or only set-identified).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Convex, Separator
+    >>> x = np.linspace(-1, 1, 41)
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     _ = Separator(Basis([lambda x: np.sin(5 * x)], names=["a"]), disturbance=Convex()).fit(
+    ...         x, x**2 + np.sin(5 * x))
+    >>> any(issubclass(w.category, IdentifiabilityWarning) for w in caught)   # only an interval
+    True
+    """
 
 
 class ConvergenceWarning(UserWarning):
-    """An iterative solver stopped before meeting its tolerance."""
+    """An iterative solver stopped before meeting its tolerance.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore", ConvergenceWarning)   # e.g. short network training in a demo
+    """
 
 
 def check_finite(name: str, a: np.ndarray) -> None:
-    """Raise InputError if ``a`` holds NaN or inf, reporting each with a count and first index."""
+    """Raise InputError if ``a`` holds NaN or inf, reporting each with a count and first index.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_finite("x", np.array([0.0, 1.0]))
+    >>> check_finite("x", np.array([[0.0, np.inf], [np.inf, 1.0]]))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: x contains 2 inf value(s) (first at index (0, 1)); remove or interpolate them before fitting
+    """
     a = np.asarray(a)
     if not np.issubdtype(a.dtype, np.floating) and not np.issubdtype(a.dtype, np.complexfloating):
         return
@@ -68,7 +159,17 @@ def check_finite(name: str, a: np.ndarray) -> None:
 
 
 def as_float_array(name: str, a, *, ndim: tuple[int, ...] = (1,)) -> np.ndarray:
-    """Copy ``a`` to a float64 array, checking dimensionality, emptiness and finiteness."""
+    """Copy ``a`` to a float64 array, checking dimensionality, emptiness and finiteness.
+
+    Examples
+    --------
+    >>> as_float_array("t", [1, 2, 3])
+    array([1., 2., 3.])
+    >>> as_float_array("t", [[1, 2]], ndim=(1,))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: t must be 1-D; got an array of shape (1, 2)
+    """
     try:
         arr = np.array(a, dtype=np.float64)  # always a copy: callers' arrays are never mutated
     except (TypeError, ValueError) as exc:

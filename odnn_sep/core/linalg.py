@@ -158,7 +158,16 @@ class GramFactor:
 
     ``rcond`` is ``(min diag L / max diag L)^2``, a cheap estimate of 1 / cond of the scaled
     matrix (0 when ``G`` is not numerically positive definite); compare it with ``1 / max_cond``
-    before trusting :meth:`solve`. Build it with :func:`factor_gram` (which has an example).
+    before trusting :meth:`solve`. Build it with :func:`factor_gram`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fac = factor_gram(np.array([[4.0, 2.0], [2.0, 2.0]]))
+    >>> fac.ok, round(fac.rcond, 6), fac.solve(np.array([6.0, 4.0])).round(12).tolist()
+    (True, 0.5, [1.0, 1.0])
+    >>> factor_gram(np.array([[1.0, 1.0], [1.0, 1.0]])).rcond     # singular: 0, solve by QR instead
+    0.0
     """
 
     def __init__(self, factor, scale: np.ndarray, rcond: float):

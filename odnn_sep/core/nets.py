@@ -13,8 +13,13 @@ does not need torch.
 
 Examples
 --------
->>> from odnn_sep.core.nets import ICNN   # doctest: +SKIP
->>> ICNN(in_dim=1, hidden=8, depth=2)     # doctest: +SKIP
+>>> import torch
+>>> from odnn_sep.core.nets import ICNN
+>>> _ = torch.manual_seed(0)
+>>> net = ICNN(in_dim=1, hidden=8, depth=2)
+>>> g = net(torch.linspace(-2, 2, 41)[:, None]).detach().squeeze()
+>>> bool((g[:-2] - 2 * g[1:-1] + g[2:] >= -1e-6).all())      # convex whatever the weights
+True
 """
 from __future__ import annotations
 

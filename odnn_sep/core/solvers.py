@@ -106,7 +106,7 @@ class NetworkSolver(Solver):
     >>> from odnn_sep.core import Basis, Even, Separator
     >>> x = np.linspace(-1, 1, 41)
     >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even(), solver=NetworkSolver(epochs=20))
-    >>> round(float(sep.fit(x, 2 * x + x**2).theta_[0]), 4)   # doctest: +SKIP
+    >>> round(float(sep.fit(x, 2 * x + x**2).theta_[0]), 4)
     2.0
     """
 
@@ -145,7 +145,22 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
 
     ``factory`` is a Solver subclass or any callable returning a :class:`Solver`; it receives the
     separator options it names among ``epochs`` and ``lr``. The built-in names cannot be replaced.
-    The module docstring has an example.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, ExactSolver, Orthogonal, Separator
+    >>> class TracedExact(ExactSolver):          # e.g. a front-end's fast path for its own problems
+    ...     name = "traced-exact"
+    >>> register_solver("traced-exact", TracedExact, replace=True)
+    >>> x = np.linspace(0, 1, 50)
+    >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Orthogonal(), solver="traced-exact")
+    >>> round(float(sep.fit(x, 3 * x).theta_[0]), 9)
+    3.0
+    >>> register_solver("exact", TracedExact)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: a solver named 'exact' is already registered; pick another name
     """
     check_type("name", name, str)
     if name in ("exact", "network") or (name in _REGISTRY and not replace):
