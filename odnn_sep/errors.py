@@ -7,6 +7,7 @@ Hierarchy::
     │   ├── ModelIntegrationError           a model could not be evaluated (ODE failure, non-finite values)
     │   └── NotFittedError (also AttributeError)  a fitted attribute was used before fit
     ├── FormatError (also ValueError)       a file could not be read or written in the requested format
+    ├── MissingDependencyError (also ImportError)  an optional package a feature needs is not installed
     └── NotIdentifiableError                the physics lies (nearly) inside the disturbance class
     IdentifiabilityWarning, ConvergenceWarning (UserWarning)
 
@@ -60,6 +61,20 @@ class FormatError(OdnnSepError, ValueError):
     ... except FormatError as exc:
     ...     print("FormatError")
     FormatError
+    """
+
+
+class MissingDependencyError(OdnnSepError, ImportError):
+    """An optional package a feature needs is not installed; the message names the pip extra.
+
+    Examples
+    --------
+    >>> from odnn_sep.signals.optional import require
+    >>> try:
+    ...     require("no_such_package_here", "grid", "the power-grid dataset")
+    ... except MissingDependencyError as exc:
+    ...     print(str(exc).split("; ")[-1])
+    install it with: pip install "odnn-sep[grid]"
     """
 
 

@@ -145,6 +145,40 @@ def profile_edge(profile, t0: float, thresh: float, sgn: float) -> float:
     return inside
 
 
+def bootstrap_excess(design, fit, Fs, theta_ls, sigma2: float, profile_solvers, *, n_boot: int,
+                     random_state=None) -> np.ndarray:
+    """95 % quantile, per coefficient, of the profile-Cp excess at the true theta over replicates
+    drawn around the fitted model ``A u + H d`` (``design = (A, H)``, ``fit = (u, d)``) with noise
+    variance ``sigma2``.
+
+    ``profile_solvers[j]`` fits the cone model without column j. The replicates use the seed
+    ``random_state`` (0 when None, so a fit is reproducible).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Convex
+    >>> x = np.linspace(-1, 1, 41); F = np.c_[np.sin(5 * x)]
+    >>> A0, H = cone_generators(x, Convex()); A = np.hstack([F, A0])
+    >>> y = x**2 + np.sin(5 * x) + 0.01 * np.random.default_rng(1).standard_normal(41)
+    >>> u, d, rss = cone_lstsq(A, H, y)
+    >>> e = bootstrap_excess((A, H), (u, d), F, u[:1], rss / 30, [_ConeLS(A0, H)], n_boot=5)
+    >>> e.shape, bool(e[0] >= 0)
+    ((1,), True)
+    """
+    (A, H), (u, d) = design, fit
+    p = len(profile_solvers)
+    rng = np.random.default_rng(0 if random_state is None else random_state)
+    full = _ConeLS(A, H)
+    mu = A @ u + H @ d
+    T = np.empty((n_boot, p))
+    for b in range(n_boot):
+        yb = mu + np.sqrt(sigma2) * rng.standard_normal(mu.size)
+        ref_b = _cp(full(yb), sigma2)
+        T[b] = [_cp(profile_solvers[j](yb - theta_ls[j] * Fs[:, j]), sigma2) - ref_b for j in range(p)]
+    return np.quantile(T, 0.95, axis=0)
+
+
 def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_chi2: float = CHI2_1_95,
              n_boot: int = 40, random_state=None):
     """Least-squares fit and identified intervals; see module docstring.
@@ -180,15 +214,8 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     solvers = [_ConeLS(np.hstack([Fs[:, [k for k in range(p) if k != j]], A0]), H) for j in range(p)]
     excess = np.full(p, level_chi2 * sigma2)
     if n_boot and sigma2 > 1e-20 * scale / xs.size:
-        rng = np.random.default_rng(0 if random_state is None else random_state)   # reproducible by default
-        full = _ConeLS(A, H)
-        mu = A @ u + H @ d
-        T = np.empty((n_boot, p))
-        for b in range(n_boot):
-            yb = mu + np.sqrt(sigma2) * rng.standard_normal(xs.size)
-            ref_b = _cp(full(yb), sigma2)
-            T[b] = [_cp(solvers[j](yb - theta_ls[j] * Fs[:, j]), sigma2) - ref_b for j in range(p)]
-        excess = np.maximum(excess, np.quantile(T, 0.95, axis=0))
+        excess = np.maximum(excess, bootstrap_excess((A, H), (u, d), Fs, theta_ls, sigma2, solvers,
+                                                     n_boot=n_boot, random_state=random_state))
 
     cp_min = _cp((u, d, rss_min), sigma2)
     interval = np.empty((p, 2))

@@ -129,14 +129,7 @@ def solve(A: ArrayLike, b: ArrayLike, *, weights: ArrayLike | None = None, rcond
     [0j, (1+2j)]
     """
     check_option("method", method, ("auto", "cholesky", "qr", "lstsq"))
-    A = np.asarray(A)
-    b = np.asarray(b)
-    if A.dtype.kind not in "fc":
-        A = A.astype(float)
-    if b.dtype.kind not in "fc":
-        b = b.astype(float)
-    if A.ndim != 2 or b.ndim not in (1, 2) or b.shape[0] != A.shape[0]:
-        raise InputError(f"solve needs A (n, p) and b (n,) or (n, k) with the same n; got {A.shape} and {b.shape}")
+    A, b = _design_and_data(A, b)
     Aw, bw = _whiten(A, b, weights)
     if method == "lstsq":
         theta, _, rank, _ = np.linalg.lstsq(Aw, bw, rcond=None)
@@ -151,6 +144,19 @@ def solve(A: ArrayLike, b: ArrayLike, *, weights: ArrayLike | None = None, rcond
             return LstsqSolution(theta, fac.solve(np.eye(A.shape[1])), A.shape[1])
     theta, cov, rank = _qr_solve(Aw, bw, rcond, return_cov)
     return LstsqSolution(theta, cov, rank) if return_cov else theta
+
+
+def _design_and_data(A, b) -> tuple[np.ndarray, np.ndarray]:
+    """``A`` (n, p) and ``b`` (n,) or (n, k) as float or complex arrays with the same n, else InputError."""
+    A = np.asarray(A)
+    b = np.asarray(b)
+    if A.dtype.kind not in "fc":
+        A = A.astype(float)
+    if b.dtype.kind not in "fc":
+        b = b.astype(float)
+    if A.ndim != 2 or b.ndim not in (1, 2) or b.shape[0] != A.shape[0]:
+        raise InputError(f"solve needs A (n, p) and b (n,) or (n, k) with the same n; got {A.shape} and {b.shape}")
+    return A, b
 
 
 class GramFactor:

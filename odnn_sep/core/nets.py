@@ -50,18 +50,21 @@ def require_torch():
 
 @functools.lru_cache(maxsize=None)
 def _classes() -> dict:
-    """Define the torch modules once, on first use.
-
-    Longer than 60 lines only because it holds the three class bodies: defining them here is what
-    keeps ``import odnn_sep.core.nets`` free of torch.
-    """
+    """Define the torch modules once, on first use: defining them inside functions is what keeps
+    ``import odnn_sep.core.nets`` free of torch."""
     torch = require_torch()
-    from torch import nn
+    return {"MLP": _mlp_class(torch), "ICNN": _icnn_class(torch), "MonotoneMLP": _monotone_class(torch)}
+
+
+def _softplus_pos(w):
+    # Reparametrise to keep weights non-negative without projected steps.
     from torch.nn import functional as F
 
-    def _softplus_pos(w: torch.Tensor) -> torch.Tensor:
-        # Reparametrise to keep weights non-negative without projected steps.
-        return F.softplus(w)
+    return F.softplus(w)
+
+
+def _mlp_class(torch):
+    from torch import nn
 
     class MLP(nn.Module):
         def __init__(self, in_dim: int = 1, hidden: int = 32, depth: int = 3, out_dim: int = 1):
@@ -77,6 +80,12 @@ def _classes() -> dict:
         def forward(self, x: torch.Tensor) -> torch.Tensor:
             return self.net(x).squeeze(-1)
 
+    return MLP
+
+
+def _icnn_class(torch):
+    from torch import nn
+    from torch.nn import functional as F
 
     class ICNN(nn.Module):
         """z_{k+1} = softplus(W_k^+ z_k + A_k x + b_k); output = w^+ . z_K + a . x + b (convex in x)."""
@@ -96,6 +105,11 @@ def _classes() -> dict:
                 z = F.softplus(z @ _softplus_pos(W).T + A(x))
             return z @ _softplus_pos(self.out_w) + self.out_lin(x).squeeze(-1)
 
+    return ICNN
+
+
+def _monotone_class(torch):
+    from torch import nn
 
     class MonotoneMLP(nn.Module):
         """Output non-decreasing in each input (non-increasing with ``increasing=False``)."""
@@ -115,7 +129,4 @@ def _classes() -> dict:
                     h = torch.tanh(h)
             return h.squeeze(-1)
 
-    classes = {"MLP": MLP, "ICNN": ICNN, "MonotoneMLP": MonotoneMLP}
-    for name, cls in classes.items():    # picklable as odnn_sep.core.nets.<name>
-        cls.__qualname__, cls.__module__ = name, __name__
-    return classes
+    return MonotoneMLP

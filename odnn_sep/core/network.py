@@ -60,8 +60,10 @@ def _lbfgs(params, loss_fn, *, max_iter, history_size):
 
 def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, epochs=1500, lr=1e-2,
                  hidden=32, depth=3, lbfgs_iter=300, progress=False):
-    """Body of :func:`fit_network`. More than 8 parameters: the problem's five arrays and objects
-    plus one keyword per training knob of the paper's solver, each passed through unchanged."""
+    """Body of :func:`fit_network`.
+
+    Why long (13 parameters): the problem's five arrays and objects plus one keyword per training
+    knob of the paper's solver, each passed through unchanged from :class:`NetworkSolver`."""
     import torch
 
     torch.manual_seed(0 if random_state is None else int(random_state))

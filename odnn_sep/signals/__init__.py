@@ -19,7 +19,7 @@ Examples
 import importlib
 
 _WHERE = {
-    "Dataset": "_base",
+    "Dataset": "dataset",
     "explicit_1d": "explicit", "explicit_2d": "explicit",
     "implicit_convex": "implicit", "implicit_periodic": "implicit", "implicit_symmetric": "implicit",
     "implicit_monotone": "implicit", "figure2": "implicit",

@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.core import Basis, Subspace
-from odnn_sep.errors import InputError
-from odnn_sep.signals._base import Dataset, add_noise, check_n, check_snr, check_theta, pick, rng_from
+from odnn_sep.errors import InputError, check_option
+from odnn_sep.signals.dataset import Dataset, add_noise, check_n, check_snr, check_theta, pick, rng_from
 from odnn_sep.signals.humanoid_policies import (
     MAX_STEPS,
     LinearGait,
@@ -135,6 +135,66 @@ def default_policies(n: int, rng) -> list:
     return pols[:n]
 
 
+def draw_corruption(kind: str, horizon: int, rng) -> Corruption:
+    """The reward corruption of ``kind`` with its amplitudes drawn (zero for the parts it lacks).
+
+    Examples
+    --------
+    >>> c = draw_corruption("sin", 100, np.random.default_rng(0))
+    >>> c.amp_sin > 0, c.amp_cal, c.drift
+    (True, 0.0, (0.0, 0.0, 0.0, 0.0))
+    """
+    return Corruption(kind=kind, horizon=horizon,
+                      amp_sin=float(rng.uniform(0.5, 2.0)) if kind in ("sin", "all") else 0.0,
+                      drift=tuple(rng.uniform(-0.5, 0.5, 4)) if kind in ("drift", "all") else (0.0,) * 4,
+                      amp_cal=float(rng.uniform(0.2, 0.5)) if kind in ("calibration", "all") else 0.0)
+
+
+def check_sizes(policies, episodes, steps) -> tuple[int, int, int]:
+    """``(policies, episodes, steps)`` as ints within their limits, or InputError.
+
+    Examples
+    --------
+    >>> check_sizes(6, 2, 100)
+    (6, 2, 100)
+    >>> check_sizes(2, 1, 20)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: too few transitions: 40 for 2 reward coefficients and up to 67 disturbance columns; need at least 138 (more episodes or steps)
+    """
+    policies = check_n(policies, 2, "policies")
+    if policies > 50:
+        raise InputError(f"policies={policies} is above the limit 50")
+    episodes = check_n(episodes, 1, "episodes")
+    steps = check_n(steps, 2, "steps")
+    if steps > MAX_STEPS:
+        raise InputError(f"steps={steps} is above the episode limit {MAX_STEPS}")
+    n = policies * episodes * steps
+    if n > MAX_TRANSITIONS:
+        raise InputError(f"{n} transitions is above the limit {MAX_TRANSITIONS}; use fewer policies/episodes/steps")
+    need = 2 + 1 + 10 + 6 + CALIBRATION_PERIOD
+    if n < 2 * need:
+        raise InputError(f"too few transitions: {n} for 2 reward coefficients and up to {need - 2} disturbance "
+                         f"columns; need at least {2 * need} (more episodes or steps)")
+    return policies, episodes, steps
+
+
+def collect(frame_skip: int, policies, episodes: int, steps: int, rng) -> tuple[list, list, list]:
+    """Roll out every ``(name, policy)`` for ``episodes`` episodes of ``steps`` steps in one environment:
+    the per-episode records, policy ids and episode ids (needs gymnasium[mujoco])."""
+    env = make_env(frame_skip)
+    recs, pid, eid = [], [], []
+    try:
+        for j, (_name, pol) in enumerate(policies):
+            for e in range(episodes):
+                recs.append(rollout(env, pol, steps, seed=int(rng.integers(2**31)), rng=rng))
+                pid.append(np.full(steps, j))
+                eid.append(np.full(steps, j * episodes + e))
+    finally:
+        env.close()
+    return recs, pid, eid
+
+
 def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, steps: int = 100,
              frame_skip: int | None = None, snr_db: float = 30.0, theta: dict | None = None,
              random_state=None) -> HumanoidDataset:
@@ -160,22 +220,9 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     -------
     HumanoidDataset
     """
-    if disturbance not in KINDS:
-        raise InputError(f"disturbance must be one of {', '.join(KINDS)}; got {disturbance!r}")
-    policies = check_n(policies, 2, "policies")
-    if policies > 50:
-        raise InputError(f"policies={policies} is above the limit 50")
-    episodes = check_n(episodes, 1, "episodes")
-    steps = check_n(steps, 2, "steps")
-    if steps > MAX_STEPS:
-        raise InputError(f"steps={steps} is above the episode limit {MAX_STEPS}")
+    check_option("disturbance", disturbance, KINDS)
+    policies, episodes, steps = check_sizes(policies, episodes, steps)
     n = policies * episodes * steps
-    if n > MAX_TRANSITIONS:
-        raise InputError(f"{n} transitions is above the limit {MAX_TRANSITIONS}; use fewer policies/episodes/steps")
-    need = 2 + 1 + 10 + 6 + CALIBRATION_PERIOD
-    if n < 2 * need:
-        raise InputError(f"too few transitions: {n} for 2 reward coefficients and up to {need - 2} disturbance "
-                         f"columns; need at least {2 * need} (more episodes or steps)")
     snr_db = check_snr(snr_db)
     check_theta(theta, ["up", "ctrl"])
     rng = rng_from(random_state)
@@ -184,25 +231,15 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
         raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
     dt = fs * TIMESTEP
     th = {"up": pick(rng, theta, "up", 0.5 / dt, 1.5 / dt), "ctrl": pick(rng, theta, "ctrl", -0.2, -0.05)}
-    env = make_env(fs)
-    recs, pid, eid = [], [], []
     pols = default_policies(policies, rng)
-    for j, (_name, pol) in enumerate(pols):
-        for e in range(episodes):
-            recs.append(rollout(env, pol, steps, seed=int(rng.integers(2**31)), rng=rng))
-            pid.append(np.full(steps, j))
-            eid.append(np.full(steps, j * episodes + e))
-    env.close()
+    recs, pid, eid = collect(fs, pols, episodes, steps, rng)
     zb = np.concatenate([r["z_before"] for r in recs])
     za = np.concatenate([r["z_after"] for r in recs])
     cs = np.concatenate([r["ctrl_sq"] for r in recs])
     step = np.arange(n)
     F = np.c_[za - zb, cs]
     physics = F @ np.array([th["up"], th["ctrl"]])
-    corr = Corruption(kind=disturbance, horizon=n,
-                      amp_sin=float(rng.uniform(0.5, 2.0)) if disturbance in ("sin", "all") else 0.0,
-                      drift=tuple(rng.uniform(-0.5, 0.5, 4)) if disturbance in ("drift", "all") else (0.0,) * 4,
-                      amp_cal=float(rng.uniform(0.2, 0.5)) if disturbance in ("calibration", "all") else 0.0)
+    corr = draw_corruption(disturbance, n, rng)
     g = corr(za, step)
     noise = add_noise(physics, snr_db, rng)
     desc = (f"humanoid ({disturbance}): HumanoidStandup-v5, {policies} policies x {episodes} episodes x {steps} "

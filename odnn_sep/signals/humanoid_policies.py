@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from odnn_sep.signals._optional import require
+from odnn_sep.signals.optional import require
 
 ACT_DIM, N_FEAT, GAIT_STEPS = 17, 4, 40
 MAX_STEPS = 1000
