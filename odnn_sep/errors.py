@@ -13,9 +13,12 @@ Hierarchy::
 
 Messages follow one pattern: name the parameter, show what was received, say what is allowed
 and what to do. The CLI prints them as one line. :func:`check_option` and :func:`check_type` write
-the "must be one of" messages (MNE's ``_check_option`` / ``_validate_type``).
+the "must be one of" messages (MNE's ``_check_option`` / ``_validate_type``), :func:`check_number`
+the "'auto' or a number" ones.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -237,3 +240,35 @@ def check_type(name: str, value, types, what: str | None = None) -> None:
     if not isinstance(value, types):
         what = what or " or ".join(t.__name__ for t in types)
         raise InputError(f"{name} must be {what}; got {type(value).__name__} ({value!r})")
+
+
+def check_number(name: str, value, *, positive: bool = False, allow: tuple[str, ...] = ()):
+    """``value`` as a finite float (``> 0`` when ``positive``), or the word of ``allow`` it spells
+    (``'auto'``, case and spaces ignored), else InputError. For options such as ``--block-s auto|S``.
+
+    Examples
+    --------
+    >>> check_number("--mains", " Auto", allow=("auto",)), check_number("--mains", "60", positive=True)
+    ('auto', 60.0)
+    >>> check_number("--block-s", "long", allow=("auto",))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --block-s must be 'auto' or a number; got 'long'
+    >>> check_number("--max-hz", -5, positive=True)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --max-hz must be > 0; got -5
+    """
+    word = str(value).strip().lower()
+    if word in allow:
+        return word
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        words = " or ".join(repr(a) for a in allow)
+        raise InputError(f"{name} must be {words + ' or ' if allow else ''}a number; got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} must be a finite number; got {value!r}")
+    if positive and v <= 0:
+        raise InputError(f"{name} must be > 0; got {value!r}")
+    return v

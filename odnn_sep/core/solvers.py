@@ -193,8 +193,7 @@ def get_solver(spec: str | Solver, **options) -> Solver:
     """
     if isinstance(spec, Solver):
         return spec
-    if not isinstance(spec, str):
-        raise InputError(f"solver must be a registered name or a Solver instance; got {spec!r}")
+    check_type("solver", spec, str, "a registered name or a Solver instance")
     check_option("solver", spec, tuple(_REGISTRY))
     factory = _REGISTRY[spec]
     try:

@@ -48,10 +48,9 @@ def __getattr__(name):
 
 def make_dataset(name: str, **kwargs):
     """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options."""
-    if name not in NAMES and name not in SYSTEMS:
-        from odnn_sep.errors import InputError
+    from odnn_sep.errors import check_option
 
-        raise InputError(f"unknown dataset {name!r}; choose one of {', '.join(NAMES + SYSTEMS)}")
+    check_option("dataset", name, NAMES + SYSTEMS)
     return __getattr__(name)(**kwargs)
 
 

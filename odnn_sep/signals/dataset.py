@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.errors import InputError
+from odnn_sep.errors import InputError, check_type
 
 
 @dataclass(frozen=True)
@@ -168,8 +168,7 @@ def check_theta(theta, allowed) -> None:
     """
     if theta is None:
         return
-    if not isinstance(theta, dict):
-        raise InputError(f"theta must be a dict of parameter name -> value; got {type(theta).__name__}")
+    check_type("theta", theta, dict, "a dict of parameter name -> value")
     bad = sorted(set(theta) - set(allowed))
     if bad:
         raise InputError(f"theta has unknown parameter(s) {bad}; allowed: {sorted(allowed)}")
