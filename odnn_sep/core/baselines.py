@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.errors import InputError, as_float_array
 
@@ -81,7 +82,7 @@ def _check(F, y, x=None):
     return F, y, x
 
 
-def ols(F, y) -> np.ndarray:
+def ols(F: ArrayLike, y: ArrayLike) -> np.ndarray:
     """Ordinary least squares ``argmin ||y - F theta||``.
 
     Parameters
@@ -158,8 +159,8 @@ def _torch_fit1(x, y, F, lam: float, opts: Training, return_loss: bool):
     return theta_hat
 
 
-def regular_dnn(x, y, F, *, hidden: int = 64, depth: int = 3, epochs: int = 1000, lr: float = 3e-3,
-                random_state: int = 0, theta_init=None, return_loss: bool = False) -> np.ndarray:
+def regular_dnn(x: ArrayLike, y: ArrayLike, F: ArrayLike, *, hidden: int = 64, depth: int = 3, epochs: int = 1000, lr: float = 3e-3,
+                random_state: int = 0, theta_init: ArrayLike | None = None, return_loss: bool = False) -> np.ndarray:
     """Eq. 2: unconstrained MLP ``h(x)`` plus ``F @ theta`` trained jointly by full-batch Adam.
 
     theta starts at ``theta_init`` (zero by default). Inputs, outputs and columns are standardised
@@ -204,8 +205,8 @@ def regular_dnn(x, y, F, *, hidden: int = 64, depth: int = 3, epochs: int = 1000
     return _torch_fit(x, y, F, 0.0, opts, return_loss)
 
 
-def pinn_penalty(x, y, F, *, lam: float = 1.0, hidden: int = 64, depth: int = 3, epochs: int = 1000,
-                 lr: float = 3e-3, random_state: int = 0, theta_init=None) -> np.ndarray:
+def pinn_penalty(x: ArrayLike, y: ArrayLike, F: ArrayLike, *, lam: float = 1.0, hidden: int = 64, depth: int = 3, epochs: int = 1000,
+                 lr: float = 3e-3, random_state: int = 0, theta_init: ArrayLike | None = None) -> np.ndarray:
     """PINN-style soft constraint: Eq. 2 plus ``lam * mean((P_F h)**2)``.
 
     ``P_F`` projects on span(F) (computed on the standardised columns). This is the additive
@@ -237,7 +238,7 @@ def pinn_penalty(x, y, F, *, lam: float = 1.0, hidden: int = 64, depth: int = 3,
     return _torch_fit(x, y, F, float(lam), opts)
 
 
-def sindy(F, y, *, threshold: float = 0.05, alpha: float = 0.0) -> np.ndarray:
+def sindy(F: ArrayLike, y: ArrayLike, *, threshold: float = 0.05, alpha: float = 0.0) -> np.ndarray:
     """pysindy's STLSQ (sequentially thresholded ridge regression) on the columns of F.
 
     Columns are normalised inside STLSQ so ``threshold`` is relative to unit-norm columns; the

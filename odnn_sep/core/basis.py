@@ -7,9 +7,11 @@ is differentiable by torch.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from types import ModuleType
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.errors import InputError
 
@@ -34,7 +36,7 @@ class Term:
     grid: dict | None = None
 
 
-def unique_terms(terms) -> tuple[Term, ...]:
+def unique_terms(terms: Iterable[Term]) -> tuple[Term, ...]:
     """``terms`` as a tuple, or InputError if a column name or a nonlinear parameter name repeats.
 
     Examples
@@ -87,7 +89,7 @@ class Basis:
 
     # -- construction -------------------------------------------------------------------------
     @classmethod
-    def from_matrix(cls, F, names: Sequence[str] | None = None) -> "Basis":
+    def from_matrix(cls, F: ArrayLike, names: Sequence[str] | None = None) -> "Basis":
         """Columns already evaluated at the samples (``x`` is then only used for its length)."""
         F = np.array(F, dtype=float)
         if F.ndim == 1:
@@ -145,7 +147,7 @@ class Basis:
         return {k: v for t in self.terms if t.grid for k, v in t.grid.items()}
 
     # -- evaluation ---------------------------------------------------------------------------
-    def evaluate(self, x, phi: dict | None = None, xp=np):
+    def evaluate(self, x: ArrayLike, phi: dict | None = None, xp: ModuleType = np) -> np.ndarray:
         """Return the (n, p) design matrix at ``x`` (with nonlinear parameters ``phi``)."""
         phi = {**self.phi0, **(phi or {})}
         n = x.shape[0]

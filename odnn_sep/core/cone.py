@@ -11,11 +11,16 @@ small |c|, so every theta in an interval fits the data equally well. We therefor
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Callable, Sequence
+
 import numpy as np
 from scipy import optimize
 
 from odnn_sep.core.linalg import Projector, solve
 from odnn_sep.errors import check_type
+
+if TYPE_CHECKING:
+    from odnn_sep.core.base import ConeDisturbance
 
 CHI2_1_95 = 3.841458820694124
 
@@ -40,7 +45,7 @@ def thin_knots(inner: np.ndarray) -> np.ndarray:
     return inner[np.unique(np.linspace(0, inner.size - 1, MAX_KNOTS).round().astype(int))]
 
 
-def cone_generators(x: np.ndarray, disturbance) -> tuple[np.ndarray, np.ndarray]:
+def cone_generators(x: np.ndarray, disturbance: ConeDisturbance) -> tuple[np.ndarray, np.ndarray]:
     """Return (A, H): g = A u + H d with u free and d >= 0 spans the cone on the samples.
 
     ``x`` must be sorted increasing; the class's own ``generators`` (see
@@ -92,7 +97,7 @@ def _cp(sol, sigma2: float) -> float:
     return sol[2] + 2.0 * sigma2 * _active(sol[1])
 
 
-def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray):
+def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss).
 
     Examples
@@ -106,7 +111,7 @@ def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray):
     return _ConeLS(A, H)(y)
 
 
-def profile_edge(profile, t0: float, thresh: float, sgn: float) -> float:
+def profile_edge(profile: Callable[[float], float], t0: float, thresh: float, sgn: float) -> float:
     """Edge of ``{t : profile(t) <= thresh}`` on one side (``sgn`` -1 or +1) of ``t0``, which is inside.
 
     Doubles the step until the profile exceeds the threshold (looking a little further first, since
@@ -145,8 +150,9 @@ def profile_edge(profile, t0: float, thresh: float, sgn: float) -> float:
     return inside
 
 
-def bootstrap_excess(design, fit, Fs, theta_ls, sigma2: float, profile_solvers, *, n_boot: int,
-                     random_state=None) -> np.ndarray:
+def bootstrap_excess(design: tuple[np.ndarray, np.ndarray], fit: tuple[np.ndarray, np.ndarray], Fs: np.ndarray,
+                     theta_ls: np.ndarray, sigma2: float, profile_solvers: Sequence[Callable], *, n_boot: int,
+                     random_state: int | None = None) -> np.ndarray:
     """95 % quantile, per coefficient, of the profile-Cp excess at the true theta over replicates
     drawn around the fitted model ``A u + H d`` (``design = (A, H)``, ``fit = (u, d)``) with noise
     variance ``sigma2``.
@@ -179,8 +185,8 @@ def bootstrap_excess(design, fit, Fs, theta_ls, sigma2: float, profile_solvers, 
     return np.quantile(T, 0.95, axis=0)
 
 
-def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_chi2: float = CHI2_1_95,
-             n_boot: int = 40, random_state=None):
+def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDisturbance, *, level_chi2: float = CHI2_1_95,
+             n_boot: int = 40, random_state: int | None = None) -> dict:
     """Least-squares fit and identified intervals; see module docstring.
 
     The profile-RSS excess of a shape-constrained fit is not chi-square distributed (the active set

@@ -176,7 +176,7 @@ class GramFactor:
     0.0
     """
 
-    def __init__(self, factor, scale: np.ndarray, rcond: float):
+    def __init__(self, factor: tuple[np.ndarray, bool] | None, scale: np.ndarray, rcond: float):
         self.factor, self.scale, self.rcond = factor, scale, rcond
 
     @property

@@ -24,6 +24,8 @@ True
 from __future__ import annotations
 
 import functools
+from types import ModuleType
+from typing import Any
 
 #: The torch modules, built on first access by the module ``__getattr__``.
 NETWORKS = ("MLP", "ICNN", "MonotoneMLP")
@@ -36,7 +38,7 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def require_torch():
+def require_torch() -> ModuleType:
     """Import and return torch, or raise a one-line InputError naming the ``network`` extra."""
     try:
         import torch
@@ -77,7 +79,7 @@ def _mlp_class(torch):
             layers.append(nn.Linear(d, out_dim))
             self.net = nn.Sequential(*layers)
 
-        def forward(self, x: torch.Tensor) -> torch.Tensor:
+        def forward(self, x: Any) -> Any:
             return self.net(x).squeeze(-1)
 
     return MLP
@@ -99,7 +101,7 @@ def _icnn_class(torch):
             self.out_w = nn.Parameter(torch.randn(hidden) * 0.1 - 1.0)
             self.out_lin = nn.Linear(in_dim, 1)
 
-        def forward(self, x: torch.Tensor) -> torch.Tensor:
+        def forward(self, x: Any) -> Any:
             z = F.softplus(self.inp[0](x))
             for A, W in zip(self.inp[1:], self.hid):
                 z = F.softplus(z @ _softplus_pos(W).T + A(x))
@@ -121,7 +123,7 @@ def _monotone_class(torch):
             self.w = nn.ParameterList([nn.Parameter(torch.randn(o, i) * 0.3 - 1.0) for i, o in zip(dims, dims[1:])])
             self.b = nn.ParameterList([nn.Parameter(torch.zeros(o)) for o in dims[1:]])
 
-        def forward(self, x: torch.Tensor) -> torch.Tensor:
+        def forward(self, x: Any) -> Any:
             h = self.sign * x
             for k, (w, b) in enumerate(zip(self.w, self.b)):
                 h = h @ _softplus_pos(w).T + b

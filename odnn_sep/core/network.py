@@ -10,15 +10,20 @@ from __future__ import annotations
 
 import logging
 import warnings
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
 
+if TYPE_CHECKING:
+    from odnn_sep.core.base import Disturbance
+
 log = logging.getLogger(__name__)
 
 
-def fit_network(F, x, y, dist, projector, **kw):
+def fit_network(F: np.ndarray, x: np.ndarray, y: np.ndarray, dist: Disturbance, projector: object,
+                **kw: Any) -> dict:
     """Train the class's network jointly with theta (keywords: weights, random_state, epochs, lr, hidden,
     depth, lbfgs_iter, progress). Returns the solver dict without standard errors (see ``NetworkSolver``).
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import inspect
 import logging
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -110,7 +111,7 @@ class Separator:
             out[name] = value
         return out
 
-    def set_params(self, **params) -> "Separator":
+    def set_params(self, **params: Any) -> "Separator":
         """Set constructor parameters (``name__sub`` reaches into a parameter with ``set_params``); returns self.
 
         Examples

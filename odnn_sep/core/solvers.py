@@ -14,18 +14,20 @@ Examples
 >>> register_solver("loud-exact", LoudExact)
 >>> type(get_solver("loud-exact")).__name__, "exact" in registered_solvers()
 ('LoudExact', True)
+>>> unregister_solver("loud-exact")
 """
 from __future__ import annotations
 
 import abc
 import inspect
-from typing import Callable, ClassVar
+from typing import Any, Callable, ClassVar
 
 from odnn_sep.core.base import Disturbance, Problem
 from odnn_sep.core.linalg import intervals
 from odnn_sep.errors import InputError, check_option, check_type
 
-__all__ = ["Solver", "ExactSolver", "NetworkSolver", "register_solver", "get_solver", "registered_solvers"]
+__all__ = ["Solver", "ExactSolver", "NetworkSolver", "register_solver", "unregister_solver", "get_solver",
+           "registered_solvers"]
 
 
 class Solver(abc.ABC):
@@ -157,6 +159,7 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
     >>> sep = Separator(Basis([lambda x: x], names=["a"]), disturbance=Orthogonal(), solver="traced-exact")
     >>> round(float(sep.fit(x, 3 * x).theta_[0]), 9)
     3.0
+    >>> unregister_solver("traced-exact")
     >>> register_solver("exact", TracedExact)
     Traceback (most recent call last):
     ...
@@ -171,6 +174,22 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
     _REGISTRY[name] = factory
 
 
+def unregister_solver(name: str) -> None:
+    """Remove a solver added with :func:`register_solver` (the built-in ``exact`` and ``network`` stay).
+
+    Examples
+    --------
+    >>> register_solver("scratch", ExactSolver)
+    >>> unregister_solver("scratch")
+    >>> "scratch" in registered_solvers()
+    False
+    """
+    if name in ("exact", "network"):
+        raise InputError(f"the built-in solver {name!r} cannot be removed")
+    check_option("name", name, tuple(n for n in _REGISTRY if n not in ("exact", "network")))
+    del _REGISTRY[name]
+
+
 def registered_solvers() -> tuple[str, ...]:
     """Names ``Separator(solver=...)`` accepts.
 
@@ -182,7 +201,7 @@ def registered_solvers() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
-def get_solver(spec: str | Solver, **options) -> Solver:
+def get_solver(spec: str | Solver, **options: Any) -> Solver:
     """The solver for ``spec``: a :class:`Solver` instance is returned as is; a name is built from the
     registry with the ``options`` its factory accepts (``epochs``, ``lr`` for the network solver).
 

@@ -8,7 +8,7 @@ a better-conditioned problem. Re-exported by :mod:`odnn_sep.core.linalg`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -88,14 +88,14 @@ class VarproResult:
     n_starts: int
 
     @property
-    def jac(self):
+    def jac(self) -> np.ndarray | None:
         """Jacobian of the reduced residual at phi (None for a scalar search)."""
         return getattr(self.result, "jac", None)
 
 
 def varpro(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, bounds: tuple[ArrayLike, ArrayLike], *,
            scalar: bool = False,
-           **options) -> VarproResult:
+           **options: Any) -> VarproResult:
     """Minimise ``sum(residual(phi)^2)`` over phi inside ``bounds`` from several starts; keep the best.
 
     Parameters
