@@ -43,7 +43,15 @@ def check_name_length(p: Path, what: str) -> None:
 
 
 def check_input_path(path, *, what: str = "input file") -> Path:
-    """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error."""
+    """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error.
+
+    Examples
+    --------
+    >>> check_input_path("no/such/file.wav")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: input file 'no/such/file.wav' does not exist; check the path
+    """
     p = Path(path)
     check_name_length(p, what)
     try:
@@ -94,7 +102,19 @@ def check_output_target(out, what: str = "output") -> Path:
 
 
 def check_output_path(out, *inputs) -> Path:
-    """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder."""
+    """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp(); src = os.path.join(d, "in.csv"); _ = open(src, "w").write("x,y")
+    >>> check_output_path(os.path.join(d, "out.csv"), src).name
+    'out.csv'
+    >>> check_output_path(src, src)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: output path '...in.csv' is the input file; choose a different output path
+    """
     o = Path(out)
     for i in inputs:
         if i is not None and _same_file(o, Path(i)):
@@ -178,6 +198,15 @@ def atomic_output(out, suffix: str | None = None):
     The temporary file lives in a fresh ``.odnn-tmp-XXXX`` folder beside ``out`` and keeps the
     output's suffix (writers pick the format from it). A failure, or SIGINT/SIGTERM under the CLI,
     leaves nothing behind.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> out = os.path.join(tempfile.mkdtemp(), "result.txt")
+    >>> with atomic_output(out) as tmp:
+    ...     _ = open(tmp, "w").write("done")
+    >>> open(out).read(), os.listdir(os.path.dirname(out))
+    ('done', ['result.txt'])
     """
     import secrets
 
@@ -239,12 +268,24 @@ def remove_temporaries_of(pids, folders) -> None:
 
 
 def is_temporary(path) -> bool:
-    """True for files inside this package's temporary folders (and other hidden names)."""
+    """True for files inside this package's temporary folders (and other hidden names).
+
+    Examples
+    --------
+    >>> is_temporary("out/.odnn-tmp-1a2b/clean.wav"), is_temporary("out/clean.wav")
+    (True, False)
+    """
     return any(part.startswith(".") and part not in (".", "..") for part in Path(path).parts)
 
 
 def describe_os_error(exc: OSError) -> str:
-    """One line for an operating-system error met while reading or writing a file."""
+    """One line for an operating-system error met while reading or writing a file.
+
+    Examples
+    --------
+    >>> describe_os_error(OSError(errno.ENOSPC, "No space left on device", "out.wav"))
+    "no space left on device while writing 'out.wav'; free some space or choose another output path"
+    """
     where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
     if exc.errno == errno.ENOSPC:
         return f"no space left on device while writing{where}; free some space or choose another output path"
@@ -262,6 +303,15 @@ def write_json(out, obj) -> None:
 
     Reports written during a CLI run also get the header of :mod:`odnn_sep.report.schema`
     (``schema_version``, ``odnn_sep_version``, ``command``, ``options``).
+
+    Examples
+    --------
+    >>> import json, os, tempfile
+    >>> import numpy as np
+    >>> out = os.path.join(tempfile.mkdtemp(), "report.json")
+    >>> write_json(out, {"theta": np.array([1.5, np.nan])})
+    >>> json.load(open(out))
+    {'theta': [1.5, None]}
     """
     import json
 
@@ -285,6 +335,12 @@ def to_jsonable(v):
     """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types.
 
     Non-finite floats become None, so the JSON is strict (``allow_nan=False`` parsers accept it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> to_jsonable({"a": np.float32(0.5), "b": (1, np.inf), "c": np.arange(2)})
+    {'a': 0.5, 'b': [1, None], 'c': [0, 1]}
     """
     import math
 

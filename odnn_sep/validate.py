@@ -114,7 +114,16 @@ CHECKS = {"denoise": _denoise, "unwatermark": _unwatermark, "mismatch": _mismatc
 
 
 def require_optional(module: str, extra: str, what: str) -> None:
-    """One clear line when an optional dependency is missing, naming the extra that installs it."""
+    """One clear line when an optional dependency is missing, naming the extra that installs it.
+
+    Examples
+    --------
+    >>> require_optional("json", "network", "--solver network")      # installed: nothing happens
+    >>> require_optional("no_such_module_here", "dask", "--dask")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --dask needs no_such_module_here, which is not installed; install it with: pip install "odnn-sep[dask]"
+    """
     import importlib.util
 
     if importlib.util.find_spec(module) is None:

@@ -19,6 +19,15 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     0 where 0 is x; default 1). NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the
     (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``). If ``value_name``
     is a list, the value column's name is appended to it (for labels).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "signal.csv")
+    >>> _ = open(path, "w").write(chr(10).join(["t,v", "0,1", "1,3", "2,5"]))
+    >>> coords, values, names, shape = load_signal(path)
+    >>> values.tolist(), names
+    ([1.0, 3.0, 5.0], ('t',))
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
@@ -74,7 +83,19 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
 
 
 def write_components(out, x, y, res) -> None:
-    """CSV with coordinates, data, physics, disturbance and residual columns (atomic)."""
+    """CSV with coordinates, data, physics, disturbance and residual columns (atomic).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 5); y = 2 * x + x**2
+    >>> res = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, y).result_
+    >>> out = os.path.join(tempfile.mkdtemp(), "parts.csv")
+    >>> write_components(out, x, y, res)
+    >>> open(out).readline().strip()
+    'x,y,physics,disturbance,residual'
+    """
     from odnn_sep.io_utils import atomic_output, check_output_path
 
     check_output_path(out)

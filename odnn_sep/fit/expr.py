@@ -168,6 +168,16 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
     the functions in ``FUNCS`` are accepted, within the bounds ``MAX_CHARS``, ``MAX_NODES``,
     ``MAX_DEPTH``, ``MAX_EXPONENT`` and ``MAX_LITERAL``; anything else is an InputError.
     A column that is not finite everywhere is an InputError naming the first bad point.
+
+    Examples
+    --------
+    >>> f = compile_expression("sin(2*pi*x) + where(x > 0.5, 1, 0)", ("x",))
+    >>> f(np.array([0.25, 0.75])).round(12).tolist()
+    [1.0, 0.0]
+    >>> compile_expression("__import__('os')", ("x",))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: basis expression "__import__('os')" calls unknown function '__import__'; allowed functions: [...]
     """
     tree = _parse(expr)
     _check_tree(expr, tree, tuple(coords))
@@ -214,7 +224,14 @@ def basis_from_expressions(exprs, coords=("x",), names=None):
 
 
 def parse_disturbance(spec: str, ndim: int = 1):
-    """'orthogonal' | 'even[:c]' | 'even:cx,cy' | 'periodic:P' | 'band:LO:HI' | 'convex' | 'monotone[:dec]'."""
+    """The disturbance class named by ``spec``: 'orthogonal' | 'even[:c]' | 'even:cx,cy' | 'periodic:P' |
+    'band:LO:HI' | 'convex' | 'monotone[:dec]' (``ndim``: dimension of the coordinates, for ``even``).
+
+    Examples
+    --------
+    >>> parse_disturbance("periodic:2.5").describe(), parse_disturbance("monotone:dec").increasing
+    ('periodic with period 2.5', False)
+    """
     from odnn_sep.core import Band, Convex, Even, Monotone, Orthogonal, Periodic
 
     kinds = ["orthogonal", "even", "periodic", "band", "convex", "monotone"]

@@ -17,7 +17,15 @@ MAX_BAND_TERMS = 4  # the band's corners grow as 2**terms
 
 
 def physics_band(F, res):
-    """(low, high) of the physics over the corners of theta's intervals, or None if unavailable."""
+    """(low, high) of the physics over the corners of theta's intervals, or None if unavailable.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> lo, hi = physics_band(np.c_[np.ones(2), [0.0, 1.0]], SimpleNamespace(interval=[[1, 2], [0, 1]]))
+    >>> lo.tolist(), hi.tolist()
+    ([1.0, 1.0], [2.0, 3.0])
+    """
     if F is None or res.interval is None:
         return None
     iv = np.asarray(res.interval, dtype=float).reshape(-1, 2)

@@ -47,7 +47,14 @@ def __getattr__(name):
 
 
 def make_dataset(name: str, **kwargs):
-    """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options."""
+    """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options.
+
+    Examples
+    --------
+    >>> ds = make_dataset("explicit_1d", random_state=3)
+    >>> ds.name, ds.identified, type(ds.disturbance).__name__
+    ('explicit_1d', 'point', 'Band')
+    """
     from odnn_sep.errors import check_option
 
     check_option("dataset", name, NAMES + SYSTEMS)

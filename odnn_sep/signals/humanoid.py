@@ -78,7 +78,13 @@ class Corruption:
 
 
 def disturbance_columns(kind: str, z_after: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """Columns spanning the disturbance class of ``kind`` on these transitions."""
+    """Columns spanning the disturbance class of ``kind`` on these transitions.
+
+    Examples
+    --------
+    >>> disturbance_columns("sin", np.linspace(0.5, 1.5, 50), np.arange(50)).shape   # constant + degrees 0-9
+    (50, 11)
+    """
     cols = [np.ones((z_after.size, 1))]
     if kind in ("sin", "all"):
         cols.append(_legendre(_to_unit(z_after), 9))
