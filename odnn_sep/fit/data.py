@@ -12,6 +12,23 @@ from odnn_sep.io_read import count_lines, load_npz_arrays, looks_binary, pick_co
 from odnn_sep.io_utils import check_input_path
 
 
+def _load_field(p: Path, value_name: list | None):
+    """The NPZ branch of :func:`load_signal`: grid axes x, y and the field z (ny, nx), flattened."""
+    d = load_npz_arrays(p, max_points=True)
+    x, y, z = d["x"], d["y"], d["z"]
+    if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
+        raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
+                         "(x and y 1-D grid axes)")
+    limits.check("points", z.size, f"the field in {str(p)!r} has {z.shape[0]} x {z.shape[1]} points; its size")
+    check_finite("x", x)
+    check_finite("y", y)
+    check_finite("z", z)
+    X, Y = np.meshgrid(x, y)
+    if value_name is not None:
+        value_name.append("z")
+    return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
+
+
 def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):
     """Return (coords, values, coord_names, grid_shape).
 
@@ -31,19 +48,7 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
-        d = load_npz_arrays(p, max_points=True)
-        x, y, z = d["x"], d["y"], d["z"]
-        if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
-            raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
-                             "(x and y 1-D grid axes)")
-        limits.check("points", z.size, f"the field in {str(p)!r} has {z.shape[0]} x {z.shape[1]} points; its size")
-        check_finite("x", x)
-        check_finite("y", y)
-        check_finite("z", z)
-        X, Y = np.meshgrid(x, y)
-        if value_name is not None:
-            value_name.append("z")
-        return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
+        return _load_field(p, value_name)
     if p.suffix.lower() not in (".csv", ".txt", ".tsv", ""):
         raise FormatError(f"{str(p)!r} has extension {p.suffix!r}; give a .csv (header; first column x) or an "
                           ".npz with arrays x, y, z")
