@@ -14,7 +14,7 @@ import pytest
 #: Optional packages (extras of pyproject.toml) an example may import itself.
 OPTIONAL = ("torch", "mne", "meegkit", "pandapower", "gymnasium", "mujoco", "dask", "pysindy", "skimage",
             "librosa", "pactools")
-#: Examples that need an optional package without importing it: doctest name prefix -> package.
+#: Examples that need optional packages without importing them: doctest name prefix -> packages.
 NEEDS = {
     "odnn_sep.core.nets": "torch",
     "odnn_sep.core.network": "torch",
@@ -22,12 +22,18 @@ NEEDS = {
     "odnn_sep.core.baselines.pinn_penalty": "torch",
     "odnn_sep.core.baselines.sindy": "pysindy",
     "odnn_sep.core.solvers.NetworkSolver": "torch",
+    "odnn_sep.signals.humanoid.humanoid": "gymnasium,mujoco",
+    "odnn_sep.signals.humanoid.HumanoidDataset": "gymnasium,mujoco",
+    "odnn_sep.signals.humanoid.collect": "gymnasium,mujoco",
+    "odnn_sep.signals.humanoid_policies.make_env": "gymnasium,mujoco",
+    "odnn_sep.signals.humanoid_policies.rollout": "gymnasium,mujoco",
 }
 _IMPORT = re.compile(r"^\s*(?:import|from)\s+(\w+)", re.MULTILINE)
 
 
 def _needed(item) -> set[str]:
-    need = {pkg for prefix, pkg in NEEDS.items() if item.name == prefix or item.name.startswith(prefix + ".")}
+    need = {pkg for prefix, pkgs in NEEDS.items() if item.name == prefix or item.name.startswith(prefix + ".")
+            for pkg in pkgs.split(",")}
     source = "\n".join(ex.source for ex in item.dtest.examples)
     return need | {m for m in _IMPORT.findall(source) if m in OPTIONAL}
 
