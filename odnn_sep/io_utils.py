@@ -80,7 +80,16 @@ def _same_file(a: Path, b: Path) -> bool:
 
 
 def check_output_target(out, what: str = "output") -> Path:
-    """Refuse an output that is not a regular file or a new path, or whose folder cannot take it."""
+    """Refuse an output that is not a regular file or a new path, or whose folder cannot take it.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> check_output_target(tempfile.mkdtemp())
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: output path '...' is a folder; give a file name
+    """
     o = Path(out)
     check_name_length(o, f"{what} file")
     if os.path.lexists(o):
@@ -177,6 +186,20 @@ def output_transaction():
     """Every output written by :func:`atomic_output` inside the block stays only if the block succeeds.
 
     A file the run replaced is restored on failure (it is kept as a hard link until the end).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> try:
+    ...     with output_transaction():
+    ...         with atomic_output(os.path.join(d, "a.txt")) as tmp:
+    ...             _ = open(tmp, "w").write("first output")
+    ...         raise RuntimeError("the second output failed")
+    ... except RuntimeError:
+    ...     pass
+    >>> os.listdir(d)                    # all or nothing: the first output was removed again
+    []
     """
     tr = _Transaction()
     _ACTIVE.append(tr)
@@ -324,7 +347,17 @@ def write_json(out, obj) -> None:
 
 
 def ensure_readable(path, reader, *, what: str):
-    """Call ``reader(path)`` and turn library-specific read failures into one FormatError line."""
+    """Call ``reader(path)`` and turn library-specific read failures into one FormatError line.
+
+    Examples
+    --------
+    >>> def reader(path):
+    ...     raise RuntimeError("Error opening 'x.wav': Format not recognised.")
+    >>> ensure_readable("x.wav", reader, what="audio file")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.FormatError: could not read audio file 'x.wav': Error opening 'x.wav': Format not recognised.
+    """
     try:
         return reader(path)
     except (OSError, RuntimeError, ValueError) as exc:

@@ -39,7 +39,13 @@ def __getattr__(name: str):
 
 
 def require_torch() -> ModuleType:
-    """Import and return torch, or raise a one-line InputError naming the ``network`` extra."""
+    """Import and return torch, or raise a one-line InputError naming the ``network`` extra.
+
+    Examples
+    --------
+    >>> require_torch().__name__
+    'torch'
+    """
     try:
         import torch
     except ImportError:  # pragma: no cover - depends on the environment

@@ -34,7 +34,7 @@ import numpy as np
 
 from odnn_sep.core import Basis, Subspace
 from odnn_sep.errors import InputError, check_option
-from odnn_sep.signals.dataset import Dataset, add_noise, check_n, check_snr, check_theta, pick, rng_from
+from odnn_sep.signals.dataset import Dataset, check_n, check_snr, check_theta, make, pick, rng_from
 from odnn_sep.signals.humanoid_policies import (
     MAX_STEPS,
     LinearGait,
@@ -176,6 +176,20 @@ def draw_corruption(kind: str, horizon: int, rng) -> Corruption:
                       amp_cal=float(rng.uniform(0.2, 0.5)) if kind in ("calibration", "all") else 0.0)
 
 
+def draw_frame_skip(frame_skip, rng) -> int:
+    """``frame_skip`` as an int in 1..20, or one drawn from 3..7 when None.
+
+    Examples
+    --------
+    >>> draw_frame_skip(5, None), 3 <= draw_frame_skip(None, np.random.default_rng(0)) <= 7
+    (5, True)
+    """
+    fs = int(frame_skip) if frame_skip is not None else int(rng.integers(3, 8))
+    if not 1 <= fs <= 20:
+        raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
+    return fs
+
+
 def check_sizes(policies, episodes, steps) -> tuple[int, int, int]:
     """``(policies, episodes, steps)`` as ints within their limits, or InputError.
 
@@ -257,8 +271,7 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     Examples
     --------
     >>> from odnn_sep.core import Separator
-    >>> ds = humanoid(policies=2, episodes=1, steps=70, random_state=0)
-    >>> p = ds.problem
+    >>> ds = humanoid(policies=2, episodes=1, steps=70, random_state=0); p = ds.problem
     >>> theta = Separator(p.basis, disturbance=p.disturbance).fit(p.x, p.y).result_.theta_dict()
     >>> ds.policy_names, all(abs(theta[k] / p.theta_true[k] - 1) < 0.05 for k in ("up", "ctrl"))
     (('zero', 'random'), True)
@@ -269,30 +282,23 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     snr_db = check_snr(snr_db)
     check_theta(theta, ["up", "ctrl"])
     rng = rng_from(random_state)
-    fs = int(frame_skip) if frame_skip is not None else int(rng.integers(3, 8))
-    if not 1 <= fs <= 20:
-        raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
+    fs = draw_frame_skip(frame_skip, rng)
     dt = fs * TIMESTEP
     th = {"up": pick(rng, theta, "up", 0.5 / dt, 1.5 / dt), "ctrl": pick(rng, theta, "ctrl", -0.2, -0.05)}
     pols = default_policies(policies, rng)
     recs, pid, eid = collect(fs, pols, episodes, steps, rng)
-    zb = np.concatenate([r["z_before"] for r in recs])
-    za = np.concatenate([r["z_after"] for r in recs])
-    cs = np.concatenate([r["ctrl_sq"] for r in recs])
+    zb, za, cs = (np.concatenate([r[k] for r in recs]) for k in ("z_before", "z_after", "ctrl_sq"))
     step = np.arange(n)
     F = np.c_[za - zb, cs]
     physics = F @ np.array([th["up"], th["ctrl"]])
     corr = draw_corruption(disturbance, n, rng)
     g = corr(za, step)
-    noise = add_noise(physics, snr_db, rng)
     desc = (f"humanoid ({disturbance}): HumanoidStandup-v5, {policies} policies x {episodes} episodes x {steps} "
             f"steps, frame time {dt:.3f} s; reward = up*(z_after-z_before) + ctrl*|a|^2 + disturbance; "
             "class Subspace (smooth functions of height / time, calibration phase); point-identified")
-    basis = Basis.from_matrix(F, ["up", "ctrl"])
     dist = Subspace(disturbance_columns(disturbance, za, step))
-    prob = Dataset(name="humanoid", x=step.astype(float), y=physics + g + noise, basis=basis, disturbance=dist,
-                   theta_true=th, physics=physics, disturbance_true=g, noise=noise, snr_db=snr_db,
-                   description=desc, targets=("up", "ctrl"))
+    prob = make("humanoid", step.astype(float), Basis.from_matrix(F, ["up", "ctrl"]), dist, th, physics, g, snr_db,
+                rng, desc, targets=("up", "ctrl"))   # make draws the noise
     return HumanoidDataset(name="humanoid", problem=prob, kind=disturbance, dt=dt,
                            policy_names=tuple(nm for nm, _ in pols), policy_id=np.concatenate(pid),
                            episode_id=np.concatenate(eid), z_before=zb, z_after=za, ctrl_sq=cs, corruption=corr,
