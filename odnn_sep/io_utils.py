@@ -33,7 +33,15 @@ def _name_max(folder: Path) -> int:
 
 
 def check_name_length(p: Path, what: str) -> None:
-    """Refuse a file name the file system cannot hold, before any work is done."""
+    """Refuse a file name the file system cannot hold, before any work is done.
+
+    Examples
+    --------
+    >>> check_name_length(Path("out") / ("x" * 300 + ".wav"), "output")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: output name is too long (304 bytes; the file system allows 255); choose a shorter name
+    """
     parent = p.parent if str(p.parent) else Path(".")
     limit = _name_max(parent) if parent.is_dir() else 255
     n = len(os.fsencode(p.name))
@@ -138,6 +146,13 @@ def check_run_paths(inputs: dict, outputs: dict) -> None:
     ----------
     inputs, outputs : dict
         ``{option name: path}`` (paths may be None: option not given).
+
+    Examples
+    --------
+    >>> check_run_paths({"the input": "rec.wav"}, {"--output": "clean.wav", "--report": "clean.wav"})
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --report 'clean.wav' is the same file as --output; choose different paths
     """
     ins = {k: Path(v) for k, v in inputs.items() if v is not None}
     outs = {k: Path(v) for k, v in outputs.items() if v is not None}

@@ -51,6 +51,17 @@ def plot_separation(x, y, res, grid_shape, out, *, F=None, x_name="x", y_name="v
     grid_shape : (ny, nx) for a 2-D field, None for a 1-D signal
     F : (n, k) basis matrix at ``x`` (draws the interval band in 1-D), optional
     x_name, y_name : axis names from the input file (units are those of the data)
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 41); y = 2 * x + x**2
+    >>> res = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, y).result_
+    >>> out = os.path.join(tempfile.mkdtemp(), "fit.png")
+    >>> plot_separation(x, y, res, None, out, F=np.c_[x])
+    >>> os.path.getsize(out) > 0
+    True
     """
     plt = pyplot()
     if grid_shape is None:
