@@ -24,7 +24,17 @@ TARGETS = {
 
 
 def positive_int(text: str) -> int:
-    """argparse type: an integer >= 1."""
+    """argparse type: an integer >= 1.
+
+    Examples
+    --------
+    >>> positive_int("4")
+    4
+    >>> positive_int("0")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: must be >= 1, got 0
+    """
     try:
         v = int(text)
     except ValueError:
@@ -121,6 +131,13 @@ def plan_outputs(files, in_dir, out_dir, suffix):
 
     Two inputs that would share an output name (``a.csv`` and ``a.wav`` -> ``a.json``) each keep
     their full name (``a.csv.json``, ``a.wav.json``).
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> files = [Path("in/a.csv"), Path("in/a.wav"), Path("in/b.csv")]
+    >>> [str(p) for p in plan_outputs(files, Path("in"), Path("out"), ".json")]
+    ['out/a.csv.json', 'out/a.wav.json', 'out/b.json']
     """
     from collections import Counter
 

@@ -52,6 +52,14 @@ def _on_sigterm(signum, frame):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``odnn-sep`` argument parser with every subcommand.
+
+    Examples
+    --------
+    >>> args = build_parser().parse_args(["simulate", "figure2", "-o", "fig2.csv", "--seed", "3"])
+    >>> args.command, args.seed
+    ('simulate', 3)
+    """
     parser = argparse.ArgumentParser(
         prog="odnn-sep",
         description="Separate known physics (hum, watermarks, model terms) from disturbances, "

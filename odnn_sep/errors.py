@@ -7,52 +7,161 @@ Hierarchy::
     │   ├── ModelIntegrationError           a model could not be evaluated (ODE failure, non-finite values)
     │   └── NotFittedError (also AttributeError)  a fitted attribute was used before fit
     ├── FormatError (also ValueError)       a file could not be read or written in the requested format
+    ├── MissingDependencyError (also ImportError)  an optional package a feature needs is not installed
     └── NotIdentifiableError                the physics lies (nearly) inside the disturbance class
     IdentifiabilityWarning, ConvergenceWarning (UserWarning)
 
 Messages follow one pattern: name the parameter, show what was received, say what is allowed
 and what to do. The CLI prints them as one line. :func:`check_option` and :func:`check_type` write
-the "must be one of" messages (MNE's ``_check_option`` / ``_validate_type``).
+the "must be one of" messages (MNE's ``_check_option`` / ``_validate_type``), :func:`check_number`
+the "'auto' or a number" ones.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 
 class OdnnSepError(Exception):
-    """Base class of every error this package raises on purpose."""
+    """Base class of every error this package raises on purpose.
+
+    Examples
+    --------
+    >>> try:
+    ...     check_option("solver", "fast", ("exact", "network"))
+    ... except OdnnSepError as exc:          # one except clause for every deliberate error
+    ...     print(type(exc).__name__)
+    InputError
+    """
 
 
 class InputError(OdnnSepError, ValueError):
-    """The caller passed data or options that cannot be used."""
+    """The caller passed data or options that cannot be used.
+
+    Examples
+    --------
+    >>> as_float_array("y", [1.0, float("nan")])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: y contains 1 NaN value(s) (first at index 1); remove or interpolate them before fitting
+    >>> issubclass(InputError, ValueError)     # code that catches ValueError keeps working
+    True
+    """
 
 
 class FormatError(OdnnSepError, ValueError):
-    """A file could not be read or written in the requested format."""
+    """A file could not be read or written in the requested format.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.fit.data import load_signal
+    >>> path = os.path.join(tempfile.mkdtemp(), "data.xyz")
+    >>> _ = open(path, "w").write("1 2")
+    >>> try:
+    ...     load_signal(path)
+    ... except FormatError as exc:
+    ...     print("FormatError")
+    FormatError
+    """
+
+
+class MissingDependencyError(OdnnSepError, ImportError):
+    """An optional package a feature needs is not installed; the message names the pip extra.
+
+    Examples
+    --------
+    >>> from odnn_sep.signals.optional import require
+    >>> try:
+    ...     require("no_such_package_here", "grid", "the power-grid dataset")
+    ... except MissingDependencyError as exc:
+    ...     print(str(exc).split("; ")[-1])
+    install it with: pip install "odnn-sep[grid]"
+    """
 
 
 class ModelIntegrationError(InputError):
-    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values)."""
+    """The model could not be evaluated (the ODE failed to integrate or gave non-finite values).
+
+    Examples
+    --------
+    >>> issubclass(ModelIntegrationError, InputError)     # the CLI reports it as bad input (exit 1)
+    True
+    """
 
 
 class NotFittedError(InputError, AttributeError):
-    """A fitted attribute or ``predict`` was used before ``fit`` (scikit-learn's convention)."""
+    """A fitted attribute or ``predict`` was used before ``fit`` (scikit-learn's convention).
+
+    Examples
+    --------
+    >>> from odnn_sep.core import Basis, Separator
+    >>> try:
+    ...     Separator(Basis([lambda x: x], names=["a"])).predict([0.0, 1.0])
+    ... except NotFittedError:
+    ...     print("fit first")
+    fit first
+    """
 
 
 class NotIdentifiableError(OdnnSepError):
-    """The physics basis lies (nearly) inside the disturbance class, so theta is not determined."""
+    """The physics basis lies (nearly) inside the disturbance class, so theta is not determined.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 41)
+    >>> try:                                   # x**2 is even: an even disturbance can imitate it
+    ...     Separator(Basis([lambda x: x**2], names=["a"]), disturbance=Even()).fit(x, x**2)
+    ... except NotIdentifiableError:
+    ...     print("not identifiable")
+    not identifiable
+    """
 
 
 class IdentifiabilityWarning(UserWarning):
-    """Theta is only weakly determined (ill-conditioned, or only set-identified)."""
+    """Theta is only weakly determined (ill-conditioned, or only set-identified).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> import numpy as np
+    >>> from odnn_sep.core import Basis, Convex, Separator
+    >>> x = np.linspace(-1, 1, 41)
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     _ = Separator(Basis([lambda x: np.sin(5 * x)], names=["a"]), disturbance=Convex()).fit(
+    ...         x, x**2 + np.sin(5 * x))
+    >>> any(issubclass(w.category, IdentifiabilityWarning) for w in caught)   # only an interval
+    True
+    """
 
 
 class ConvergenceWarning(UserWarning):
-    """An iterative solver stopped before meeting its tolerance."""
+    """An iterative solver stopped before meeting its tolerance.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore", ConvergenceWarning)   # e.g. short network training in a demo
+    """
 
 
 def check_finite(name: str, a: np.ndarray) -> None:
-    """Raise InputError if ``a`` holds NaN or inf, reporting each with a count and first index."""
+    """Raise InputError if ``a`` holds NaN or inf, reporting each with a count and first index.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_finite("x", np.array([0.0, 1.0]))
+    >>> check_finite("x", np.array([[0.0, np.inf], [np.inf, 1.0]]))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: x contains 2 inf value(s) (first at index (0, 1)); remove or interpolate them before fitting
+    """
     a = np.asarray(a)
     if not np.issubdtype(a.dtype, np.floating) and not np.issubdtype(a.dtype, np.complexfloating):
         return
@@ -68,7 +177,17 @@ def check_finite(name: str, a: np.ndarray) -> None:
 
 
 def as_float_array(name: str, a, *, ndim: tuple[int, ...] = (1,)) -> np.ndarray:
-    """Copy ``a`` to a float64 array, checking dimensionality, emptiness and finiteness."""
+    """Copy ``a`` to a float64 array, checking dimensionality, emptiness and finiteness.
+
+    Examples
+    --------
+    >>> as_float_array("t", [1, 2, 3])
+    array([1., 2., 3.])
+    >>> as_float_array("t", [[1, 2]], ndim=(1,))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: t must be 1-D; got an array of shape (1, 2)
+    """
     try:
         arr = np.array(a, dtype=np.float64)  # always a copy: callers' arrays are never mutated
     except (TypeError, ValueError) as exc:
@@ -121,3 +240,35 @@ def check_type(name: str, value, types, what: str | None = None) -> None:
     if not isinstance(value, types):
         what = what or " or ".join(t.__name__ for t in types)
         raise InputError(f"{name} must be {what}; got {type(value).__name__} ({value!r})")
+
+
+def check_number(name: str, value, *, positive: bool = False, allow: tuple[str, ...] = ()):
+    """``value`` as a finite float (``> 0`` when ``positive``), or the word of ``allow`` it spells
+    (``'auto'``, case and spaces ignored), else InputError. For options such as ``--block-s auto|S``.
+
+    Examples
+    --------
+    >>> check_number("--mains", " Auto", allow=("auto",)), check_number("--mains", "60", positive=True)
+    ('auto', 60.0)
+    >>> check_number("--block-s", "long", allow=("auto",))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --block-s must be 'auto' or a number; got 'long'
+    >>> check_number("--max-hz", -5, positive=True)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --max-hz must be > 0; got -5
+    """
+    word = str(value).strip().lower()
+    if word in allow:
+        return word
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        words = " or ".join(repr(a) for a in allow)
+        raise InputError(f"{name} must be {words + ' or ' if allow else ''}a number; got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} must be a finite number; got {value!r}")
+    if positive and v <= 0:
+        raise InputError(f"{name} must be > 0; got {value!r}")
+    return v

@@ -15,6 +15,11 @@ def pick_column(header, column, *, path) -> int:
 
     ``column`` is a header name or an index counted from 0, where column 0 is the coordinate
     (time or x) and cannot be the value; the default is column 1.
+
+    Examples
+    --------
+    >>> pick_column(["t", "left", "right"], "right", path="rec.csv"), pick_column(["t", "v"], None, path="rec.csv")
+    (2, 1)
     """
     import difflib
 
@@ -43,7 +48,17 @@ def pick_column(header, column, *, path) -> int:
 
 
 def pick_channel(column, n_channels: int, *, path) -> int:
-    """Index of an audio channel given as ``--column`` (counted from 0; default 0)."""
+    """Index of an audio channel given as ``--column`` (counted from 0; default 0).
+
+    Examples
+    --------
+    >>> pick_channel("1", 2, path="rec.wav")
+    1
+    >>> pick_channel("left", 2, path="rec.wav")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --column 'left' is not a channel number; 'rec.wav' has channels 0..1
+    """
     if column is None:
         return 0
     col = str(column).strip()
@@ -62,6 +77,15 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
 
     Shapes and types are read from the array headers first, so a small file that declares a huge
     array, a pickled object, or a damaged archive is refused with one line before any allocation.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> path = os.path.join(tempfile.mkdtemp(), "field.npz")
+    >>> np.savez(path, x=np.arange(3.0), y=np.arange(2.0), z=np.zeros((2, 3)))
+    >>> {k: v.shape for k, v in load_npz_arrays(path).items()}
+    {'x': (3,), 'y': (2,), 'z': (2, 3)}
     """
     import zipfile
 
@@ -109,7 +133,17 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
 
 
 def looks_binary(path, nbytes: int = 8192) -> bool:
-    """True if the start of ``path`` holds NUL bytes or is not UTF-8 text (not a CSV)."""
+    """True if the start of ``path`` holds NUL bytes or is not UTF-8 text (not a CSV).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> _ = open(os.path.join(d, "a.csv"), "w").write("t,v")
+    >>> _ = open(os.path.join(d, "b.wav"), "wb").write(bytes(16))
+    >>> looks_binary(os.path.join(d, "a.csv")), looks_binary(os.path.join(d, "b.wav"))
+    (False, True)
+    """
     with open(path, "rb") as fh:
         head = fh.read(nbytes)
     if b"\0" in head:
@@ -122,7 +156,16 @@ def looks_binary(path, nbytes: int = 8192) -> bool:
 
 
 def count_lines(path, stop_after: int | None = None) -> int:
-    """Number of lines of a text file, counted in binary blocks (cheap even for large files)."""
+    """Number of lines of a text file, counted in binary blocks (cheap even for large files).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "a.csv")
+    >>> _ = open(path, "w").write(chr(10).join(["t,v", "0,1", "1,2", ""]))
+    >>> count_lines(path)
+    3
+    """
     n = 0
     with open(path, "rb") as fh:
         while block := fh.read(1 << 20):

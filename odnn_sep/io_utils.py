@@ -33,7 +33,15 @@ def _name_max(folder: Path) -> int:
 
 
 def check_name_length(p: Path, what: str) -> None:
-    """Refuse a file name the file system cannot hold, before any work is done."""
+    """Refuse a file name the file system cannot hold, before any work is done.
+
+    Examples
+    --------
+    >>> check_name_length(Path("out") / ("x" * 300 + ".wav"), "output")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: output name is too long (304 bytes; the file system allows 255); choose a shorter name
+    """
     parent = p.parent if str(p.parent) else Path(".")
     limit = _name_max(parent) if parent.is_dir() else 255
     n = len(os.fsencode(p.name))
@@ -43,7 +51,15 @@ def check_name_length(p: Path, what: str) -> None:
 
 
 def check_input_path(path, *, what: str = "input file") -> Path:
-    """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error."""
+    """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error.
+
+    Examples
+    --------
+    >>> check_input_path("no/such/file.wav")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: input file 'no/such/file.wav' does not exist; check the path
+    """
     p = Path(path)
     check_name_length(p, what)
     try:
@@ -72,7 +88,16 @@ def _same_file(a: Path, b: Path) -> bool:
 
 
 def check_output_target(out, what: str = "output") -> Path:
-    """Refuse an output that is not a regular file or a new path, or whose folder cannot take it."""
+    """Refuse an output that is not a regular file or a new path, or whose folder cannot take it.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> check_output_target(tempfile.mkdtemp())
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: output path '...' is a folder; give a file name
+    """
     o = Path(out)
     check_name_length(o, f"{what} file")
     if os.path.lexists(o):
@@ -94,7 +119,19 @@ def check_output_target(out, what: str = "output") -> Path:
 
 
 def check_output_path(out, *inputs) -> Path:
-    """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder."""
+    """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp(); src = os.path.join(d, "in.csv"); _ = open(src, "w").write("x,y")
+    >>> check_output_path(os.path.join(d, "out.csv"), src).name
+    'out.csv'
+    >>> check_output_path(src, src)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: output path '...in.csv' is the input file; choose a different output path
+    """
     o = Path(out)
     for i in inputs:
         if i is not None and _same_file(o, Path(i)):
@@ -109,6 +146,13 @@ def check_run_paths(inputs: dict, outputs: dict) -> None:
     ----------
     inputs, outputs : dict
         ``{option name: path}`` (paths may be None: option not given).
+
+    Examples
+    --------
+    >>> check_run_paths({"the input": "rec.wav"}, {"--output": "clean.wav", "--report": "clean.wav"})
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --report 'clean.wav' is the same file as --output; choose different paths
     """
     ins = {k: Path(v) for k, v in inputs.items() if v is not None}
     outs = {k: Path(v) for k, v in outputs.items() if v is not None}
@@ -157,6 +201,20 @@ def output_transaction():
     """Every output written by :func:`atomic_output` inside the block stays only if the block succeeds.
 
     A file the run replaced is restored on failure (it is kept as a hard link until the end).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> try:
+    ...     with output_transaction():
+    ...         with atomic_output(os.path.join(d, "a.txt")) as tmp:
+    ...             _ = open(tmp, "w").write("first output")
+    ...         raise RuntimeError("the second output failed")
+    ... except RuntimeError:
+    ...     pass
+    >>> os.listdir(d)                    # all or nothing: the first output was removed again
+    []
     """
     tr = _Transaction()
     _ACTIVE.append(tr)
@@ -178,6 +236,15 @@ def atomic_output(out, suffix: str | None = None):
     The temporary file lives in a fresh ``.odnn-tmp-XXXX`` folder beside ``out`` and keeps the
     output's suffix (writers pick the format from it). A failure, or SIGINT/SIGTERM under the CLI,
     leaves nothing behind.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> out = os.path.join(tempfile.mkdtemp(), "result.txt")
+    >>> with atomic_output(out) as tmp:
+    ...     _ = open(tmp, "w").write("done")
+    >>> open(out).read(), os.listdir(os.path.dirname(out))
+    ('done', ['result.txt'])
     """
     import secrets
 
@@ -239,12 +306,24 @@ def remove_temporaries_of(pids, folders) -> None:
 
 
 def is_temporary(path) -> bool:
-    """True for files inside this package's temporary folders (and other hidden names)."""
+    """True for files inside this package's temporary folders (and other hidden names).
+
+    Examples
+    --------
+    >>> is_temporary("out/.odnn-tmp-1a2b/clean.wav"), is_temporary("out/clean.wav")
+    (True, False)
+    """
     return any(part.startswith(".") and part not in (".", "..") for part in Path(path).parts)
 
 
 def describe_os_error(exc: OSError) -> str:
-    """One line for an operating-system error met while reading or writing a file."""
+    """One line for an operating-system error met while reading or writing a file.
+
+    Examples
+    --------
+    >>> describe_os_error(OSError(errno.ENOSPC, "No space left on device", "out.wav"))
+    "no space left on device while writing 'out.wav'; free some space or choose another output path"
+    """
     where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
     if exc.errno == errno.ENOSPC:
         return f"no space left on device while writing{where}; free some space or choose another output path"
@@ -262,6 +341,15 @@ def write_json(out, obj) -> None:
 
     Reports written during a CLI run also get the header of :mod:`odnn_sep.report.schema`
     (``schema_version``, ``odnn_sep_version``, ``command``, ``options``).
+
+    Examples
+    --------
+    >>> import json, os, tempfile
+    >>> import numpy as np
+    >>> out = os.path.join(tempfile.mkdtemp(), "report.json")
+    >>> write_json(out, {"theta": np.array([1.5, np.nan])})
+    >>> json.load(open(out))
+    {'theta': [1.5, None]}
     """
     import json
 
@@ -274,7 +362,17 @@ def write_json(out, obj) -> None:
 
 
 def ensure_readable(path, reader, *, what: str):
-    """Call ``reader(path)`` and turn library-specific read failures into one FormatError line."""
+    """Call ``reader(path)`` and turn library-specific read failures into one FormatError line.
+
+    Examples
+    --------
+    >>> def reader(path):
+    ...     raise RuntimeError("Error opening 'x.wav': Format not recognised.")
+    >>> ensure_readable("x.wav", reader, what="audio file")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.FormatError: could not read audio file 'x.wav': Error opening 'x.wav': Format not recognised.
+    """
     try:
         return reader(path)
     except (OSError, RuntimeError, ValueError) as exc:
@@ -285,6 +383,12 @@ def to_jsonable(v):
     """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types.
 
     Non-finite floats become None, so the JSON is strict (``allow_nan=False`` parsers accept it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> to_jsonable({"a": np.float32(0.5), "b": (1, np.inf), "c": np.arange(2)})
+    {'a': 0.5, 'b': [1, None], 'c': [0, 1]}
     """
     import math
 

@@ -31,7 +31,14 @@ DEFAULTS = {
 
 
 def limit(name: str) -> float:
-    """The current value of limit ``name`` (its environment variable, else the default)."""
+    """The current value of limit ``name`` (its environment variable, else the default).
+
+    Examples
+    --------
+    >>> import os
+    >>> limit("text_chars") == float(os.environ.get("ODNN_SEP_MAX_TEXT") or 200)   # default 200 characters
+    True
+    """
     var, default = DEFAULTS[name]
     raw = os.environ.get(var)
     if raw is None or not raw.strip():
@@ -47,7 +54,16 @@ def limit(name: str) -> float:
 
 
 def check(name: str, value: float, what: str, *, hint: str = "") -> None:
-    """Raise InputError if ``value`` exceeds limit ``name``; the message says how to raise it."""
+    """Raise InputError if ``value`` exceeds limit ``name``; the message says how to raise it.
+
+    Examples
+    --------
+    >>> check("harmonics", 12, "--harmonics")
+    >>> check("harmonics", 500, "--harmonics")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --harmonics is 500, above the limit of 200; to allow it, set ODNN_SEP_MAX_HARMONICS (e.g. ODNN_SEP_MAX_HARMONICS=800)
+    """
     lim = limit(name)
     if value > lim:
         var = DEFAULTS[name][0]
@@ -57,7 +73,16 @@ def check(name: str, value: float, what: str, *, hint: str = "") -> None:
 
 
 def check_magnitude(name: str, a) -> None:
-    """Refuse values so large that sums of squares overflow float64 (a unit or parsing error)."""
+    """Refuse values so large that sums of squares overflow float64 (a unit or parsing error).
+
+    Examples
+    --------
+    >>> check_magnitude("y", [1.0, 2.0])
+    >>> check_magnitude("y", [1.0, 1e200])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: y: 1 value(s) beyond +-1e+150 (first at index 1: 1e+200); ...
+    """
     import numpy as np
 
     a = np.asarray(a)

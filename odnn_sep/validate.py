@@ -9,29 +9,14 @@ from __future__ import annotations
 import math
 
 from odnn_sep import limits
-from odnn_sep.errors import InputError
-
-
-def _number(flag: str, value, *, positive=True, allow=()) -> None:
-    if value is None or str(value).strip().lower() in allow:
-        return
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{flag} must be a number{' or ' + ' / '.join(allow) if allow else ''}; got "
-                         f"{value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"{flag} must be a finite number; got {value!r}")
-    if positive and v <= 0:
-        raise InputError(f"{flag} must be > 0; got {value!r}")
+from odnn_sep.errors import InputError, check_number
 
 
 def _denoise(args) -> None:
-    _number("--mains", args.mains, allow=("auto",))
-    _number("--block-s", args.block_s, allow=("auto",))
-    _number("--max-hz", args.max_hz)
-    for t in args.tone or ():
-        _number("--tone", t)
+    for flag, value, allow in (("--mains", args.mains, ("auto",)), ("--block-s", args.block_s, ("auto",)),
+                               ("--max-hz", args.max_hz, ()), *(("--tone", t, ()) for t in args.tone or ())):
+        if value is not None:
+            check_number(flag, value, positive=True, allow=allow)
     h = str(args.harmonics).strip().lower()
     if h != "auto":
         parts = h.split(",")
@@ -129,7 +114,16 @@ CHECKS = {"denoise": _denoise, "unwatermark": _unwatermark, "mismatch": _mismatc
 
 
 def require_optional(module: str, extra: str, what: str) -> None:
-    """One clear line when an optional dependency is missing, naming the extra that installs it."""
+    """One clear line when an optional dependency is missing, naming the extra that installs it.
+
+    Examples
+    --------
+    >>> require_optional("json", "network", "--solver network")      # installed: nothing happens
+    >>> require_optional("no_such_module_here", "dask", "--dask")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --dask needs no_such_module_here, which is not installed; install it with: pip install "odnn-sep[dask]"
+    """
     import importlib.util
 
     if importlib.util.find_spec(module) is None:

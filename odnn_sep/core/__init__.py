@@ -16,9 +16,16 @@ from odnn_sep.core.basis import Basis, ParametricBasis
 from odnn_sep.core.disturbance import Band, Convex, Even, Monotone, Orthogonal, Periodic, Subspace
 from odnn_sep.core.result import Result
 from odnn_sep.core.separator import Separator
-from odnn_sep.core.solvers import ExactSolver, NetworkSolver, Solver, get_solver, register_solver
+from odnn_sep.core.solvers import (
+    ExactSolver,
+    NetworkSolver,
+    Solver,
+    get_solver,
+    register_solver,
+    unregister_solver,
+)
 
 __all__ = ["Basis", "ParametricBasis", "Separator", "Result", "Orthogonal", "Even", "Periodic", "Band",
            "Subspace", "Convex", "Monotone", "Disturbance", "SubspaceDisturbance", "ConeDisturbance",
-           "Identification", "Problem", "Solver", "ExactSolver", "NetworkSolver", "register_solver", "get_solver",
+           "Identification", "Problem", "Solver", "ExactSolver", "NetworkSolver", "register_solver", "unregister_solver", "get_solver",
            "linalg"]

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import abc
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import Any, Callable, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -51,7 +51,7 @@ class Problem:
     weights: np.ndarray | None
     names: tuple
     disturbance: "Disturbance"
-    prepared: object = None
+    prepared: Any = None
     random_state: int | None = None
 
 
@@ -137,13 +137,13 @@ class Disturbance(abc.ABC):
 
     @abc.abstractmethod
     def reduced_residual(self, design: Callable, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None,
-                         prepared: object) -> tuple[Callable, bool]:
+                         prepared: Any) -> tuple[Callable, bool]:
         """``(residual(phi), scalar)`` for variable projection over the nonlinear parameters.
 
         ``scalar`` is True when the residual is not smooth in phi (then a derivative-free search is used).
         """
 
-    def nuisance_rank(self, prepared: object) -> int:
+    def nuisance_rank(self, prepared: Any) -> int:
         """Dimension the class takes from the residual degrees of freedom (0 when not a subspace)."""
         return 0
 
@@ -157,7 +157,7 @@ class Disturbance(abc.ABC):
 
         return MLP(in_dim, hidden, depth)
 
-    def network_layer(self, Fn: object, sw: object, prepared: object) -> tuple[Callable, object]:
+    def network_layer(self, Fn: Any, sw: Any, prepared: Any) -> tuple[Callable, Any]:
         """``(layer, F_perp)`` for the network solver: ``layer(h)`` confines the network output to the
         class; ``F_perp`` (or None) is the part of the scaled columns ``Fn`` outside the class, when
         the loss splits into a theta part and a network part. The identity by default (the
@@ -199,22 +199,23 @@ class SubspaceDisturbance(Disturbance):
 
         return fit_linear_class(problem, problem.prepared)
 
-    def identifies(self, F, x) -> Identification:
+    def identifies(self, F: ArrayLike, x: ArrayLike) -> Identification:
         F = np.asarray(F, dtype=float)
         return _identification(F, self.projector(np.asarray(x, dtype=float)).project_out(F), "point")
 
-    def reduced_residual(self, design, x, y, weights, prepared):
+    def reduced_residual(self, design: Callable, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None,
+                         prepared: Any) -> tuple[Callable, bool]:
         from odnn_sep.core.linalg import varpro_residual
 
         return varpro_residual(design, y, project_out=prepared.project_out, weights=weights), False
 
-    def nuisance_rank(self, prepared) -> int:
+    def nuisance_rank(self, prepared: Any) -> int:
         return int(prepared.rank)
 
-    def project_out(self, M, x) -> np.ndarray:
+    def project_out(self, M: np.ndarray, x: ArrayLike) -> np.ndarray:
         return self.projector(np.asarray(x, dtype=float)).project_out(M)
 
-    def network_layer(self, Fn, sw, prepared):
+    def network_layer(self, Fn: Any, sw: Any, prepared: Any) -> tuple[Callable, Any]:
         import torch
 
         # Reparametrise g' = g + P F theta (same class): the loss then splits into a theta part on
@@ -257,7 +258,7 @@ class ConeDisturbance(Disturbance):
     def full_generator_count(self, n: int) -> int:
         """How many generators describe the cone exactly on n samples (fewer: an inner approximation)."""
 
-    def check_inputs(self, x: np.ndarray, weights) -> None:
+    def check_inputs(self, x: np.ndarray, weights: np.ndarray | None) -> None:
         super().check_inputs(x, weights)
         if x.ndim != 1:
             raise InputError(f"{type(self).__name__} needs 1-D x; got shape {x.shape}")
@@ -267,7 +268,7 @@ class ConeDisturbance(Disturbance):
 
         return fit_cone_class(problem)
 
-    def identifies(self, F, x) -> Identification:
+    def identifies(self, F: ArrayLike, x: ArrayLike) -> Identification:
         from odnn_sep.core.projection import Projector
 
         F = np.asarray(F, dtype=float)
@@ -276,7 +277,8 @@ class ConeDisturbance(Disturbance):
         ident = _identification(F, Projector(A).project_out(F[np.argsort(x, kind="stable")]), "set")
         return ident
 
-    def reduced_residual(self, design, x, y, weights, prepared):
+    def reduced_residual(self, design: Callable, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None,
+                         prepared: Any) -> tuple[Callable, bool]:
         from odnn_sep.core import cone
 
         order = np.argsort(x)

@@ -7,21 +7,54 @@ is differentiable by torch.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from types import ModuleType
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.errors import InputError
 
 
 @dataclass(frozen=True)
-class _Term:
+class Term:
+    """One block of columns of a basis: a function (or pre-evaluated matrix) with its column names and,
+    for parametric terms, the nonlinear parameters' start values, bounds and search grid.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> Basis([np.sin], names=["s"]).terms[0].names
+    ('s',)
+    """
+
     fn: Callable | None          # x -> (n,) / (n,p), or fn(x, xp=..., **phi) for parametric terms
     names: tuple[str, ...]
     matrix: np.ndarray | None = None   # pre-evaluated columns
     phi0: dict = field(default_factory=dict)
     bounds: dict = field(default_factory=dict)
     grid: dict | None = None
+
+
+def unique_terms(terms: Iterable[Term]) -> tuple[Term, ...]:
+    """``terms`` as a tuple, or InputError if a column name or a nonlinear parameter name repeats.
+
+    Examples
+    --------
+    >>> unique_terms([Term(fn=None, names=("a",)), Term(fn=None, names=("a",))])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: basis column name 'a' appears twice; names must be unique
+    """
+    terms = tuple(terms)
+    for what, names in (("basis column name", [n for t in terms for n in t.names]),
+                        ("nonlinear parameter name", [k for t in terms for k in t.phi0])):
+        seen = set()
+        for n in names:
+            if n in seen:
+                raise InputError(f"{what} {n!r} appears twice; names must be unique")
+            seen.add(n)
+    return terms
 
 
 class Basis:
@@ -52,12 +85,11 @@ class Basis:
         names = list(names)
         if len(names) != len(funcs):
             raise InputError(f"names has {len(names)} entries but funcs has {len(funcs)}; give one name per function")
-        self._terms: list[_Term] = [_Term(fn=f, names=(n,)) for f, n in zip(funcs, names)]
-        self._check_names()
+        self.terms: tuple[Term, ...] = unique_terms(Term(fn=f, names=(n,)) for f, n in zip(funcs, names))
 
     # -- construction -------------------------------------------------------------------------
     @classmethod
-    def from_matrix(cls, F, names: Sequence[str] | None = None) -> "Basis":
+    def from_matrix(cls, F: ArrayLike, names: Sequence[str] | None = None) -> "Basis":
         """Columns already evaluated at the samples (``x`` is then only used for its length)."""
         F = np.array(F, dtype=float)
         if F.ndim == 1:
@@ -68,35 +100,21 @@ class Basis:
         if len(names) != F.shape[1]:
             raise InputError(f"names has {len(names)} entries but the matrix has {F.shape[1]} columns")
         b = cls()
-        b._terms = [_Term(fn=None, names=tuple(names), matrix=F)]
-        b._check_names()
+        b.terms = unique_terms([Term(fn=None, names=tuple(names), matrix=F)])
         return b
 
     def __add__(self, other: "Basis") -> "Basis":
         if not isinstance(other, Basis):
             return NotImplemented
         out = ParametricBasis.__new__(ParametricBasis) if (self.is_parametric or other.is_parametric) else Basis()
-        out._terms = list(self._terms) + list(other._terms)
-        out._check_names()
+        out.terms = unique_terms(self.terms + other.terms)
         return out
-
-    def _check_names(self) -> None:
-        seen = set()
-        for n in self.names:
-            if n in seen:
-                raise InputError(f"basis column name {n!r} appears twice; names must be unique")
-            seen.add(n)
-        seen = set()
-        for n in self.phi_names:
-            if n in seen:
-                raise InputError(f"nonlinear parameter name {n!r} appears twice; names must be unique")
-            seen.add(n)
 
     # -- properties ---------------------------------------------------------------------------
     @property
     def names(self) -> tuple[str, ...]:
         """Column names, in column order."""
-        return tuple(n for t in self._terms for n in t.names)
+        return tuple(n for t in self.terms for n in t.names)
 
     @property
     def n_columns(self) -> int:
@@ -106,7 +124,7 @@ class Basis:
     @property
     def phi_names(self) -> tuple[str, ...]:
         """Names of the nonlinear parameters (empty for a linear basis)."""
-        return tuple(k for t in self._terms for k in t.phi0)
+        return tuple(k for t in self.terms for k in t.phi0)
 
     @property
     def is_parametric(self) -> bool:
@@ -116,25 +134,25 @@ class Basis:
     @property
     def phi0(self) -> dict:
         """Starting values of phi."""
-        return {k: v for t in self._terms for k, v in t.phi0.items()}
+        return {k: v for t in self.terms for k, v in t.phi0.items()}
 
     @property
     def bounds(self) -> dict:
         """``name -> (lo, hi)`` for every phi (infinite where none were given)."""
-        return {k: t.bounds.get(k, (-np.inf, np.inf)) for t in self._terms for k in t.phi0}
+        return {k: t.bounds.get(k, (-np.inf, np.inf)) for t in self.terms for k in t.phi0}
 
     @property
     def grid(self) -> dict:
         """``name -> candidate values`` for the multi-start search (phi with a grid only)."""
-        return {k: v for t in self._terms if t.grid for k, v in t.grid.items()}
+        return {k: v for t in self.terms if t.grid for k, v in t.grid.items()}
 
     # -- evaluation ---------------------------------------------------------------------------
-    def evaluate(self, x, phi: dict | None = None, xp=np):
+    def evaluate(self, x: ArrayLike, phi: dict | None = None, xp: ModuleType = np) -> np.ndarray:
         """Return the (n, p) design matrix at ``x`` (with nonlinear parameters ``phi``)."""
         phi = {**self.phi0, **(phi or {})}
         n = x.shape[0]
         cols = []
-        for t in self._terms:
+        for t in self.terms:
             if t.matrix is not None:
                 if t.matrix.shape[0] != n:
                     raise InputError(
@@ -206,6 +224,5 @@ class ParametricBasis(Basis):
                 raise InputError(f"bounds for {k!r} must satisfy lo < hi; got ({lo}, {hi})")
             if not lo <= phi0[k] <= hi:
                 raise InputError(f"phi0[{k!r}] = {phi0[k]} lies outside its bounds ({lo}, {hi})")
-        self._terms = [_Term(fn=fn, names=tuple(names), phi0={k: float(v) for k, v in phi0.items()},
-                             bounds=bounds, grid=grid)]
-        self._check_names()
+        self.terms = unique_terms([Term(fn=fn, names=tuple(names), phi0={k: float(v) for k, v in phi0.items()},
+                                        bounds=bounds, grid=grid)])

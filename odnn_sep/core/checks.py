@@ -2,13 +2,16 @@
 from __future__ import annotations
 
 import warnings
+from typing import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.errors import IdentifiabilityWarning, InputError, NotIdentifiableError, as_float_array
 
 
-def check_xy(x, y, weights=None):
+def check_xy(x: ArrayLike, y: ArrayLike, weights: ArrayLike | None = None
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """Float copies of x (n,) or (n, d), y (n,) and weights (n,) >= 0, with one clear error per problem.
 
     Examples
@@ -30,7 +33,7 @@ def check_xy(x, y, weights=None):
     return x, y, weights
 
 
-def check_basis_matrix(F: np.ndarray, names, n_extra: int = 0) -> None:
+def check_basis_matrix(F: np.ndarray, names: Sequence[str], n_extra: int = 0) -> None:
     """Reject all-zero or duplicated columns and too few samples for the parameter count.
 
     Examples
@@ -91,7 +94,7 @@ def outside_class_report(F: np.ndarray, Fp: np.ndarray) -> tuple[np.ndarray, flo
     return frac, float(s[0] / s[-1]) if s[-1] > 0 else np.inf
 
 
-def check_outside_class(F: np.ndarray, Fp: np.ndarray, names, cls_desc: str) -> dict:
+def check_outside_class(F: np.ndarray, Fp: np.ndarray, names: Sequence[str], cls_desc: str) -> dict:
     """How much of each basis column lies outside the disturbance class; fail if (nearly) none.
 
     Returns diagnostics: per-column outside fraction and the condition number of the projected basis.

@@ -11,11 +11,16 @@ small |c|, so every theta in an interval fits the data equally well. We therefor
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Callable, Sequence
+
 import numpy as np
 from scipy import optimize
 
 from odnn_sep.core.linalg import Projector, solve
 from odnn_sep.errors import check_type
+
+if TYPE_CHECKING:
+    from odnn_sep.core.base import ConeDisturbance
 
 CHI2_1_95 = 3.841458820694124
 
@@ -40,7 +45,7 @@ def thin_knots(inner: np.ndarray) -> np.ndarray:
     return inner[np.unique(np.linspace(0, inner.size - 1, MAX_KNOTS).round().astype(int))]
 
 
-def cone_generators(x: np.ndarray, disturbance) -> tuple[np.ndarray, np.ndarray]:
+def cone_generators(x: np.ndarray, disturbance: ConeDisturbance) -> tuple[np.ndarray, np.ndarray]:
     """Return (A, H): g = A u + H d with u free and d >= 0 spans the cone on the samples.
 
     ``x`` must be sorted increasing; the class's own ``generators`` (see
@@ -92,7 +97,7 @@ def _cp(sol, sigma2: float) -> float:
     return sol[2] + 2.0 * sigma2 * _active(sol[1])
 
 
-def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray):
+def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss).
 
     Examples
@@ -106,7 +111,7 @@ def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray):
     return _ConeLS(A, H)(y)
 
 
-def profile_edge(profile, t0: float, thresh: float, sgn: float) -> float:
+def profile_edge(profile: Callable[[float], float], t0: float, thresh: float, sgn: float) -> float:
     """Edge of ``{t : profile(t) <= thresh}`` on one side (``sgn`` -1 or +1) of ``t0``, which is inside.
 
     Doubles the step until the profile exceeds the threshold (looking a little further first, since
@@ -145,13 +150,49 @@ def profile_edge(profile, t0: float, thresh: float, sgn: float) -> float:
     return inside
 
 
-def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_chi2: float = CHI2_1_95,
-             n_boot: int = 40, random_state=None):
+def bootstrap_excess(design: tuple[np.ndarray, np.ndarray], fit: tuple[np.ndarray, np.ndarray], Fs: np.ndarray,
+                     theta_ls: np.ndarray, sigma2: float, profile_solvers: Sequence[Callable], *, n_boot: int,
+                     random_state: int | None = None) -> np.ndarray:
+    """95 % quantile, per coefficient, of the profile-Cp excess at the true theta over replicates
+    drawn around the fitted model ``A u + H d`` (``design = (A, H)``, ``fit = (u, d)``) with noise
+    variance ``sigma2``.
+
+    ``profile_solvers[j]`` fits the cone model without column j. The replicates use the seed
+    ``random_state`` (0 when None, so a fit is reproducible).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Convex
+    >>> x = np.linspace(-1, 1, 41); F = np.c_[np.sin(5 * x)]
+    >>> A0, H = cone_generators(x, Convex()); A = np.hstack([F, A0])
+    >>> y = x**2 + np.sin(5 * x) + 0.01 * np.random.default_rng(1).standard_normal(41)
+    >>> u, d, rss = cone_lstsq(A, H, y)
+    >>> e = bootstrap_excess((A, H), (u, d), F, u[:1], rss / 30, [_ConeLS(A0, H)], n_boot=5)
+    >>> e.shape, bool(e[0] >= 0)
+    ((1,), True)
+    """
+    (A, H), (u, d) = design, fit
+    p = len(profile_solvers)
+    rng = np.random.default_rng(0 if random_state is None else random_state)
+    full = _ConeLS(A, H)
+    mu = A @ u + H @ d
+    T = np.empty((n_boot, p))
+    for b in range(n_boot):
+        yb = mu + np.sqrt(sigma2) * rng.standard_normal(mu.size)
+        ref_b = _cp(full(yb), sigma2)
+        T[b] = [_cp(profile_solvers[j](yb - theta_ls[j] * Fs[:, j]), sigma2) - ref_b for j in range(p)]
+    return np.quantile(T, 0.95, axis=0)
+
+
+def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDisturbance, *, level_chi2: float = CHI2_1_95,
+             n_boot: int = 40, random_state: int | None = None) -> dict:
     """Least-squares fit and identified intervals; see module docstring.
 
     The profile-RSS excess of a shape-constrained fit is not chi-square distributed (the active set
     moves with theta), so the 95 % threshold is calibrated by a parametric bootstrap around the
-    fitted model (``n_boot`` replicates); it is never below the chi-square(1) threshold.
+    fitted model (``n_boot`` replicates, drawn with seed ``random_state``, 0 when None, so a fit is
+    reproducible); it is never below the chi-square(1) threshold.
 
     Returns a dict with theta_ls, interval (p, 2), theta_mid, g (at theta_mid), rss_min, sigma2,
     active (number of active cone generators).
@@ -179,15 +220,8 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance, *, level_
     solvers = [_ConeLS(np.hstack([Fs[:, [k for k in range(p) if k != j]], A0]), H) for j in range(p)]
     excess = np.full(p, level_chi2 * sigma2)
     if n_boot and sigma2 > 1e-20 * scale / xs.size:
-        rng = np.random.default_rng(random_state)
-        full = _ConeLS(A, H)
-        mu = A @ u + H @ d
-        T = np.empty((n_boot, p))
-        for b in range(n_boot):
-            yb = mu + np.sqrt(sigma2) * rng.standard_normal(xs.size)
-            ref_b = _cp(full(yb), sigma2)
-            T[b] = [_cp(solvers[j](yb - theta_ls[j] * Fs[:, j]), sigma2) - ref_b for j in range(p)]
-        excess = np.maximum(excess, np.quantile(T, 0.95, axis=0))
+        excess = np.maximum(excess, bootstrap_excess((A, H), (u, d), Fs, theta_ls, sigma2, solvers,
+                                                     n_boot=n_boot, random_state=random_state))
 
     cp_min = _cp((u, d, rss_min), sigma2)
     interval = np.empty((p, 2))

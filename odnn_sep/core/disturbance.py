@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from odnn_sep.core.base import Disturbance, Identification, Problem, SubspaceDisturbance
 from odnn_sep.core.checks import outside_class_report
@@ -21,6 +22,9 @@ from odnn_sep.core.projection import BaseProjector, Projector
 from odnn_sep.core.projectors import FFTProjector, LabelProjector, OrbitProjector
 from odnn_sep.core.shapes import Convex, Monotone
 from odnn_sep.errors import InputError
+
+if TYPE_CHECKING:
+    from odnn_sep.core.basis import Basis
 
 __all__ = ["Orthogonal", "Even", "Periodic", "Band", "Subspace", "Convex", "Monotone", "DISTURBANCES"]
 
@@ -66,21 +70,22 @@ class Orthogonal(Disturbance):
 
         return fit_linear_class(problem, None)
 
-    def identifies(self, F, x) -> Identification:
+    def identifies(self, F: ArrayLike, x: ArrayLike) -> Identification:
         F = np.asarray(F, dtype=float)
         frac, cond = outside_class_report(F, F)
         return Identification("none" if cond > 1e10 else "point", frac, cond)
 
-    def reduced_residual(self, design, x, y, weights, prepared):
+    def reduced_residual(self, design: Callable, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None,
+                         prepared: Any) -> tuple[Callable, bool]:
         from odnn_sep.core.linalg import varpro_residual
 
         return varpro_residual(design, y, weights=weights), False
 
-    def project_out(self, M, x) -> np.ndarray:
+    def project_out(self, M: np.ndarray, x: ArrayLike) -> np.ndarray:
         # The class is the orthogonal complement of the physics columns: nothing of F lies in it.
         return M
 
-    def network_layer(self, Fn, sw, prepared):
+    def network_layer(self, Fn: Any, sw: Any, prepared: Any) -> tuple[Callable, Any]:
         import torch
 
         # paper Eq. 3 in the (weighted) empirical inner product <a, b> = sum w a b, so that the
@@ -257,7 +262,7 @@ class Subspace(SubspaceDisturbance):
     """
 
 
-    def __init__(self, G):
+    def __init__(self, G: ArrayLike | Basis):
         self.G = G
 
     def describe(self) -> str:

@@ -129,14 +129,7 @@ def solve(A: ArrayLike, b: ArrayLike, *, weights: ArrayLike | None = None, rcond
     [0j, (1+2j)]
     """
     check_option("method", method, ("auto", "cholesky", "qr", "lstsq"))
-    A = np.asarray(A)
-    b = np.asarray(b)
-    if A.dtype.kind not in "fc":
-        A = A.astype(float)
-    if b.dtype.kind not in "fc":
-        b = b.astype(float)
-    if A.ndim != 2 or b.ndim not in (1, 2) or b.shape[0] != A.shape[0]:
-        raise InputError(f"solve needs A (n, p) and b (n,) or (n, k) with the same n; got {A.shape} and {b.shape}")
+    A, b = _design_and_data(A, b)
     Aw, bw = _whiten(A, b, weights)
     if method == "lstsq":
         theta, _, rank, _ = np.linalg.lstsq(Aw, bw, rcond=None)
@@ -153,15 +146,37 @@ def solve(A: ArrayLike, b: ArrayLike, *, weights: ArrayLike | None = None, rcond
     return LstsqSolution(theta, cov, rank) if return_cov else theta
 
 
+def _design_and_data(A, b) -> tuple[np.ndarray, np.ndarray]:
+    """``A`` (n, p) and ``b`` (n,) or (n, k) as float or complex arrays with the same n, else InputError."""
+    A = np.asarray(A)
+    b = np.asarray(b)
+    if A.dtype.kind not in "fc":
+        A = A.astype(float)
+    if b.dtype.kind not in "fc":
+        b = b.astype(float)
+    if A.ndim != 2 or b.ndim not in (1, 2) or b.shape[0] != A.shape[0]:
+        raise InputError(f"solve needs A (n, p) and b (n,) or (n, k) with the same n; got {A.shape} and {b.shape}")
+    return A, b
+
+
 class GramFactor:
     """Cholesky factor of a Jacobi-scaled Gram matrix ``G / (d d^T)``, ``d = sqrt(diag G)``.
 
     ``rcond`` is ``(min diag L / max diag L)^2``, a cheap estimate of 1 / cond of the scaled
     matrix (0 when ``G`` is not numerically positive definite); compare it with ``1 / max_cond``
-    before trusting :meth:`solve`. Build it with :func:`factor_gram` (which has an example).
+    before trusting :meth:`solve`. Build it with :func:`factor_gram`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fac = factor_gram(np.array([[4.0, 2.0], [2.0, 2.0]]))
+    >>> fac.ok, round(fac.rcond, 6), fac.solve(np.array([6.0, 4.0])).round(12).tolist()
+    (True, 0.5, [1.0, 1.0])
+    >>> factor_gram(np.array([[1.0, 1.0], [1.0, 1.0]])).rcond     # singular: 0, solve by QR instead
+    0.0
     """
 
-    def __init__(self, factor, scale: np.ndarray, rcond: float):
+    def __init__(self, factor: tuple[np.ndarray, bool] | None, scale: np.ndarray, rcond: float):
         self.factor, self.scale, self.rcond = factor, scale, rcond
 
     @property

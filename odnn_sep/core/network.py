@@ -10,15 +10,20 @@ from __future__ import annotations
 
 import logging
 import warnings
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
 
+if TYPE_CHECKING:
+    from odnn_sep.core.base import Disturbance
+
 log = logging.getLogger(__name__)
 
 
-def fit_network(F, x, y, dist, projector, **kw):
+def fit_network(F: np.ndarray, x: np.ndarray, y: np.ndarray, dist: Disturbance, projector: object,
+                **kw: Any) -> dict:
     """Train the class's network jointly with theta (keywords: weights, random_state, epochs, lr, hidden,
     depth, lbfgs_iter, progress). Returns the solver dict without standard errors (see ``NetworkSolver``).
 
@@ -27,8 +32,8 @@ def fit_network(F, x, y, dist, projector, **kw):
     >>> import numpy as np
     >>> from odnn_sep.core import Orthogonal
     >>> x = np.linspace(-1, 1, 50)
-    >>> out = fit_network(np.c_[x], x, 2 * x + np.cos(3 * x), Orthogonal(), None, epochs=20)  # doctest: +SKIP
-    >>> round(float(out["theta"][0]), 3)                                                  # doctest: +SKIP
+    >>> out = fit_network(np.c_[x], x, 2 * x + np.cos(3 * x), Orthogonal(), None, epochs=20)
+    >>> round(float(out["theta"][0]), 3)
     2.0
     """
     import torch
@@ -60,8 +65,10 @@ def _lbfgs(params, loss_fn, *, max_iter, history_size):
 
 def _fit_network(F, x, y, dist, projector, *, weights=None, random_state=None, epochs=1500, lr=1e-2,
                  hidden=32, depth=3, lbfgs_iter=300, progress=False):
-    """Body of :func:`fit_network`. More than 8 parameters: the problem's five arrays and objects
-    plus one keyword per training knob of the paper's solver, each passed through unchanged."""
+    """Body of :func:`fit_network`.
+
+    Why long (13 parameters): the problem's five arrays and objects plus one keyword per training
+    knob of the paper's solver, each passed through unchanged from :class:`NetworkSolver`."""
     import torch
 
     torch.manual_seed(0 if random_state is None else int(random_state))

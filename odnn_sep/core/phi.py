@@ -8,11 +8,16 @@ from __future__ import annotations
 
 import itertools
 import warnings
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from odnn_sep.core.linalg import standard_errors, varpro
 from odnn_sep.errors import IdentifiabilityWarning, InputError
+
+if TYPE_CHECKING:
+    from odnn_sep.core.base import Disturbance
+    from odnn_sep.core.basis import Basis
 
 __all__ = ["MAX_GRID_POINTS", "phi_starts", "fit_phi"]
 
@@ -20,7 +25,8 @@ __all__ = ["MAX_GRID_POINTS", "phi_starts", "fit_phi"]
 MAX_GRID_POINTS = 5000
 
 
-def phi_starts(basis, cost, *, n_starts: int, random_state=None) -> list[np.ndarray]:
+def phi_starts(basis: Basis, cost: Callable[[np.ndarray], float] | None, *, n_starts: int,
+               random_state: int | None = None) -> list[np.ndarray]:
     """Starting points for the phi search: phi0, then the 3 best grid points (when the basis has a
     grid) or ``n_starts - 1`` uniform draws inside finite bounds.
 
@@ -46,12 +52,13 @@ def phi_starts(basis, cost, *, n_starts: int, random_state=None) -> list[np.ndar
         costs = [cost(np.array(c)) for c in cand]
         starts += [np.array(cand[i]) for i in np.argsort(costs)[:3]]
     elif np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and n_starts > 1:
-        rng = np.random.default_rng(random_state)
+        rng = np.random.default_rng(0 if random_state is None else random_state)   # reproducible by default
         starts += [lo + (hi - lo) * rng.random(len(keys)) for _ in range(n_starts - 1)]
     return starts
 
 
-def fit_phi(basis, dist, x, y, weights, prepared, *, n_starts: int, random_state=None) -> tuple[dict, dict]:
+def fit_phi(basis: Basis, dist: Disturbance, x: np.ndarray, y: np.ndarray, weights: np.ndarray | None,
+            prepared: object, *, n_starts: int, random_state: int | None = None) -> tuple[dict, dict]:
     """Best phi by variable projection; returns ``(phi, {"stderr": ..., "diagnostics": ...})``.
 
     Standard errors come from the Jacobian of the reduced residual (point-identified classes only;

@@ -7,6 +7,8 @@ built from explicit columns (SVD or QR), optionally in a weighted inner product.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -42,7 +44,7 @@ class BaseProjector:
         """``(I - P) v``: what the subspace cannot express."""
         return v - self.project(v)
 
-    def project_torch(self, v):  # pragma: no cover - interface
+    def project_torch(self, v: Any) -> Any:  # pragma: no cover - interface
         """``P v`` for a torch tensor (used by the network solver's projection layer)."""
         raise NotImplementedError
 
@@ -50,7 +52,7 @@ class BaseProjector:
         """Same as :meth:`project` (the name the disturbance classes have always used)."""
         return self.project(v)
 
-    def apply_torch(self, v):
+    def apply_torch(self, v: Any) -> Any:
         """Same as :meth:`project_torch`."""
         return self.project_torch(v)
 
@@ -160,7 +162,7 @@ class Projector(BaseProjector):
         sw = self._sw if np.ndim(v) == 1 else self._sw[:, None]
         return self._B @ (self._QH @ (sw * v))
 
-    def project_torch(self, v):
+    def project_torch(self, v: Any) -> Any:
         import torch
 
         if self._sw is not None:

@@ -6,6 +6,8 @@ the :class:`~odnn_sep.core.projection.BaseProjector` interface.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from odnn_sep.core.projection import BaseProjector
@@ -30,10 +32,10 @@ class OrbitProjector(BaseProjector):
         # number of orbits = rank of the averaging projector
         self.rank = int(round(sum(float((p == np.arange(n)).sum()) for p in perms) / len(perms)))
 
-    def project(self, v):
+    def project(self, v: np.ndarray) -> np.ndarray:
         return sum(v[p] for p in self.perms) / len(self.perms)
 
-    def project_torch(self, v):
+    def project_torch(self, v: Any) -> Any:
         import torch
         return sum(v[torch.as_tensor(p)] for p in self.perms) / len(self.perms)
 
@@ -53,7 +55,7 @@ class LabelProjector(BaseProjector):
         self.counts = np.bincount(labels).astype(float)
         self.rank = int((self.counts > 0).sum())
 
-    def project(self, v):
+    def project(self, v: np.ndarray) -> np.ndarray:
         v = np.asarray(v)
         if v.ndim == 1:
             return (np.bincount(self.labels, weights=v, minlength=self.counts.size) / np.maximum(self.counts, 1))[self.labels]
@@ -62,7 +64,7 @@ class LabelProjector(BaseProjector):
             out[:, k] = self.project(v[:, k])
         return out
 
-    def project_torch(self, v):
+    def project_torch(self, v: Any) -> Any:
         import torch
         lab = torch.as_tensor(self.labels)
         sums = torch.zeros(self.counts.size, dtype=v.dtype).index_add(0, lab, v)
@@ -89,12 +91,12 @@ class FFTProjector(BaseProjector):
             weights[-1] = 1
         self.rank = int((weights * mask).sum())
 
-    def project(self, v):
+    def project(self, v: np.ndarray) -> np.ndarray:
         v = np.asarray(v, dtype=float)
         m = self.mask if v.ndim == 1 else self.mask[:, None]
         return np.fft.irfft(np.fft.rfft(v, axis=0) * m, n=self.n, axis=0)
 
-    def project_torch(self, v):
+    def project_torch(self, v: Any) -> Any:
         import torch
         m = torch.as_tensor(self.mask, dtype=v.dtype)
         return torch.fft.irfft(torch.fft.rfft(v) * m, n=self.n)

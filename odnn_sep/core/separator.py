@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import inspect
 import logging
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -43,7 +44,8 @@ class Separator:
         it must agree with the exact solver where both apply. Any name registered with
         :func:`~odnn_sep.core.solvers.register_solver`, or a :class:`~odnn_sep.core.solvers.Solver`.
     random_state : int, optional
-        Seed for the network solver, the cone bootstrap and the multi-start search.
+        Seed for the network solver, the cone bootstrap and the multi-start search; None means 0, so
+        the same data and options always give the same result.
     n_starts : int
         Random starts for nonlinear parameters without a grid.
     epochs : int
@@ -109,7 +111,7 @@ class Separator:
             out[name] = value
         return out
 
-    def set_params(self, **params) -> "Separator":
+    def set_params(self, **params: Any) -> "Separator":
         """Set constructor parameters (``name__sub`` reaches into a parameter with ``set_params``); returns self.
 
         Examples

@@ -39,7 +39,7 @@ class Convex(ConeDisturbance):
     def full_generator_count(self, n: int) -> int:
         return n - 2
 
-    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
+    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3) -> object:
         from odnn_sep.core.nets import ICNN
 
         return ICNN(in_dim, hidden, depth)
@@ -70,7 +70,7 @@ class Monotone(ConeDisturbance):
     def full_generator_count(self, n: int) -> int:
         return n - 1
 
-    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3):
+    def network(self, in_dim: int = 1, hidden: int = 32, depth: int = 3) -> object:
         from odnn_sep.core.nets import MonotoneMLP
 
         # monotone in the original x: the solver's standardisation keeps the direction (scale > 0)

@@ -8,7 +8,7 @@ a better-conditioned problem. Re-exported by :mod:`odnn_sep.core.linalg`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -70,7 +70,17 @@ def varpro_residual(design: Callable[[np.ndarray], np.ndarray], y: ArrayLike, *,
 class VarproResult:
     """Best of a multi-start search: ``phi`` (q,), its ``cost`` (sum of squared residuals), the
     optimizer's result (``.jac`` is the residual Jacobian for least-squares searches) and the
-    number of starts tried; :func:`varpro` has an example."""
+    number of starts tried.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 1, 40)
+    >>> resid = varpro_residual(lambda v: np.exp(-v[0] * t)[:, None], 2 * np.exp(-3 * t))
+    >>> fit = varpro(resid, [np.array([1.0]), np.array([5.0])], (np.array([0.0]), np.array([10.0])))
+    >>> round(float(fit.phi[0]), 6), bool(fit.cost < 1e-20), fit.n_starts
+    (3.0, True, 2)
+    """
 
     phi: np.ndarray
     cost: float
@@ -78,14 +88,14 @@ class VarproResult:
     n_starts: int
 
     @property
-    def jac(self):
+    def jac(self) -> np.ndarray | None:
         """Jacobian of the reduced residual at phi (None for a scalar search)."""
         return getattr(self.result, "jac", None)
 
 
 def varpro(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, bounds: tuple[ArrayLike, ArrayLike], *,
            scalar: bool = False,
-           **options) -> VarproResult:
+           **options: Any) -> VarproResult:
     """Minimise ``sum(residual(phi)^2)`` over phi inside ``bounds`` from several starts; keep the best.
 
     Parameters

@@ -12,6 +12,23 @@ from odnn_sep.io_read import count_lines, load_npz_arrays, looks_binary, pick_co
 from odnn_sep.io_utils import check_input_path
 
 
+def _load_field(p: Path, value_name: list | None):
+    """The NPZ branch of :func:`load_signal`: grid axes x, y and the field z (ny, nx), flattened."""
+    d = load_npz_arrays(p, max_points=True)
+    x, y, z = d["x"], d["y"], d["z"]
+    if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
+        raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
+                         "(x and y 1-D grid axes)")
+    limits.check("points", z.size, f"the field in {str(p)!r} has {z.shape[0]} x {z.shape[1]} points; its size")
+    check_finite("x", x)
+    check_finite("y", y)
+    check_finite("z", z)
+    X, Y = np.meshgrid(x, y)
+    if value_name is not None:
+        value_name.append("z")
+    return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
+
+
 def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):
     """Return (coords, values, coord_names, grid_shape).
 
@@ -19,22 +36,19 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     0 where 0 is x; default 1). NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the
     (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``). If ``value_name``
     is a list, the value column's name is appended to it (for labels).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "signal.csv")
+    >>> _ = open(path, "w").write(chr(10).join(["t,v", "0,1", "1,3", "2,5"]))
+    >>> coords, values, names, shape = load_signal(path)
+    >>> values.tolist(), names
+    ([1.0, 3.0, 5.0], ('t',))
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
-        d = load_npz_arrays(p, max_points=True)
-        x, y, z = d["x"], d["y"], d["z"]
-        if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
-            raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
-                             "(x and y 1-D grid axes)")
-        limits.check("points", z.size, f"the field in {str(p)!r} has {z.shape[0]} x {z.shape[1]} points; its size")
-        check_finite("x", x)
-        check_finite("y", y)
-        check_finite("z", z)
-        X, Y = np.meshgrid(x, y)
-        if value_name is not None:
-            value_name.append("z")
-        return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
+        return _load_field(p, value_name)
     if p.suffix.lower() not in (".csv", ".txt", ".tsv", ""):
         raise FormatError(f"{str(p)!r} has extension {p.suffix!r}; give a .csv (header; first column x) or an "
                           ".npz with arrays x, y, z")
@@ -74,7 +88,19 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
 
 
 def write_components(out, x, y, res) -> None:
-    """CSV with coordinates, data, physics, disturbance and residual columns (atomic)."""
+    """CSV with coordinates, data, physics, disturbance and residual columns (atomic).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 5); y = 2 * x + x**2
+    >>> res = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, y).result_
+    >>> out = os.path.join(tempfile.mkdtemp(), "parts.csv")
+    >>> write_components(out, x, y, res)
+    >>> open(out).readline().strip()
+    'x,y,physics,disturbance,residual'
+    """
     from odnn_sep.io_utils import atomic_output, check_output_path
 
     check_output_path(out)

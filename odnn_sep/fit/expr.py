@@ -72,59 +72,72 @@ def _check_tree(expr: str, tree: ast.Expression, coords) -> None:
             _fail(expr, f"has more than {MAX_NODES} parts; split it into several --basis terms")
         if depth > MAX_DEPTH:
             _fail(expr, f"is nested more than {MAX_DEPTH} levels deep; simplify it")
-        if isinstance(node, ast.BinOp):
-            if type(node.op) not in _BINOPS:
-                _fail(expr, f"uses the operator {_NAMES.get(type(node.op), type(node.op).__name__)!r}, which is "
-                      "not allowed; use + - * / ** %")
-            children = [node.left, node.right]
-        elif isinstance(node, ast.UnaryOp):
-            if type(node.op) not in _UNARY:
-                _fail(expr, f"uses {_NAMES.get(type(node.op), type(node.op).__name__)!r}, which is not allowed")
-            children = [node.operand]
-        elif isinstance(node, ast.Compare):
-            if len(node.ops) != 1:
-                _fail(expr, "chains comparisons (a < b < c); write where(a < b, where(b < c, 1, 0), 0) instead")
-            if type(node.ops[0]) not in _COMPARE:
-                _fail(expr, f"uses the comparison {_NAMES.get(type(node.ops[0]), '?')!r}; only < <= > >= are allowed")
-            children = [node.left, *node.comparators]
-        elif isinstance(node, ast.Call):
-            if not isinstance(node.func, ast.Name):
-                _fail(expr, "calls something that is not an allowed function")
-            name = node.func.id
-            if name not in FUNCS:
-                hint = difflib.get_close_matches(name, sorted(FUNCS), n=1)
-                extra = f" (did you mean {hint[0]!r}?)" if hint else ""
-                _fail(expr, f"calls unknown function {name!r}{extra}; allowed functions: {sorted(FUNCS)}")
-            if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
-                _fail(expr, f"passes keyword or starred arguments to {name!r}; give plain arguments")
-            if len(node.args) != ARITY.get(name, 1):
-                _fail(expr, f"calls {name!r} with {len(node.args)} argument(s); it takes {ARITY.get(name, 1)}")
-            children = list(node.args)
-        elif isinstance(node, ast.Name):
-            if node.id in FUNCS:  # call positions are not walked, so this is a bare function name
-                _fail(expr, f"uses the function {node.id!r} without calling it; write e.g. {node.id}(x)")
-            if node.id not in allowed:
-                hint = difflib.get_close_matches(node.id, sorted(allowed), n=1)
-                extra = f" (did you mean {hint[0]!r}?)" if hint else ""
-                _fail(expr, f"uses unknown name {node.id!r}{extra}; allowed: coordinates {list(coords)}, "
-                      f"functions {sorted(FUNCS)}, constants pi, e")
-            children = []
-        elif isinstance(node, ast.Constant):
-            v = node.value
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                _fail(expr, f"contains {v!r}, which is not a number")
-            try:
-                fv = float(v)
-            except OverflowError:
-                fv = float("inf")
-            if not abs(fv) <= MAX_LITERAL:
-                _fail(expr, f"contains a number too large to use (limit {MAX_LITERAL:g})")
-            children = []
-        else:
-            what = {"Constant": "a constant"}.get(type(node).__name__, type(node).__name__)
-            _fail(expr, f"uses {what}, which is not allowed; use arithmetic and functions like sin, cos, exp, "
-                  "log, sqrt")
-        stack.extend((c, depth + 1) for c in children)
+        stack.extend((c, depth + 1) for c in _checked_children(expr, node, allowed, coords))
+
+
+def _checked_children(expr: str, node, allowed: set, coords) -> list:
+    """The operands of ``node`` after checking that the node itself is allowed."""
+    if isinstance(node, ast.BinOp):
+        if type(node.op) not in _BINOPS:
+            _fail(expr, f"uses the operator {_NAMES.get(type(node.op), type(node.op).__name__)!r}, which is "
+                  "not allowed; use + - * / ** %")
+        return [node.left, node.right]
+    if isinstance(node, ast.UnaryOp):
+        if type(node.op) not in _UNARY:
+            _fail(expr, f"uses {_NAMES.get(type(node.op), type(node.op).__name__)!r}, which is not allowed")
+        return [node.operand]
+    if isinstance(node, ast.Compare):
+        if len(node.ops) != 1:
+            _fail(expr, "chains comparisons (a < b < c); write where(a < b, where(b < c, 1, 0), 0) instead")
+        if type(node.ops[0]) not in _COMPARE:
+            _fail(expr, f"uses the comparison {_NAMES.get(type(node.ops[0]), '?')!r}; only < <= > >= are allowed")
+        return [node.left, *node.comparators]
+    if isinstance(node, ast.Call):
+        _check_call(expr, node)
+        return list(node.args)
+    if isinstance(node, ast.Name):
+        _check_name(expr, node.id, allowed, coords)
+        return []
+    if isinstance(node, ast.Constant):
+        _check_number(expr, node.value)
+        return []
+    what = {"Constant": "a constant"}.get(type(node).__name__, type(node).__name__)
+    _fail(expr, f"uses {what}, which is not allowed; use arithmetic and functions like sin, cos, exp, log, sqrt")
+
+
+def _check_call(expr: str, node: ast.Call) -> None:
+    if not isinstance(node.func, ast.Name):
+        _fail(expr, "calls something that is not an allowed function")
+    name = node.func.id
+    if name not in FUNCS:
+        hint = difflib.get_close_matches(name, sorted(FUNCS), n=1)
+        extra = f" (did you mean {hint[0]!r}?)" if hint else ""
+        _fail(expr, f"calls unknown function {name!r}{extra}; allowed functions: {sorted(FUNCS)}")
+    if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
+        _fail(expr, f"passes keyword or starred arguments to {name!r}; give plain arguments")
+    if len(node.args) != ARITY.get(name, 1):
+        _fail(expr, f"calls {name!r} with {len(node.args)} argument(s); it takes {ARITY.get(name, 1)}")
+
+
+def _check_name(expr: str, name: str, allowed: set, coords) -> None:
+    if name in FUNCS:  # call positions are not walked, so this is a bare function name
+        _fail(expr, f"uses the function {name!r} without calling it; write e.g. {name}(x)")
+    if name not in allowed:
+        hint = difflib.get_close_matches(name, sorted(allowed), n=1)
+        extra = f" (did you mean {hint[0]!r}?)" if hint else ""
+        _fail(expr, f"uses unknown name {name!r}{extra}; allowed: coordinates {list(coords)}, "
+              f"functions {sorted(FUNCS)}, constants pi, e")
+
+
+def _check_number(expr: str, v) -> None:
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        _fail(expr, f"contains {v!r}, which is not a number")
+    try:
+        fv = float(v)
+    except OverflowError:
+        fv = float("inf")
+    if not abs(fv) <= MAX_LITERAL:
+        _fail(expr, f"contains a number too large to use (limit {MAX_LITERAL:g})")
 
 
 def _evaluate(expr: str, node, env):
@@ -155,6 +168,16 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
     the functions in ``FUNCS`` are accepted, within the bounds ``MAX_CHARS``, ``MAX_NODES``,
     ``MAX_DEPTH``, ``MAX_EXPONENT`` and ``MAX_LITERAL``; anything else is an InputError.
     A column that is not finite everywhere is an InputError naming the first bad point.
+
+    Examples
+    --------
+    >>> f = compile_expression("sin(2*pi*x) + where(x > 0.5, 1, 0)", ("x",))
+    >>> f(np.array([0.25, 0.75])).round(12).tolist()
+    [1.0, 0.0]
+    >>> compile_expression("__import__('os')", ("x",))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: basis expression "__import__('os')" calls unknown function '__import__'; allowed functions: [...]
     """
     tree = _parse(expr)
     _check_tree(expr, tree, tuple(coords))
@@ -201,7 +224,14 @@ def basis_from_expressions(exprs, coords=("x",), names=None):
 
 
 def parse_disturbance(spec: str, ndim: int = 1):
-    """'orthogonal' | 'even[:c]' | 'even:cx,cy' | 'periodic:P' | 'band:LO:HI' | 'convex' | 'monotone[:dec]'."""
+    """The disturbance class named by ``spec``: 'orthogonal' | 'even[:c]' | 'even:cx,cy' | 'periodic:P' |
+    'band:LO:HI' | 'convex' | 'monotone[:dec]' (``ndim``: dimension of the coordinates, for ``even``).
+
+    Examples
+    --------
+    >>> parse_disturbance("periodic:2.5").describe(), parse_disturbance("monotone:dec").increasing
+    ('periodic with period 2.5', False)
+    """
     from odnn_sep.core import Band, Convex, Even, Monotone, Orthogonal, Periodic
 
     kinds = ["orthogonal", "even", "periodic", "band", "convex", "monotone"]

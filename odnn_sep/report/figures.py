@@ -3,7 +3,13 @@ from __future__ import annotations
 
 
 def pyplot():
-    """Return matplotlib.pyplot on the non-interactive Agg backend (no display needed)."""
+    """Return matplotlib.pyplot on the non-interactive Agg backend (no display needed).
+
+    Examples
+    --------
+    >>> pyplot().get_backend().lower()
+    'agg'
+    """
     import matplotlib
 
     matplotlib.use("Agg", force=True)
@@ -13,7 +19,18 @@ def pyplot():
 
 
 def save_figure(fig, out) -> None:
-    """Write ``fig`` to ``out`` atomically and close it."""
+    """Write ``fig`` to ``out`` atomically and close it.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> fig, ax = pyplot().subplots()
+    >>> _ = ax.plot([0, 1], [1, 0])
+    >>> out = os.path.join(tempfile.mkdtemp(), "line.png")
+    >>> save_figure(fig, out)
+    >>> open(out, "rb").read(4)
+    b'\x89PNG'
+    """
     from odnn_sep.io_utils import atomic_output, check_output_path
 
     check_output_path(out)

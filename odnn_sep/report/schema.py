@@ -22,7 +22,15 @@ _CONTEXT: list[dict] = []
 
 @contextlib.contextmanager
 def run_context(command: str, options: dict):
-    """Within the block, reports written with ``write_json`` get this run's header."""
+    """Within the block, reports written with ``write_json`` get this run's header.
+
+    Examples
+    --------
+    >>> with run_context("separate", {"solver": "exact"}):
+    ...     head = with_header({"theta": [1.0]})
+    >>> head["schema"], head["options"], head["theta"]
+    ('odnn-sep/separate', {'solver': 'exact'}, [1.0])
+    """
     _CONTEXT.append({"command": command, "options": _plain_options(options)})
     try:
         yield
@@ -45,7 +53,13 @@ def _plain_options(options: dict) -> dict:
 
 
 def with_header(obj):
-    """``obj`` with the current run's header in front (unchanged outside a CLI run)."""
+    """``obj`` with the current run's header in front (unchanged outside a CLI run).
+
+    Examples
+    --------
+    >>> with_header({"theta": [1.0]})        # no run context: unchanged
+    {'theta': [1.0]}
+    """
     if not _CONTEXT or not isinstance(obj, dict):
         return obj
     ctx = _CONTEXT[-1]
@@ -72,8 +86,15 @@ COMMANDS = ("denoise", "unwatermark", "mismatch", "separate", "simulate", "batch
 
 
 def load_schema(command: str) -> dict:
-    """The JSON Schema (draft 2020-12) of ``command``'s report, as shipped in the package."""
-    if command not in COMMANDS:
-        raise ValueError(f"no report schema for {command!r}; commands: {', '.join(COMMANDS)}")
+    """The JSON Schema (draft 2020-12) of ``command``'s report, as shipped in the package.
+
+    Examples
+    --------
+    >>> load_schema("separate")["properties"]["schema"]["const"]
+    'odnn-sep/separate'
+    """
+    from odnn_sep.errors import check_option
+
+    check_option("command", command, COMMANDS)
     text = resources.files("odnn_sep.report").joinpath("schemas", f"{command}.schema.json").read_text()
     return json.loads(text)

@@ -17,7 +17,15 @@ MAX_BAND_TERMS = 4  # the band's corners grow as 2**terms
 
 
 def physics_band(F, res):
-    """(low, high) of the physics over the corners of theta's intervals, or None if unavailable."""
+    """(low, high) of the physics over the corners of theta's intervals, or None if unavailable.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> lo, hi = physics_band(np.c_[np.ones(2), [0.0, 1.0]], SimpleNamespace(interval=[[1, 2], [0, 1]]))
+    >>> lo.tolist(), hi.tolist()
+    ([1.0, 1.0], [2.0, 3.0])
+    """
     if F is None or res.interval is None:
         return None
     iv = np.asarray(res.interval, dtype=float).reshape(-1, 2)
@@ -43,6 +51,17 @@ def plot_separation(x, y, res, grid_shape, out, *, F=None, x_name="x", y_name="v
     grid_shape : (ny, nx) for a 2-D field, None for a 1-D signal
     F : (n, k) basis matrix at ``x`` (draws the interval band in 1-D), optional
     x_name, y_name : axis names from the input file (units are those of the data)
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.core import Basis, Even, Separator
+    >>> x = np.linspace(-1, 1, 41); y = 2 * x + x**2
+    >>> res = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, y).result_
+    >>> out = os.path.join(tempfile.mkdtemp(), "fit.png")
+    >>> plot_separation(x, y, res, None, out, F=np.c_[x])
+    >>> os.path.getsize(out) > 0
+    True
     """
     plt = pyplot()
     if grid_shape is None:

@@ -19,7 +19,7 @@ Examples
 import importlib
 
 _WHERE = {
-    "Dataset": "_base",
+    "Dataset": "dataset",
     "explicit_1d": "explicit", "explicit_2d": "explicit",
     "implicit_convex": "implicit", "implicit_periodic": "implicit", "implicit_symmetric": "implicit",
     "implicit_monotone": "implicit", "figure2": "implicit",
@@ -47,11 +47,17 @@ def __getattr__(name):
 
 
 def make_dataset(name: str, **kwargs):
-    """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options."""
-    if name not in NAMES and name not in SYSTEMS:
-        from odnn_sep.errors import InputError
+    """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options.
 
-        raise InputError(f"unknown dataset {name!r}; choose one of {', '.join(NAMES + SYSTEMS)}")
+    Examples
+    --------
+    >>> ds = make_dataset("explicit_1d", random_state=3)
+    >>> ds.name, ds.identified, type(ds.disturbance).__name__
+    ('explicit_1d', 'point', 'Band')
+    """
+    from odnn_sep.errors import check_option
+
+    check_option("dataset", name, NAMES + SYSTEMS)
     return __getattr__(name)(**kwargs)
 
 

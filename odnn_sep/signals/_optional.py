@@ -1,27 +1,5 @@
-"""Lazy imports of the heavy optional packages behind the grid and robotics datasets."""
-from __future__ import annotations
+"""Former name of :mod:`odnn_sep.signals.optional`; kept so that imports written before the rename work."""
+from odnn_sep.errors import MissingDependencyError
+from odnn_sep.signals.optional import require
 
-import importlib
-
-from odnn_sep.errors import OdnnSepError
-
-
-class MissingDependencyError(OdnnSepError, ImportError):
-    """An optional package a dataset needs is not installed."""
-
-
-def require(module: str, extra: str, what: str):
-    """Import ``module`` or raise a one-line error that names the pip extra to install.
-
-    Examples
-    --------
-    >>> require("numpy", "grid", "the test").__name__
-    'numpy'
-    """
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        raise MissingDependencyError(
-            f"{what} needs the optional package {module.split('.')[0]!r} ({exc.__class__.__name__}: {exc}); "
-            f'install it with: pip install "odnn-sep[{extra}]"'
-        ) from None
+__all__ = ["require", "MissingDependencyError"]

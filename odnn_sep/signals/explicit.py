@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.core import Band, Basis, Orthogonal
-from odnn_sep.signals._base import Dataset, check_n, check_theta, make, pick, rng_from
+from odnn_sep.signals.dataset import Dataset, check_n, check_theta, make, pick, rng_from
 
 #: Known physics frequencies (Hz) of :func:`explicit_1d`: deliberately *off* the DFT bins of the
 #: default 10 s record, so their spectra leak and plain least squares is not exactly orthogonal.

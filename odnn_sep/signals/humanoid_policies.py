@@ -9,21 +9,36 @@ from __future__ import annotations
 
 import numpy as np
 
-from odnn_sep.signals._optional import require
+from odnn_sep.signals.optional import require
 
 ACT_DIM, N_FEAT, GAIT_STEPS = 17, 4, 40
 MAX_STEPS = 1000
 
 
 def make_env(frame_skip: int = 5):
-    """``HumanoidStandup-v5`` with the given frame skip (the model ships with the mujoco wheel)."""
+    """``HumanoidStandup-v5`` with the given frame skip (the model ships with the mujoco wheel).
+
+    Examples
+    --------
+    >>> env = make_env(5)
+    >>> env.action_space.shape
+    (17,)
+    >>> env.close()
+    """
     gym = require("gymnasium", "robotics", "the humanoid dataset")
     require("mujoco", "robotics", "the humanoid dataset")
     return gym.make("HumanoidStandup-v5", frame_skip=int(frame_skip), max_episode_steps=MAX_STEPS)
 
 
 class LinearGait:
-    """``a = 0.4 tanh(W phi(obs, t))`` with ``W`` of shape (17, 4)."""
+    """``a = 0.4 tanh(W phi(obs, t))`` with ``W`` of shape (17, 4).
+
+    Examples
+    --------
+    >>> a = LinearGait(np.ones(68))(z=1.0, z0=1.0, t=0, rng=None)
+    >>> a.shape, bool(np.all(np.abs(a) <= 0.4))
+    ((17,), True)
+    """
 
     def __init__(self, W: np.ndarray):
         self.W = np.asarray(W, dtype=float).reshape(ACT_DIM, N_FEAT)
@@ -35,15 +50,38 @@ class LinearGait:
 
 
 def zero_policy(z, z0, t, rng):
+    """No action (the humanoid lies still).
+
+    Examples
+    --------
+    >>> zero_policy(1.0, 1.0, 0, None).shape
+    (17,)
+    """
     return np.zeros(ACT_DIM)
 
 
 def random_policy(z, z0, t, rng):
+    """Uniform random actions in [-0.4, 0.4].
+
+    Examples
+    --------
+    >>> bool(np.all(np.abs(random_policy(1.0, 1.0, 0, np.random.default_rng(0))) <= 0.4))
+    True
+    """
     return rng.uniform(-0.4, 0.4, ACT_DIM)
 
 
 def rollout(env, policy, steps: int, seed: int, rng) -> dict:
-    """One episode of ``steps`` steps; arrays z_before, z_after, ctrl_sq (sum of squared actions)."""
+    """One episode of ``steps`` steps; arrays z_before, z_after, ctrl_sq (sum of squared actions).
+
+    Examples
+    --------
+    >>> env = make_env(5)
+    >>> rec = rollout(env, zero_policy, 5, seed=0, rng=np.random.default_rng(0))
+    >>> env.close()
+    >>> sorted(rec), rec["ctrl_sq"].tolist()
+    (['ctrl_sq', 'z_after', 'z_before'], [0.0, 0.0, 0.0, 0.0, 0.0])
+    """
     env.reset(seed=int(seed))
     data = env.unwrapped.data
     z0 = float(data.qpos[2])
@@ -63,6 +101,14 @@ def cem(score, *, iters: int, pop: int, elite: int, rng, sigma0: float = 0.5, in
     """Cross-entropy search over the 68 gait weights maximising ``score(LinearGait)``.
 
     Returns the final mean weights and the best score per iteration.
+
+    Examples
+    --------
+    >>> target = np.linspace(-1, 1, 68)
+    >>> score = lambda gait: -float(np.sum((gait.W.ravel() - target) ** 2))
+    >>> mu, history = cem(score, iters=15, pop=40, elite=8, rng=np.random.default_rng(0))
+    >>> bool(history[-1] > history[0])
+    True
     """
     mu = np.zeros(ACT_DIM * N_FEAT) if init is None else np.asarray(init, dtype=float).ravel()
     sd = np.full_like(mu, sigma0)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.core import Basis, Convex, Even, Monotone, Periodic
-from odnn_sep.signals._base import Dataset, check_n, check_theta, make, pick, rng_from
+from odnn_sep.signals.dataset import Dataset, check_n, check_theta, make, pick, rng_from
 
 
 def _cone_interval(dg: np.ndarray, ds: np.ndarray, theta: float) -> tuple[float, float]:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.core import Basis, Even, ParametricBasis, Periodic, Subspace
-from odnn_sep.signals._base import Dataset, check_n, check_theta, make, pick, rng_from
+from odnn_sep.signals.dataset import Dataset, check_n, check_theta, make, pick, rng_from
 
 
 def _periodic_series(rng, w, t, harmonics=3, scale=1.0):
@@ -68,9 +68,34 @@ def pendulum(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0, 
 
 
 def aiba_edwards_mu(S, mu_max, K_S, K_I):
-    """Aiba-Edwards specific growth rate ``mu_max S / (K_S + S) exp(-S / K_I)`` (substrate inhibition)."""
+    """Aiba-Edwards specific growth rate ``mu_max S / (K_S + S) exp(-S / K_I)`` (substrate inhibition).
+
+    Examples
+    --------
+    >>> round(float(aiba_edwards_mu(1.0, 1.0, 1.0, 10.0)), 6)
+    0.452419
+    """
     S = np.asarray(S, dtype=float)
     return mu_max * S / (K_S + S) * np.exp(-S / K_I)
+
+
+def substrate_twin(S: float, mu_max: float, K_S: float, K_I: float) -> float | None:
+    """The other substrate level with the same Aiba-Edwards rate as ``S`` (the rate rises then falls in
+    S), or None when there is none in range.
+
+    Examples
+    --------
+    >>> S2 = substrate_twin(1.0, 1.0, 1.0, 10.0)
+    >>> round(S2, 6), bool(np.isclose(aiba_edwards_mu(S2, 1.0, 1.0, 10.0), aiba_edwards_mu(1.0, 1.0, 1.0, 10.0)))
+    (..., True)
+    """
+    from scipy.optimize import brentq
+
+    mu = aiba_edwards_mu(S, mu_max, K_S, K_I)
+    S_peak = (-K_S + np.sqrt(K_S**2 + 4 * K_S * K_I)) / 2  # d mu / dS = 0
+    f = lambda s: aiba_edwards_mu(s, mu_max, K_S, K_I) - mu  # noqa: E731
+    lo, hi = (S_peak, 50 * K_I) if S < S_peak else (1e-9, S_peak)
+    return float(brentq(f, lo, hi)) if f(lo) * f(hi) < 0 else None
 
 
 def biology(*, days: int = 5, per_day: int = 96, snr_db: float = 30.0, theta: dict | None = None,
@@ -126,16 +151,7 @@ def biology(*, days: int = 5, per_day: int = 96, snr_db: float = 30.0, theta: di
                             grid={"mu": np.linspace(0.05, 2.5, 50)})
     physics = N0 * np.exp(mu * t)
     g = _periodic_series(rng, 2 * np.pi, t, harmonics=4, scale=N0)
-    # the other substrate level with the same rate (Aiba-Edwards is not monotone in S)
-    from scipy.optimize import brentq
-
-    S_peak = (-K_S + np.sqrt(K_S**2 + 4 * K_S * K_I)) / 2  # d mu / dS = 0
-    f = lambda s: aiba_edwards_mu(s, mu_max, K_S, K_I) - mu  # noqa: E731
-    S_twin = None
-    if not (theta and "mu" in theta):
-        lo, hi = (S_peak, 50 * K_I) if S < S_peak else (1e-9, S_peak)
-        if f(lo) * f(hi) < 0:
-            S_twin = float(brentq(f, lo, hi))
+    S_twin = None if theta and "mu" in theta else substrate_twin(S, mu_max, K_S, K_I)
     desc = (f"biology: N0 exp(mu t) + daily periodic disturbance, Aiba-Edwards mu = {mu:.4g}/day; "
             "class Periodic(1 day); S not identifiable from mu (non-monotone rate)")
     return make("biology", t, basis, Periodic(1.0), {"N0": N0, "mu": mu}, physics, g, snr_db, rng, desc,
@@ -249,9 +265,35 @@ HEAT_SOURCES = ((0.22, 0.30), (0.70, 0.58), (0.38, 0.80))
 
 
 def heat_kernel(X, x0, y0, alpha_t):
-    """Free-space 2-D heat kernel of a unit instantaneous source at (x0, y0) after time t."""
+    """Free-space 2-D heat kernel of a unit instantaneous source at (x0, y0) after time t.
+
+    Examples
+    --------
+    >>> g = heat_kernel(np.array([[0.5, 0.5], [0.6, 0.5], [0.5, 0.4]]), 0.5, 0.5, 0.01)
+    >>> bool(g[0] > g[1]), bool(np.isclose(g[1], g[2]))       # radial, largest at the source
+    (True, True)
+    """
     r2 = (X[:, 0] - x0) ** 2 + (X[:, 1] - y0) ** 2
     return np.exp(-r2 / (4 * alpha_t)) / (4 * np.pi * alpha_t)
+
+
+def symmetric_heat(X, L: float, H: float, alpha_t: float, rng) -> tuple[np.ndarray, float, float]:
+    """A disturbance even about the plate's centre in both axes: balanced sources on opposite edges
+    (strengths drawn) and a symmetric ambient field; returns ``(g, Q_left_right, Q_top_bottom)``.
+
+    Examples
+    --------
+    >>> X = np.array([[0.2, 0.3], [0.8, 0.7]])       # mirror images about the centre (0.5, 0.5)
+    >>> g, _, _ = symmetric_heat(X, 1.0, 1.0, 0.01, np.random.default_rng(0))
+    >>> bool(np.isclose(g[0], g[1]))
+    True
+    """
+    Q_lr, Q_tb = rng.uniform(0.5, 2.0), rng.uniform(0.5, 2.0)
+    g = (Q_lr * (heat_kernel(X, 0, H / 2, alpha_t) + heat_kernel(X, L, H / 2, alpha_t))
+         + Q_tb * (heat_kernel(X, L / 2, 0, alpha_t) + heat_kernel(X, L / 2, H, alpha_t))
+         + rng.uniform(0, 2) + rng.uniform(0, 1) * np.cos(2 * np.pi * (X[:, 0] - L / 2) / L)
+         * np.cos(np.pi * (X[:, 1] - H / 2) / H))
+    return g, Q_lr, Q_tb
 
 
 def heat2d(*, nx: int = 41, ny: int = 33, L: float = 1.0, H: float = 0.8, alpha_t: float = 0.01,
@@ -307,11 +349,7 @@ def heat2d(*, nx: int = 41, ny: int = 33, L: float = 1.0, H: float = 0.8, alpha_
     basis = Basis([source(px, py) for px, py in HEAT_SOURCES], names=names)
     th = {nm: pick(rng, theta, nm, 0.5, 2.0) for nm in names}
     physics = basis.evaluate(X) @ np.array([th[k] for k in names])
-    Q_lr, Q_tb = rng.uniform(0.5, 2.0), rng.uniform(0.5, 2.0)
-    g = (Q_lr * (heat_kernel(X, 0, H / 2, alpha_t) + heat_kernel(X, L, H / 2, alpha_t))
-         + Q_tb * (heat_kernel(X, L / 2, 0, alpha_t) + heat_kernel(X, L / 2, H, alpha_t))
-         + rng.uniform(0, 2) + rng.uniform(0, 1) * np.cos(2 * np.pi * (X[:, 0] - L / 2) / L)
-         * np.cos(np.pi * (X[:, 1] - H / 2) / H))
+    g, Q_lr, Q_tb = symmetric_heat(X, L, H, alpha_t, rng)
     desc = (f"heat 2-D: sources at known asymmetric positions {HEAT_SOURCES} (x L, x H) with unknown strengths + "
             "balanced edge sources and symmetric ambient; class Even(center, axes=(0,1))")
     return make("heat2d", X, basis, Even(center=(L / 2, H / 2), axes=(0, 1)), th, physics, g, snr_db, rng, desc,

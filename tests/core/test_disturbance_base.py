@@ -129,11 +129,14 @@ def test_solver_objects_and_registry():
             register_solver("halving-test", Halving)
         register_solver("halving-test", Halving, replace=True)
     finally:
-        solvers_mod._REGISTRY.pop("halving-test", None)
+        solvers_mod.unregister_solver("halving-test")
     with pytest.raises(InputError, match="already registered"):
         register_solver("exact", Halving)
     with pytest.raises(InputError, match="factory must be callable"):
         register_solver("x-test", 3)
+    assert "halving-test" not in solvers_mod.registered_solvers()
+    with pytest.raises(InputError, match="cannot be removed"):
+        solvers_mod.unregister_solver("exact")
     with pytest.raises(InputError, match="registered name or a Solver"):
         Separator(odd, solver=3).fit(x, y)
 

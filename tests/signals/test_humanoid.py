@@ -10,9 +10,12 @@ pytest.importorskip("mujoco", reason="the humanoid dataset needs gymnasium[mujoc
 
 from odnn_sep.core import Basis, Separator, Subspace  # noqa: E402
 from odnn_sep.core.baselines import ols  # noqa: E402
-from odnn_sep.errors import InputError, NotIdentifiableError  # noqa: E402
+from odnn_sep.errors import (  # noqa: E402
+    InputError,
+    MissingDependencyError,  # noqa: E402
+    NotIdentifiableError,
+)
 from odnn_sep.signals import make_dataset  # noqa: E402
-from odnn_sep.signals._optional import MissingDependencyError  # noqa: E402
 from odnn_sep.signals.humanoid import disturbance_columns  # noqa: E402
 
 SMALL = dict(policies=3, episodes=1, steps=60)
@@ -66,7 +69,7 @@ def test_literal_height_reward_is_not_separable_from_sin_z(all_kinds):
 
 
 def test_errors(monkeypatch):
-    with pytest.raises(InputError, match="disturbance must be one of sin, drift, calibration, all"):
+    with pytest.raises(InputError, match="disturbance must be one of 'sin', 'drift', 'calibration', 'all'"):
         make_dataset("humanoid", disturbance="wind")
     with pytest.raises(InputError, match="too few transitions: 40"):
         make_dataset("humanoid", policies=2, episodes=1, steps=20)

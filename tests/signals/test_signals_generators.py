@@ -155,7 +155,7 @@ def test_theta_override_and_heat_grid_is_symmetric():
 @pytest.mark.parametrize(
     "call, match",
     [
-        (lambda: make_dataset("nope"), r"unknown dataset 'nope'; choose one of explicit_1d"),
+        (lambda: make_dataset("nope"), r"dataset must be one of 'explicit_1d', .*; got 'nope'"),
         (lambda: explicit_1d(n=10), r"n must be an integer >= 64; got 10"),
         (lambda: explicit_1d(snr_db="loud"), r"snr_db must be a number in dB \(or inf for no noise\); got 'loud'"),
         (lambda: explicit_1d(snr_db=float("nan")), r"snr_db must be a number in dB"),
