@@ -156,11 +156,11 @@ class PhaseTrack:
         return cyc
 
 
-def track_from_phase(psi: np.ndarray, sr: int, f_ref: float, n_frames: int, hop: int):
-    """A :class:`track.Track` for blocks of ``2 hop`` samples centred at ``b hop`` whose phase is
+def track_from_phase(psi: np.ndarray, f_ref: float, plan):
+    """A :class:`track.Track` for the blocks of ``plan`` (a blockplan.BlockPlan) whose phase is
     ``psi`` (the per-block fundamental, rate and curvature follow from it)."""
-    nb = (n_frames - 1) // hop + 2
-    t = np.arange(nb) * hop / sr
+    sr, hop, nb = plan.sr, plan.hop, plan.count
+    t = plan.centres_s
     tc = chunk_times(len(psi), sr)
     # per block: the mean frequency over the middle half of the block (reports, comb masks)
     f0, rate, curv = block_params(psi, tc, f_ref, t, h=max(0.25, 0.5 * hop / sr))
