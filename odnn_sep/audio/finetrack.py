@@ -76,13 +76,32 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         w = np.minimum(w, 1e8)
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
-        # normalised convolution: the low-pass of the weighted estimates over that of the weights
-        # (instants with little hum evidence borrow from their neighbours)
-        # (a positive kernel, so the ratio stays a weighted mean)
-        err = (ndimage.convolve1d(num, kern, mode="constant")
-               / np.maximum(ndimage.convolve1d(den, kern, mode="constant"), 1e-300))
+        err = local_linear(num, den, kern)
         psi = psi + np.interp(tc, td, err)
     return psi
+
+
+def local_linear(num: np.ndarray, den: np.ndarray, kern: np.ndarray) -> np.ndarray:
+    """Kernel-weighted local linear fit of the estimates ``num / den`` (weights ``den``) at every
+    sample: normalised convolution of order one. Instants with little hum evidence borrow from
+    their neighbours. In the interior it equals the kernel-weighted mean (a symmetric kernel
+    over even weights); at the ends, where the kernel is one-sided, the local slope keeps a
+    phase error that grows towards the end (a fast ramp that the block track extrapolates) from
+    being pulled back towards the interior, which a weighted mean does (its lag does not shrink
+    from round to round)."""
+    x = np.arange(len(num), dtype=float)
+    x -= x.mean()
+    conv = [ndimage.convolve1d(v, kern, mode="constant") for v in (den, den * x, den * x * x, num, num * x)]
+    s0, s1, s2, b0, b1 = conv
+    # the fit about each sample i: a + c (x - x_i); moments shifted to the sample
+    m1 = s1 - x * s0
+    m2 = s2 - 2 * x * s1 + x * x * s0
+    r1 = b1 - x * b0
+    det = s0 * m2 - m1 * m1
+    mean = b0 / np.maximum(s0, 1e-300)
+    ok = det > 1e-9 * np.maximum(s0 * m2, 1e-300)
+    lin = np.where(ok, (m2 * b0 - m1 * r1) / np.where(ok, det, 1.0), mean)
+    return lin
 
 
 def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray, h: float = 0.25):

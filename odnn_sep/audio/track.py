@@ -21,6 +21,7 @@ from scipy import fft as sp_fft
 from odnn_sep.audio.blockplan import sin2_window
 
 log = logging.getLogger(__name__)
+MAX_DRIFT_HZ = 1.6    # farthest the fundamental is followed from where the spectrum puts it (+ 1 %)
 
 
 @dataclass
@@ -219,19 +220,21 @@ def track_fundamental(D, f_ref: float, ks, weights, plan, *, max_offset_hz: floa
     J = D.shape[0]
     ks = np.asarray(ks, dtype=float)
     if max_offset_hz is None:
-        max_offset_hz = max(1.0, 0.02 * f_ref)   # ramps of 50 mHz/s over 40 s reach +-1 Hz
+        # ramps of 50 mHz/s reach +-1.5 Hz over a minute, and the spectrum's reference can sit
+        # up to 1 % off the mean of a line smeared that far
+        max_offset_hz = MAX_DRIFT_HZ + 0.01 * f_ref
     est = _BlockEstimator(D, sr, f_ref, ks, weights, plan.length, max_offset_hz)
     f = np.full(nb, np.nan)
     strength = np.zeros(nb)
     coverage = np.zeros(nb)
     t_eff = np.arange(nb) * hop / sr
-    prev = 0.0
     t_chunk = (np.arange(J) * m + (m - 1) / 2) / sr
-    for b in range(nb):
+
+    def visit(b, prev, wide):
         s0, s1 = (b - 1) * hop, (b + 1) * hop
         j0, j1 = max(0, s0 // m), min(J, -(-s1 // m))
         if j1 - j0 < 3:
-            continue
+            return
         tc = t_chunk[j0:j1]
         # Hann over the part of the block inside the signal: at the ends a one-sided window
         # would leak the host's energy onto the lines
@@ -242,13 +245,32 @@ def track_fundamental(D, f_ref: float, ks, weights, plan, *, max_offset_hz: floa
         coverage[b] = win.sum() / (plan.length / m / 2)
         t_eff[b] = float((win * tc).sum() / max(win.sum(), 1e-300))
         # between neighbouring blocks the grid moves by a few mHz: a narrow search around the
-        # previous estimate (re-centred below when the peak sits on its edge)
-        half = 0.03 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
+        # prediction (re-centred when the peak sits on its edge)
+        half = max(0.15, 0.0025 * f_ref) if wide else 0.03
         f[b], strength[b] = est(j0, j1, win, tc - b * hop / sr, prev, half)
-        if strength[b] >= min_strength:
-            prev = f[b]
         if progress is not None:
             progress(1)
+
+    # from the middle of the input outwards: the spectrum's reference is the mean frequency,
+    # which a ramp or a slow wander passes in the middle, not at the start (a +-1.5 Hz ramp
+    # starts farther away than a search can reach); each block searches around the value the
+    # last two trusted ones predict
+    mid = (nb - 1) // 2
+    for order in (range(mid, nb), range(mid - 1, -1, -1)):
+        trusted = [b for b in ((mid + 1, mid) if order.start != mid else ()) if b < nb and strength[b] >= min_strength]
+        for b in order:
+            if trusted:
+                prev = f[trusted[-1]]
+                if len(trusted) > 1:
+                    # linear prediction, at most 100 mHz/s (twice the fastest grid ramp)
+                    b1, b2 = trusted[-1], trusted[-2]
+                    slope = float(np.clip((f[b1] - f[b2]) / (b1 - b2), -0.1 * hop / sr, 0.1 * hop / sr))
+                    prev += slope * (b - b1)
+            else:
+                prev = 0.0
+            visit(b, prev, wide=not trusted or abs(b - trusted[-1]) > 1)
+            if np.isfinite(f[b]) and strength[b] >= min_strength:
+                trusted.append(b)
     ok = np.isfinite(f) & (strength >= min_strength)
     ok &= coverage >= 0.25
     f0 = f_ref + _offsets(plan.centres_s, t_eff, f, ok, max_offset_hz, f_ref)
