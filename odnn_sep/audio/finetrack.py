@@ -24,6 +24,8 @@ from odnn_sep.audio import track as _track
 DECIM = 10            # chunks (10 ms) per sample of the low-passed baseband: 10 Hz
 SMOOTH_HZ = 0.6       # bandwidth of the phase correction (resolution ~0.5 s)
 K_CAPS = (2, 4, 8, 16, None)  # harmonics used in each round
+PHASE_NOISE_DB = -40.0  # hum left by the track's phase noise, at most (weak lines: longer smoothing)
+MAX_SMOOTH_S = 12.0   # longest phase-correction kernel (s)
 
 
 def chunk_times(J: int, sr: int) -> np.ndarray:
@@ -54,8 +56,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
     tc = chunk_times(J, sr)
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
     psi = psi0.copy()
-    # Hann kernel whose half-power frequency is SMOOTH_HZ (0.72 / length)
-    kern = np.hanning(max(3, int(round(0.72 / SMOOTH_HZ * fs_d)) + 2))[1:-1]
+    n_min = max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
@@ -76,9 +77,49 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         w = np.minimum(w, 1e8)
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
-        err = local_linear(num, den, kern)
+        err = smoothed_correction(num, den, np.abs(c[0]) ** 2, ks[use], n_min, fs_d)
         psi = psi + np.interp(tc, td, err)
     return psi
+
+
+def smoothed_correction(num, den, power, ks, n_min: int, fs_d: float) -> np.ndarray:
+    """The phase correction (cycles, per decimated sample): the weighted estimates ``num / den``
+    smoothed by a Hann kernel (:func:`local_linear`) as long as the data allow.
+
+    The shortest kernel (``n_min`` samples: SMOOTH_HZ, so frequency modulation down to 5 s
+    periods is followed) suits strong lines. Weak lines (ECG, EEG) need a longer one: the phase
+    noise it passes must leave at most PHASE_NOISE_DB of the hum. A longer kernel is taken only
+    while what it smooths away, compared with the shortest one, is what the phase noise alone
+    predicts (within a factor 2): real modulation (FM with a 7 s period) shows as more, and then
+    the shorter kernel stays. At most MAX_SMOOTH_S; the block fit's own amplitude and phase take
+    up what a long kernel leaves over a block.
+
+    ``den`` (nd,): precision of the fundamental's phase (a phase estimate's variance is
+    1 / (2 den) rad^2); ``power`` (C, K): the lines' powers. A Hann kernel of n samples passes
+    1.5 / n of a white phase noise's variance; harmonic k carries k times the fundamental's
+    phase error.
+    """
+    short = local_linear(num, den, _hann(n_min))
+    prec = float(np.median(den)) if len(den) else 0.0
+    if prec <= 0:
+        return short
+    g = float((power * ks[None, :] ** 2).sum() / max(power.sum(), 1e-300))
+    var = 1.0 / (2 * prec) / (2 * np.pi) ** 2                       # cycles^2 per sample
+    n_req = 1.5 * g / max(2 * prec * 10 ** (PHASE_NOISE_DB / 10), 1e-300)
+    n_max = int(min(n_req, MAX_SMOOTH_S * fs_d, len(num) / 2))
+    best, n = short, 2 * n_min
+    while n <= n_max:
+        cand = local_linear(num, den, _hann(n))
+        expect = (1.5 / n_min - 1.5 / n) * var
+        if np.mean((short - cand) ** 2) > 2 * expect:
+            break
+        best, n = cand, 2 * n
+    return best
+
+
+def _hann(n: int) -> np.ndarray:
+    """Hann kernel of ``n`` samples (half-power frequency 0.72 / length)."""
+    return np.hanning(n + 2)[1:-1]
 
 
 def local_linear(num: np.ndarray, den: np.ndarray, kern: np.ndarray) -> np.ndarray:
