@@ -139,7 +139,11 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
             if nom == det.nominal_hz:
                 continue
             other = [c["harmonic"] for c in det.candidates if c["family_hz"] == nom and c["significant"]]
-            if not other:
+            # a line both families share (300 Hz is 5 x 60 and 6 x 50) is evidence for neither:
+            # a family whose lines are all shared with the detected one is not demodulated
+            shared = [k for k in other if det.harmonics and min(
+                abs(k * nom - j * det.mains_hz) for j in det.harmonics) <= _detect.band_halfwidth(spec, k)]
+            if len(shared) == len(other):
                 continue
             d2 = _detect.detect_hum(spec, source.sr, mains=nom, harmonics="auto", tones=tones, alpha=alpha,
                                     max_hz=max_hz)
