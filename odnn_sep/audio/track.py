@@ -251,26 +251,7 @@ def track_fundamental(D, f_ref: float, ks, weights, plan, *, max_offset_hz: floa
         if progress is not None:
             progress(1)
 
-    # from the middle of the input outwards: the spectrum's reference is the mean frequency,
-    # which a ramp or a slow wander passes in the middle, not at the start (a +-1.5 Hz ramp
-    # starts farther away than a search can reach); each block searches around the value the
-    # last two trusted ones predict
-    mid = (nb - 1) // 2
-    for order in (range(mid, nb), range(mid - 1, -1, -1)):
-        trusted = [b for b in ((mid + 1, mid) if order.start != mid else ()) if b < nb and strength[b] >= min_strength]
-        for b in order:
-            if trusted:
-                prev = f[trusted[-1]]
-                if len(trusted) > 1:
-                    # linear prediction, at most 100 mHz/s (twice the fastest grid ramp)
-                    b1, b2 = trusted[-1], trusted[-2]
-                    slope = float(np.clip((f[b1] - f[b2]) / (b1 - b2), -0.1 * hop / sr, 0.1 * hop / sr))
-                    prev += slope * (b - b1)
-            else:
-                prev = 0.0
-            visit(b, prev, wide=not trusted or abs(b - trusted[-1]) > 1)
-            if np.isfinite(f[b]) and strength[b] >= min_strength:
-                trusted.append(b)
+    _outwards(nb, f, strength, min_strength, 0.1 * hop / sr, visit)
     ok = np.isfinite(f) & (strength >= min_strength)
     ok &= coverage >= 0.25
     f0 = f_ref + _offsets(plan.centres_s, t_eff, f, ok, max_offset_hz, f_ref)
@@ -278,6 +259,28 @@ def track_fundamental(D, f_ref: float, ks, weights, plan, *, max_offset_hz: floa
     rate = np.gradient(f0, hop_s) if nb > 1 else np.zeros(nb)
     curv = np.gradient(rate, hop_s) if nb > 2 else np.zeros(nb)
     return Track(t=plan.centres_s, f0=f0, rate=rate, curv=curv, confident=ok, strength=strength)
+
+
+def _outwards(nb, f, strength, min_strength, max_step_hz, visit) -> None:
+    """Visit blocks from the middle of the input outwards, each searched around the value the
+    last two trusted ones predict (``visit(b, predicted offset, wide)`` fills ``f[b]`` and
+    ``strength[b]``). The spectrum's reference is the mean frequency, which a ramp or a slow
+    wander passes in the middle, not at the start (a +-1.5 Hz ramp starts farther away than a
+    search can reach). ``max_step_hz``: largest predicted change per block (100 mHz/s, twice the
+    fastest grid ramp)."""
+    mid = (nb - 1) // 2
+    for order in (range(mid, nb), range(mid - 1, -1, -1)):
+        trusted = [b for b in ((mid + 1, mid) if order.start != mid else ()) if b < nb and strength[b] >= min_strength]
+        for b in order:
+            prev = 0.0
+            if trusted:
+                prev = f[trusted[-1]]
+                if len(trusted) > 1:
+                    b1, b2 = trusted[-1], trusted[-2]
+                    prev += float(np.clip((f[b1] - f[b2]) / (b1 - b2), -max_step_hz, max_step_hz)) * (b - b1)
+            visit(b, prev, wide=not trusted or abs(b - trusted[-1]) > 1)
+            if np.isfinite(f[b]) and strength[b] >= min_strength:
+                trusted.append(b)
 
 
 class _BlockEstimator:
