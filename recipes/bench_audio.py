@@ -347,9 +347,9 @@ def section_body(n_cases, seed0, pop_table, sum_table, counts, clean_table, real
         f"that are not hum: {counts['false_tonal']} on the tonal hosts, {counts['false_all']} in "
         "all. pactools ran only on the cases at 8 and 16 kHz (40-80 s per case at 44.1/48 kHz here); its median "
         "and worst are over those.\n",
-        "Before this change (block track, one estimate per 4 s; lines by the spectrum test alone), measured on the "
-        "same 24 evaluation cases (odnn-sep only, `PYTHONPATH=<previous commit> python recipes/bench_audio.py "
-        "--population-only`): median gain 19.8 dB, worst 4.8 dB, 112 lines removed that are not hum on the 8 "
+        "Before the phase-locked track (block track, one estimate per 4 s; lines by the spectrum test alone), "
+        "measured on the same 24 evaluation cases (odnn-sep only, `PYTHONPATH=<that commit> python "
+        "recipes/bench_audio.py --population-only`): median gain 19.8 dB, worst 4.8 dB, 112 lines removed that are not hum on the 8 "
         "tonal cases; on the hum-free recordings at 16 kHz (8 s) it removed -6 to -29 dB of the tonal music, "
         "piano, organ and bass line.\n",
         "Hum-free recordings (no hum added; `recipes/_audio_cases.py: clean_hosts`):\n",

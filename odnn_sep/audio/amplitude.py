@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.audio import track as _track
+from odnn_sep.audio.blockplan import BlockPlan, sin2_window
 
 WINDOW_S = 1.0               # time resolution of the local power (s)
 OFFSET_BAND_HZ = (1.5, 6.0)  # offsets from the line where its local content power is measured
@@ -67,15 +68,16 @@ def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
     return out[0], out[1]
 
 
-def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n_frames: int) -> np.ndarray:
+def steady_amplitudes(D: np.ndarray, f_ref: float, ks, trk, plan: BlockPlan) -> np.ndarray:
     """Peak amplitude (C, K) of harmonics ``ks`` (the columns of ``D``, demodulated at ``k f_ref``)
     over the whole input where steady, NaN elsewhere. ``trk``: the fundamental track of blocks
-    centred at ``b hop`` samples, ``2 hop`` long; only blocks inside the signal count."""
+    of the blocks of ``plan``; only blocks inside the signal count."""
+    sr, hop, n_frames = plan.sr, plan.hop, plan.n_frames
     J, C, K = D.shape
     out = np.full((C, K), np.nan)
     m = _track.chunk_length(sr)
     fs = sr / m
-    L = 2 * hop
+    L = plan.length
     tj = np.arange(J) * m + (m - 1) / 2                          # chunk centres (samples)
     full = [b for b in range(len(trk.f0)) if b * hop - hop >= 0 and b * hop + hop <= n_frames]
     if len(full) < 3 or J < 8:
@@ -103,7 +105,7 @@ def steady_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, trk, hop: int, n
         else:
             cyc = tau * ((trk.f0[b] - f_ref)[:, None] + tau * ((trk.rate[b] / 2)[:, None]
                                                               + tau * (trk.curv[b] / 6)[:, None]))
-        return idx, cyc, np.sin(np.pi * (tj[idx] - (c - hop) + 0.5) / L) ** 2
+        return idx, cyc, sin2_window(tj[idx] - (c - hop) + 0.5, L)
 
     # one batch (the usual case): computed once for every line and channel
     single = geometry(0) if len(starts) == 1 else None

@@ -7,6 +7,7 @@ import logging
 import numpy as np
 
 from odnn_sep.audio.io import ArraySource, ClipCounter, FileSource, is_integer_subtype, output_subtype
+from odnn_sep.audio.options import DenoiseOptions
 from odnn_sep.audio.pipeline import run
 from odnn_sep.audio.result import DenoiseResult
 
@@ -51,6 +52,10 @@ def denoise(y, sr=None, *, mains="auto", harmonics="auto", tones=(), block_s="au
         ``y`` is then a channels-first array with a float ``sfreq`` or an MNE Raw, and the result
         has the input's type; see :func:`odnn_sep.audio.channels.denoise_channels`.
 
+    The keyword options are the public interface (librosa style); they are gathered at once into
+    one :class:`~odnn_sep.audio.options.DenoiseOptions`, which is why this function takes more
+    than eight parameters (why long).
+
     Returns
     -------
     DenoiseResult (the input's type for EEG/MEG use)
@@ -69,11 +74,13 @@ def denoise(y, sr=None, *, mains="auto", harmonics="auto", tones=(), block_s="au
         return channels.denoise_channels(y, sr, **channel_options, mains=mains, harmonics=harmonics, tones=tones,
                                          block_s=block_s, solver=solver, alpha=alpha, max_hz=max_hz,
                                          progress=progress, random_state=random_state)
-    return _denoise_array(y, sr, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
+    opts = DenoiseOptions(mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
                           alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
+    return denoise_array(y, sr, opts)
 
 
-def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state):
+def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
+    """:func:`denoise` with its options gathered in ``opts`` (validated in the pipeline)."""
     src = ArraySource(y, sr)
     # the source holds a private copy of y, read strictly ahead of what is written: the output
     # goes into it in place (one large allocation less)
@@ -88,9 +95,7 @@ def _denoise_array(y, sr, *, mains, harmonics, tones, block_s, solver, alpha, ma
         hum[pos[0]: pos[0] + n] = removed
         pos[0] += n
 
-    res = run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
-               alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state,
-               after_source_fn=lambda: ArraySource.wrap(out, sr))
+    res = run(src, sink, opts, after_source_fn=lambda: ArraySource.wrap(out, sr))
     res.y = out[:, 0] if src.mono else out
     res.hum = hum[:, 0] if src.mono else hum
     return res
@@ -100,7 +105,8 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
                  block_s="auto", solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
                  progress: bool = False, random_state=0) -> DenoiseResult:
     """Stream ``path_in`` through :func:`denoise` into ``path_out`` (atomic; same rate, channels and
-    subtype unless ``subtype`` is given). Options as in :func:`denoise`.
+    subtype unless ``subtype`` is given). Options as in :func:`denoise` (gathered into one
+    :class:`~odnn_sep.audio.options.DenoiseOptions`: why long).
 
     Examples
     --------
@@ -112,6 +118,13 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
     >>> sf.info(os.path.join(d, "out.wav")).subtype
     'PCM_16'
     """
+    opts = DenoiseOptions(mains=mains, harmonics=harmonics, tones=tones, block_s=block_s, solver=solver,
+                          alpha=alpha, max_hz=max_hz, progress=progress, random_state=random_state)
+    return denoise_path(path_in, path_out, opts, subtype=subtype)
+
+
+def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None = None) -> DenoiseResult:
+    """:func:`denoise_file` with its options gathered in ``opts``."""
     import soundfile as sf
 
     from odnn_sep.io_utils import atomic_output, check_output_path
@@ -131,9 +144,7 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
                     removed_ss[0] += float(np.sum(np.square(removed, dtype=np.float64)))
                     fo.write(clip(piece - removed))
 
-                res = run(src, sink, mains=mains, harmonics=harmonics, tones=tones, block_s=block_s,
-                           solver=solver, alpha=alpha, max_hz=max_hz, progress=progress,
-                           random_state=random_state, after_source_fn=lambda: _flushed(fo, tmp))
+                res = run(src, sink, opts, after_source_fn=lambda: _flushed(fo, tmp))
     finally:
         src.close()
     res.clip_message = clip.message()

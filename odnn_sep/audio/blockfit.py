@@ -15,104 +15,51 @@ the track, and its amplitude is free to follow the hum from block to block.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from odnn_sep.audio import fit as _fit
 from odnn_sep.audio import fullblock as _fullblock
+from odnn_sep.audio.blockplan import BlockPlan
+from odnn_sep.audio.lines import LineSet
 
 STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line counts as steady (~1 % test)
 
 
-def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str, random_state, gram_step: int,
-             fixed_psd=None, main_psd=None, smooth_blocks: int = 4, tick=None):
+@dataclass(frozen=True)
+class FitSettings:
+    """How pass 2 fits: the solver (``'exact'`` or ``'network'``, with its seed), the Gram
+    sub-sampling step (fit.solve_block), and the local noise floor PSD at each line (C per line;
+    harmonics ``main_psd``, fixed lines ``fixed_psd``) for pooling amplitudes over up to
+    ``smooth_blocks`` blocks on each side (None: that kind of line is not pooled)."""
+
+    solver: str = "exact"
+    random_state: object = 0
+    gram_step: int = 1
+    fixed_psd: np.ndarray | None = None
+    main_psd: np.ndarray | None = None
+    smooth_blocks: int = 4
+
+
+def fit_pass(source, sink, plan: BlockPlan, trk, lines: LineSet, settings: FitSettings, tick=None):
     """Fit every block, subtract, write through ``sink(piece, removed)`` (the sink writes
     ``piece - removed``; ``piece`` is what ``source.read`` returned for those samples, so an
     in-memory source's own array can take the result in place).
 
-    ``fixed_psd`` (fixed lines, C), ``main_psd`` (harmonics, C): local noise floor PSD at each line
-    (per Hz, one-sided), for the pooling weights; None disables pooling of those lines.
     Returns ``(amps, phs, valid, overall)``: (blocks, C, lines) peak amplitude and phase, which
     blocks are full length, and (C, lines) whole-input amplitudes of steady lines (NaN where a
     line is not steady or not pooled; None without pooling).
     """
-    sr, N, C = source.sr, source.frames, source.channels
-    nb = (N - 1) // hop + 2
-    L = 2 * hop
-    pm = 2 * len(ks)
-    nfix = sum(len(kk) for _, kk in _fit._as_combs(fixed_lines))
-    nl = len(ks) + nfix
-    amps = np.zeros((nb, C, nl))
-    phs = np.zeros((nb, C, nl))
-    valid = np.zeros(nb, bool)
-    col_names = [f"{nm}_{cs}" for nm in names for cs in ("cos", "sin")]
-    w_full = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
-    w32_full = w_full.astype(np.float32)
-    fitter = _fullblock.FullBlockFitter(L, sr, ks, fixed_lines, w_full, gram_step) if nl else None
-    if fitter is not None:
-        fitter.phase = getattr(trk, "phase", None)
-    pool_fixed = fixed_psd is not None and nfix > 0
-    pool_main = main_psd is not None and len(ks) > 0
-    M = smooth_blocks if (pool_fixed or pool_main) else 0
-    psd = np.vstack(([main_psd] if pool_main else []) + ([fixed_psd] if pool_fixed else [])) if M else None
-    pooled_rows = np.r_[np.arange(len(ks)) if pool_main else [], len(ks) + np.arange(nfix) if pool_fixed else []]
-    pooled_rows = pooled_rows.astype(int)
-    Phi = _block_phase(trk, hop, sr) if pool_main else None
-    kk = np.asarray(ks, float)
-    basis_cache, sub_cache = {"min_n": L}, {"min_n": L}
-    zs, vs = [], []
+    fp = _FitPass(source, plan, trk, lines, settings)
+    C, hop = source.channels, plan.hop
     prev_piece = np.zeros((0, C))
     prev_tail = np.zeros((C, 0), np.float32)
-    for b in range(nb):
+    for b in range(plan.count):
         piece = source.read(b * hop, hop)
-        s0 = (b - 1) * hop
         parts = [p for p in (prev_piece, piece) if p.shape[0]]
-        i0 = max(s0, 0)
         n = prev_piece.shape[0] + piece.shape[0]
-        hum = None                                                              # (C, n) float32
-        zq = None
-        if n and nl:
-            theta = Fm = None
-            if solver == "exact":
-                # blocks cut by the signal's ends too: fitted under a Hann over their visible part
-                theta = fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n)
-            w = w_full if n == L else np.sin(np.pi * (np.arange(i0, i0 + n) - s0 + 0.5) / L) ** 2
-            if theta is None:
-                # fit weights: the block's window, or a Hann over the visible part of a block cut
-                # by the signal's start/end (a one-sided window would leak the content onto the lines)
-                w_fit = fitter.window(n)[0]
-                blk = np.vstack(parts) if len(parts) > 1 else parts[0]
-                theta, Fm = _fit_generic(i0, n, b * hop, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step,
-                                         basis_cache, sub_cache, col_names, random_state)
-            theta = theta[: 2 * nl]
-            valid[b] = n == L
-            # complex amplitudes a - i b: tracked lines in the block's phase reference, fixed
-            # lines in absolute time
-            z = theta[0::2] - 1j * theta[1::2]                                  # (nl, C)
-            if M:
-                zq = z[pooled_rows].copy()
-                if pool_main:
-                    # tracked lines are pooled in a common phase reference: the track's phase
-                    # at each block centre
-                    zq[: len(ks)] *= np.exp(-1j * kk * Phi[b])[:, None]
-                zs.append(zq)
-                # E|z - z0|^2 = 3 S sr / n for a sin^2-weighted fit on noise of PSD S
-                vs.append(3.0 * np.maximum(psd, 1e-300) * sr / max(n, 1))
-                zp = _pooled(zs, vs, b, M)
-                if pool_main:
-                    zp[: len(ks)] *= np.exp(1j * kk * Phi[b])[:, None]
-                z[pooled_rows] = zp
-            amps[b] = np.abs(z).T
-            phs[b] = np.angle(z).T
-            # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply
-            hum = fitter.block_hum(i0, n, z, tracked=Fm is None, slot=b % 2)
-            if pm and Fm is not None:
-                th = np.empty((C, pm), Fm.dtype)
-                th[:, 0::2], th[:, 1::2] = z[: len(ks)].real.T, -z[: len(ks)].imag.T
-                hum += np.dot(th, Fm.T)
-            hum *= w32_full if n == L else w.astype(np.float32)
-        if M and zq is None:
-            zs.append(None)
-            vs.append(None)
+        hum = fp.block(b, parts, n)                                              # (C, n) float32 or None
         npv = prev_piece.shape[0]
         if npv:
             removed = (prev_tail + hum[:, :npv] if hum is not None else prev_tail).T
@@ -121,7 +68,127 @@ def fit_pass(source, sink, *, hop: int, trk, ks, fixed_lines, names, solver: str
         prev_piece = piece
         if tick is not None:
             tick(piece.shape[0])
-    return amps, phs, valid, _overall(zs, vs, valid, pooled_rows, nl, C) if M else None
+    return fp.amps, fp.phs, fp.valid, fp.overall()
+
+
+class _FitPass:
+    """State of pass 2 across blocks: the fitter, the pooling history, the per-block results."""
+
+    def __init__(self, source, plan: BlockPlan, trk, lines: LineSet, settings: FitSettings):
+        self.sr, self.C, self.plan, self.trk, self.lines, self.settings = source.sr, source.channels, plan, trk, lines, settings
+        ks = self.ks = lines.harmonics
+        L, nb = plan.length, plan.count
+        self.pm = 2 * len(ks)
+        nfix = lines.n_fixed
+        nl = self.nl = len(ks) + nfix
+        self.amps = np.zeros((nb, self.C, nl))
+        self.phs = np.zeros((nb, self.C, nl))
+        self.valid = np.zeros(nb, bool)
+        self.col_names = [f"{nm}_{cs}" for nm in lines.names for cs in ("cos", "sin")]
+        self.w_full = plan.window()
+        self.w32_full = self.w_full.astype(np.float32)
+        self.fitter = _fullblock.FullBlockFitter(L, self.sr, ks, lines.fixed_lines, self.w_full,
+                                                 settings.gram_step) if nl else None
+        if self.fitter is not None:
+            self.fitter.phase = getattr(trk, "phase", None)
+        pool_fixed = settings.fixed_psd is not None and nfix > 0
+        self.pool_main = settings.main_psd is not None and len(ks) > 0
+        self.M = settings.smooth_blocks if (pool_fixed or self.pool_main) else 0
+        self.psd = np.vstack(([settings.main_psd] if self.pool_main else [])
+                             + ([settings.fixed_psd] if pool_fixed else [])) if self.M else None
+        rows = np.r_[np.arange(len(ks)) if self.pool_main else [], len(ks) + np.arange(nfix) if pool_fixed else []]
+        self.pooled_rows = rows.astype(int)
+        self.Phi = _block_phase(trk, plan.hop, self.sr) if self.pool_main else None
+        self.kk = np.asarray(ks, float)
+        self.basis_cache, self.sub_cache = {"min_n": L}, {"min_n": L}
+        self.zs, self.vs = [], []
+
+    def block(self, b: int, parts, n: int):
+        """The windowed fitted hum of block ``b`` (samples ``parts``, ``n`` of them), float32
+        (C, n); None when there is nothing to fit."""
+        hum = None
+        zq = None
+        if n and self.nl:
+            hop, L = self.plan.hop, self.plan.length
+            s0 = (b - 1) * hop
+            i0 = max(s0, 0)
+            z, Fm = self._fit(b, parts, i0, n)
+            self.valid[b] = n == L
+            if self.M:
+                zq = self._pool(b, z, n)
+            self.amps[b] = np.abs(z).T
+            self.phs[b] = np.angle(z).T
+            # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply
+            hum = self.fitter.block_hum(i0, n, z, tracked=Fm is None, slot=b % 2)
+            if self.pm and Fm is not None:
+                th = np.empty((self.C, self.pm), Fm.dtype)
+                th[:, 0::2], th[:, 1::2] = z[: len(self.ks)].real.T, -z[: len(self.ks)].imag.T
+                hum += np.dot(th, Fm.T)
+            hum *= self.w32_full if n == L else self.plan.cut_window(i0 - s0, n).astype(np.float32)
+        if self.M and zq is None:
+            self.zs.append(None)
+            self.vs.append(None)
+        return hum
+
+    def _fit(self, b: int, parts, i0: int, n: int):
+        """Complex amplitudes ``a - i b`` (lines, C) of block ``b`` (tracked lines in the block's
+        phase reference, fixed lines in absolute time) and the tracked-comb columns when the
+        general path fitted it (else None)."""
+        trk, hop = self.trk, self.plan.hop
+        theta = Fm = None
+        if self.settings.solver == "exact":
+            # blocks cut by the signal's ends too: fitted under a Hann over their visible part
+            theta = self.fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n)
+        if theta is None:
+            # fit weights: the block's window, or a Hann over the visible part of a block cut
+            # by the signal's start/end (a one-sided window would leak the content onto the lines)
+            w_fit = self.fitter.window(n)[0]
+            blk = np.vstack(parts) if len(parts) > 1 else parts[0]
+            theta, Fm = self._fit_generic(i0, n, b, blk, w_fit)
+        theta = theta[: 2 * self.nl]
+        return theta[0::2] - 1j * theta[1::2], Fm                                  # (nl, C)
+
+    def _pool(self, b: int, z, n: int):
+        """Pool block ``b``'s amplitudes ``z`` (in place) with its neighbours'; returns the
+        block's entry of the pooling history."""
+        ks = self.ks
+        zq = z[self.pooled_rows].copy()
+        if self.pool_main:
+            # tracked lines are pooled in a common phase reference: the track's phase at each
+            # block centre
+            zq[: len(ks)] *= np.exp(-1j * self.kk * self.Phi[b])[:, None]
+        self.zs.append(zq)
+        # E|z - z0|^2 = 3 S sr / n for a sin^2-weighted fit on noise of PSD S
+        self.vs.append(3.0 * np.maximum(self.psd, 1e-300) * self.sr / max(n, 1))
+        zp = _pooled(self.zs, self.vs, b, self.M)
+        if self.pool_main:
+            zp[: len(ks)] *= np.exp(1j * self.kk * self.Phi[b])[:, None]
+        z[self.pooled_rows] = zp
+        return zq
+
+    def _fit_generic(self, i0, n, b, blk, w_fit):
+        """One block through the general path (edge blocks, the network solver, ill-conditioned
+        blocks): ``(theta (p, C), tracked-comb columns (n, 2K))``; fixed lines in absolute time."""
+        # float32 basis for the exact solver: its values come from float32 sines anyway
+        # (fit.unit_phasor), and the products run at twice the speed (solve_block checks conditioning)
+        trk, centre, st = self.trk, b * self.plan.hop, self.settings
+        spec = _fit.BasisSpec(self.sr, self.ks, self.lines.fixed_lines, phase=getattr(trk, "phase", None))
+        poly = (trk.f0[b], trk.rate[b], trk.curv[b])
+        F = _fit.block_basis(spec, i0, n, centre, poly, cache=self.basis_cache,
+                             dtype=np.float32 if st.solver == "exact" else np.float64)
+        if st.solver == "exact":
+            F_sub = None
+            if _fit.sub_gram(n, F.shape[1], st.gram_step):
+                F_sub = _fit.block_basis(spec, i0, n, centre, poly, cache=self.sub_cache, step=st.gram_step,
+                                         dtype=np.float32)
+            theta = _fit.solve_block(F, blk, w_fit, gram_step=st.gram_step, F_sub=F_sub)
+        else:
+            theta = _fit.solve_block_network(F, blk, w_fit, self.col_names + ["offset", "trend"],
+                                             random_state=st.random_state)
+        return theta, F[:, : 2 * len(self.ks)]
+
+    def overall(self):
+        return _overall(self.zs, self.vs, self.valid, self.pooled_rows, self.nl, self.C) if self.M else None
 
 
 def _overall(zs, vs, valid, rows, nl: int, C: int):
@@ -180,24 +247,3 @@ def _pooled(zs, vs, f: int, M: int) -> np.ndarray:
     zbar, r = _mean_scatter(zs, vs, idx)
     lam = np.clip(1.0 - 1.0 / np.maximum(r, 1e-12), 0.0, 1.0)
     return zbar + lam * (z_f - zbar)
-
-
-def _fit_generic(i0, n, centre, sr, trk, b, ks, fixed_lines, blk, w_fit, solver, gram_step, basis_cache,
-                 sub_cache, col_names, random_state):
-    """One block through the general path (edge blocks, the network solver, ill-conditioned blocks):
-    ``(theta (p, C), tracked-comb columns (n, 2K))``; fixed lines in absolute time."""
-    # float32 basis for the exact solver: its values come from float32 sines anyway
-    # (fit._unit), and the products run at twice the speed (solve_block checks conditioning)
-    ph = getattr(trk, "phase", None)
-    F = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks, fixed_lines,
-                         cache=basis_cache, dtype=np.float32 if solver == "exact" else np.float64, phase=ph)
-    if solver == "exact":
-        F_sub = None
-        if _fit.sub_gram(n, F.shape[1], gram_step):
-            F_sub = _fit.block_basis(i0, n, centre, sr, trk.f0[b], trk.rate[b], trk.curv[b], ks,
-                                     fixed_lines, cache=sub_cache, step=gram_step, dtype=np.float32, phase=ph)
-        theta = _fit.solve_block(F, blk, w_fit, gram_step=gram_step, F_sub=F_sub)
-    else:
-        theta = _fit.solve_block_network(F, blk, w_fit, col_names + ["offset", "trend"],
-                                         random_state=random_state)
-    return theta, F[:, : 2 * len(ks)]

@@ -23,6 +23,7 @@ from scipy import fft as sp_fft
 
 from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import track as _track
+from odnn_sep.audio.blockplan import BlockPlan, sin2_window
 
 log = logging.getLogger(__name__)
 
@@ -43,18 +44,16 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
     # one track (the longest candidate's: fewest blocks) serves every emulation; the chosen
     # length's own track is computed only when it is another one
     T_ref = candidates[-1]
-    hop_ref = max(1, int(round(T_ref * sr / 2)))
-    trk_ref = _track.track_fundamental(De, sr, n_ex, f_ref, ks, weights, hop=hop_ref)
+    trk_ref = _track.track_fundamental(De, f_ref, ks, weights, BlockPlan.from_block_s(T_ref, sr, n_ex))
     u = _baseband.derotate(De, ks, _baseband.tracked_phase(De, sr, f_ref, trk_ref)).astype(np.complex64)
     welch = _Welch(u.shape[0], sr)
     Pu = welch(u)
-    scores = [_score(u, Pu, welch, sr, n_ex, max(1, int(round(T * sr / 2)))) for T in candidates]
+    scores = [_score(u, Pu, welch, BlockPlan.from_block_s(T, sr, n_ex)) for T in candidates]
     best = candidates[int(np.argmin(scores))]
     log.info("block length: %s s (score %s dB for %s s)", best, np.round(scores, 2), candidates)
     if whole and best == T_ref:
         return best, trk_ref
-    hop = max(1, int(round(best * sr / 2)))
-    return best, _track.track_fundamental(D, sr, n_frames, f_ref, ks, weights, hop=hop)
+    return best, _track.track_fundamental(D, f_ref, ks, weights, BlockPlan.from_block_s(best, sr, n_frames))
 
 
 class _Welch:
@@ -81,14 +80,15 @@ class _Welch:
         return P.transpose(2, 0, 1)
 
 
-def _score(u, Pu, welch, sr, n_frames, hop) -> float:
-    """Emulate the block fit with blocks of ``2 * hop`` samples on the tracked baseband ``u``."""
+def _score(u, Pu, welch, plan: BlockPlan) -> float:
+    """Emulate the block fit with the blocks of ``plan`` on the tracked baseband ``u``."""
+    sr, n_frames, hop = plan.sr, plan.n_frames, plan.hop
     m = _track.chunk_length(sr)
     J = u.shape[0]
     tc = (np.arange(J) * m + (m - 1) / 2) / sr
     fit = np.zeros_like(u)
-    L = 2 * hop
-    nb = (n_frames - 1) // hop + 2
+    L = plan.length
+    nb = plan.count
     pos = tc * sr
     for b in range(nb):
         s0 = (b - 1) * hop
@@ -97,9 +97,9 @@ def _score(u, Pu, welch, sr, n_frames, hop) -> float:
         if i1 - i0 < 2:
             continue
         p = pos[i0:i1]
-        w = np.sin(np.pi * (p - s0) / L) ** 2                       # cross-fade window
+        w = sin2_window(p - s0, L)                      # cross-fade window
         # fit weights: the window, or a Hann over the visible part of a block cut by an end
-        wf = w if (a0 == s0 and a1 == s0 + L) else np.sin(np.pi * (p - a0) / max(a1 - a0, 1)) ** 2
+        wf = w if (a0 == s0 and a1 == s0 + L) else sin2_window(p - a0, max(a1 - a0, 1))
         a = (wf[:, None, None] * u[i0:i1]).sum(axis=0) / max(wf.sum(), 1e-300)
         fit[i0:i1] += w[:, None, None] * a[None]
     r = u - fit
@@ -136,7 +136,7 @@ def choose_block_phase(D, psi, sr: int, n_frames: int, f_ref: float, ks, *, cand
     u = _baseband.derotate(De, ks, 2 * np.pi * (psi[j0: j0 + De.shape[0]] - psi[j0])).astype(np.complex64)
     welch = _Welch(u.shape[0], sr)
     Pu = welch(u)
-    scores = [_score(u, Pu, welch, sr, n_ex, max(1, int(round(T * sr / 2)))) for T in candidates]
+    scores = [_score(u, Pu, welch, BlockPlan.from_block_s(T, sr, n_ex)) for T in candidates]
     best = candidates[int(np.argmin(scores))]
     log.info("block length: %s s (score %s dB for %s s)", best, np.round(scores, 2), candidates)
     return best

@@ -13,7 +13,7 @@ import logging
 
 import numpy as np
 
-from odnn_sep.audio import params as _params
+from odnn_sep.audio import options as engine_options
 from odnn_sep.errors import InputError
 
 ENGINE_OPTIONS = ("mains", "harmonics", "tones", "block_s", "solver", "alpha", "max_hz", "progress",
@@ -38,9 +38,9 @@ def check_engine_options(opts: dict, sfreq: float, n_times: int) -> None:
     if n_times < MIN_SECONDS * sfreq:
         raise InputError(f"input is too short ({n_times} samples = {n_times / sfreq:.3f} s at {sfreq:g} Hz) to "
                          f"resolve mains hum; pass at least {MIN_SECONDS:g} s of data")
-    _params.parse_mains(opts.get("mains", "auto"), sfreq)
-    _params.parse_tones(opts.get("tones", ()), sfreq)
-    _params.parse_max_hz(opts.get("max_hz"), sfreq)
+    engine_options.parse_mains(opts.get("mains", "auto"), sfreq)
+    engine_options.parse_tones(opts.get("tones", ()), sfreq)
+    engine_options.parse_max_hz(opts.get("max_hz"), sfreq)
 
 
 def scaled_options(opts: dict, scale: float) -> dict:

@@ -15,6 +15,20 @@ from odnn_sep.audio import track as _track
 log = logging.getLogger(__name__)
 
 
+@dataclass(frozen=True)
+class CombSearch:
+    """Settings of :func:`detect_extra_combs` (see there)."""
+
+    min_sep_hz: float
+    alpha: float = 1e-3
+    max_hz: float | None = None
+    max_combs: int = 2
+    rel_search: float = 0.01
+    max_harmonic: int | None = None
+    main_f0: float | None = None
+    near_rel: float = 0.003
+
+
 @dataclass
 class Comb:
     fundamental_hz: float
@@ -22,81 +36,99 @@ class Comb:
     candidates: list[dict] = field(default_factory=list)
 
 
-def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: list, *, min_sep_hz: float,
-                       alpha: float = 1e-3, max_hz: float | None = None, max_combs: int = 2,
-                       rel_search: float = 0.01, max_harmonic: int | None = None,
-                       main_f0: float | None = None, near_rel: float = 0.003) -> list[Comb]:
+def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: list, search: CombSearch) -> list[Comb]:
     """Further hum combs near the same nominal fundamental (a second device, or the grid seen
     through another sample clock), found on a high-resolution spectrum with the lines already
     explained masked out.
 
     ``main``: (frequency, half-width) of every line already removed. Further combs are searched
-    within ``near_rel`` (0.3 %) of ``main_f0``: a clock offset or a second device, not a musical
-    note series that happens to lie within 1 % of 50/60 Hz. A comb is kept when at least
+    within ``search.near_rel`` (0.3 %) of ``search.main_f0``: a clock offset or a second device,
+    not a musical note series that happens to lie within 1 % of 50/60 Hz. A comb is kept when at least
     three of its harmonics pass the line test at ``alpha`` after a Bonferroni correction over all
     harmonics and all resolvable fundamentals in the search range (the look-elsewhere effect);
     harmonics closer than ``min_sep_hz`` to a line already removed are left to that line's fit
     (the two would be collinear over one block).
     """
-    pooled = spec.psd.sum(axis=1)
-    df = spec.df
-    ks_all = _detect._candidate_harmonics(nominal, sr, "auto", max_hz)
+    ks_all = _detect.candidate_harmonics(nominal, sr, "auto", search.max_hz)
     # a further comb is searched only as far up as the main comb reaches: isolated high lines
     # are more likely tonal content than hum
-    k_top = max_harmonic if max_harmonic is not None else _detect.MAX_HARMONICS
+    k_top = search.max_harmonic if search.max_harmonic is not None else _detect.MAX_HARMONICS
     ks_all = [k for k in ks_all if k <= k_top]
     if not ks_all:
         return []
     known = list(main)
     combs = []
     # the same grid seen through another clock, or a second device: close to the main comb
-    centre = main_f0 if main_f0 is not None else nominal
-    lo, hi = centre * (1 - near_rel), centre * (1 + near_rel)
-    step = df / (4 * max(ks_all))
+    centre = search.main_f0 if search.main_f0 is not None else nominal
+    lo, hi = centre * (1 - search.near_rel), centre * (1 + search.near_rel)
+    step = spec.df / (4 * max(ks_all))
     grid = np.arange(lo, hi, step)
-    n_grid_eff = max(1.0, (hi - lo) * max(ks_all) / df)
+    n_tests = len(ks_all) * max(1.0, (hi - lo) * max(ks_all) / spec.df)
+    floors = _comb_floors(spec, nominal, ks_all, known, search.rel_search)
+    for _ in range(search.max_combs):
+        fc = _best_fundamental(spec, grid, step, ks_all, floors, known, search.min_sep_hz)
+        sig, cands = _comb_lines(spec, fc, ks_all, known, search, n_tests)
+        if len(sig) < 3:   # a note and its octave (k, 2k) must not pass for a comb
+            break
+        combs.append(Comb(fundamental_hz=fc, harmonics=sig, candidates=cands))
+        known += [(k * fc, 1.5 * spec.df) for k in sig]
+        log.info("further hum comb at %.4f Hz, harmonics %s", fc, sig)
+    return combs
+
+
+def _comb_floors(spec, nominal, ks_all, known, rel_search) -> dict:
+    """Pooled local floor at each harmonic of the nominal family (inf where unknown)."""
+    pooled = spec.psd.sum(axis=1)
+    df = spec.df
     floors = {}
     spec_pooled = _detect.Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds)
     for k in ks_all:
         st = _detect.line_level(spec_pooled, k * nominal, k * nominal * rel_search + 2 * df, known)
         floors[k] = float(st["floor"][0]) if np.isfinite(st["floor"][0]) else np.inf
-    for _ in range(max_combs):
-        score = np.zeros_like(grid)
-        for k in ks_all:
-            val = np.interp(k * grid, spec.freqs, pooled) / floors[k]
-            for f, bw in known:
-                val[np.abs(k * grid - f) - max(bw - 2 * df, 0.0) < max(min_sep_hz, 2 * df)] = 0.0
-            score += np.log1p(val)
-        i = int(np.argmax(score))
-        fc = float(grid[i])
-        if 0 < i < len(grid) - 1:
-            a, b, c = score[i - 1: i + 2]
-            den = a - 2 * b + c
-            if den < 0:
-                fc += 0.5 * (a - c) / den * step
-        n_tests = len(ks_all) * n_grid_eff
-        sig, cands = [], []
-        bw = 1.5 * df
-        for k in ks_all:
-            fk = k * fc
-            # centre-to-centre distance, less only the drift part of a known line's width
-            if min((abs(fk - f) - max(b - 2 * df, 0.0) for f, b in known), default=np.inf) < max(min_sep_hz, 2 * df):
-                continue
-            st = _detect.line_test(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
-            if not np.isfinite(st["floor"]).all():
-                continue
-            p_adj = min(1.0, st["p_value"] * n_tests)
-            cands.append({"family_hz": fc, "harmonic": k, "freq_hz": fk, "level_db": [float(v) for v in
-                                                                                     st["level_db"]],
-                          "p_value_bonferroni": p_adj, "significant": bool(p_adj < alpha)})
-            if p_adj < alpha:
-                sig.append(k)
-        if len(sig) < 3:   # a note and its octave (k, 2k) must not pass for a comb
-            break
-        combs.append(Comb(fundamental_hz=fc, harmonics=sig, candidates=cands))
-        known += [(k * fc, bw) for k in sig]
-        log.info("further hum comb at %.4f Hz, harmonics %s", fc, sig)
-    return combs
+    return floors
+
+
+def _best_fundamental(spec, grid, step, ks_all, floors, known, min_sep_hz) -> float:
+    """The grid fundamental whose harmonics (away from the known lines) stand highest over their
+    floors (sum of log(1 + level)), refined by a parabola."""
+    pooled = spec.psd.sum(axis=1)
+    df = spec.df
+    score = np.zeros_like(grid)
+    for k in ks_all:
+        val = np.interp(k * grid, spec.freqs, pooled) / floors[k]
+        for f, bw in known:
+            val[np.abs(k * grid - f) - max(bw - 2 * df, 0.0) < max(min_sep_hz, 2 * df)] = 0.0
+        score += np.log1p(val)
+    i = int(np.argmax(score))
+    fc = float(grid[i])
+    if 0 < i < len(grid) - 1:
+        a, b, c = score[i - 1: i + 2]
+        den = a - 2 * b + c
+        if den < 0:
+            fc += 0.5 * (a - c) / den * step
+    return fc
+
+
+def _comb_lines(spec, fc, ks_all, known, search: CombSearch, n_tests):
+    """The harmonics of ``fc`` that pass the line test (Bonferroni over ``n_tests``), and every
+    candidate's statistics."""
+    df = spec.df
+    sig, cands = [], []
+    bw = 1.5 * df
+    for k in ks_all:
+        fk = k * fc
+        # centre-to-centre distance, less only the drift part of a known line's width
+        if min((abs(fk - f) - max(b - 2 * df, 0.0) for f, b in known), default=np.inf) < max(search.min_sep_hz, 2 * df):
+            continue
+        st = _detect.line_test(spec, fk, bw, known + [(j * fc, bw) for j in ks_all if j != k])
+        if not np.isfinite(st["floor"]).all():
+            continue
+        p_adj = min(1.0, st["p_value"] * n_tests)
+        cands.append({"family_hz": fc, "harmonic": k, "freq_hz": fk, "level_db": [float(v) for v in st["level_db"]],
+                      "p_value_bonferroni": p_adj, "significant": bool(p_adj < search.alpha)})
+        if p_adj < search.alpha:
+            sig.append(k)
+    return sig, cands
 
 
 def refine_combs(source, sr: int, combs: list[Comb], main_f0: float | None, spec, tones=()) -> list[float]:

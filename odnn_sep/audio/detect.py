@@ -153,7 +153,9 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
     return float(grid[i])
 
 
-def _candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> list[int]:
+def candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> list[int]:
+    """Harmonic numbers to test: ``'auto'`` (up to MAX_HARMONICS), a count or a list, each below
+    0.95 x Nyquist (or ``max_hz``) with room for drift."""
     nyq = sr / 2
     top = 0.95 * nyq if max_hz is None else min(0.95 * nyq, max_hz)
     if isinstance(harmonics, list):
@@ -170,7 +172,7 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
     fams = {}
     n_tests = 0
     for nom in nominals:
-        ks = _candidate_harmonics(nom, sr, "auto" if harmonics == "auto" else harmonics, max_hz)
+        ks = candidate_harmonics(nom, sr, "auto" if harmonics == "auto" else harmonics, max_hz)
         if not ks:
             continue
         f0 = refine_fundamental(spec, nom, ks)
@@ -207,6 +209,24 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
         nom = best
         f0, ks = fams[nom]
         chosen = [c["harmonic"] for c in candidates if c["family_hz"] == nom and c["significant"]]
+    tone_list = refine_tones(spec, tones)
+    for t in tone_list:
+        st = line_level(spec, t, band_halfwidth(spec, 0), [])
+        candidates.append({"family_hz": None, "harmonic": None, "freq_hz": t,
+                           "level_db": [float(v) for v in st["level_db"]], "pooled_db": st["pooled_db"],
+                           "p_value_bonferroni": st["p_value"], "significant": bool(st["p_value"] < alpha)})
+        floors[("tone", t)] = st["floor"]
+    det = Detection(mains_hz=f0 if chosen else None, nominal_hz=nom if chosen else None, harmonics=chosen,
+                    tones=tone_list, candidates=candidates, floors=floors, alpha=alpha)
+    det.floors = {("h", k): floors[(nom, k)] for k in chosen} | {("tone", t): floors[("tone", t)]
+                                                                 for t in tone_list}
+    log.info("hum detection: fundamental %s Hz (nominal %s), harmonics %s, tones %s",
+             None if det.mains_hz is None else round(det.mains_hz, 4), det.nominal_hz, chosen, tone_list)
+    return det
+
+
+def refine_tones(spec: Spectrum, tones) -> list[float]:
+    """Each tone at the spectrum's peak within +-0.5 Hz (parabolic on log power), or as given."""
     tone_list = []
     pooled = spec.psd.sum(axis=1)
     for t in tones:
@@ -221,19 +241,7 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
                 tone_list.append(float(spec.freqs[i] + off * spec.df))
                 continue
         tone_list.append(float(t))
-    for t in tone_list:
-        st = line_level(spec, t, band_halfwidth(spec, 0), [])
-        candidates.append({"family_hz": None, "harmonic": None, "freq_hz": t,
-                           "level_db": [float(v) for v in st["level_db"]], "pooled_db": st["pooled_db"],
-                           "p_value_bonferroni": st["p_value"], "significant": bool(st["p_value"] < alpha)})
-        floors[("tone", t)] = st["floor"]
-    det = Detection(mains_hz=f0 if chosen else None, nominal_hz=nom if chosen else None, harmonics=chosen,
-                    tones=tone_list, candidates=candidates, floors=floors, alpha=alpha)
-    det.floors = {("h", k): floors[(nom, k)] for k in chosen} | {("tone", t): floors[("tone", t)]
-                                                                 for t in tone_list}
-    log.info("hum detection: fundamental %s Hz (nominal %s), harmonics %s, tones %s",
-             None if det.mains_hz is None else round(det.mains_hz, 4), det.nominal_hz, chosen, tone_list)
-    return det
+    return tone_list
 
 
 def line_levels(spec: Spectrum, freqs, *, half_width_hz=None) -> list[dict]:

@@ -24,6 +24,8 @@ from odnn_sep.audio import track as _track
 DECIM = 10            # chunks (10 ms) per sample of the low-passed baseband: 10 Hz
 SMOOTH_HZ = 0.6       # bandwidth of the phase correction (resolution ~0.5 s)
 K_CAPS = (2, 4, 8, 16, None)  # harmonics used in each round
+PHASE_NOISE_DB = -40.0  # hum left by the track's phase noise, at most (weak lines: longer smoothing)
+MAX_SMOOTH_S = 12.0   # longest phase-correction kernel (s)
 
 
 def chunk_times(J: int, sr: int) -> np.ndarray:
@@ -54,8 +56,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
     tc = chunk_times(J, sr)
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
     psi = psi0.copy()
-    # Hann kernel whose half-power frequency is SMOOTH_HZ (0.72 / length)
-    kern = np.hanning(max(3, int(round(0.72 / SMOOTH_HZ * fs_d)) + 2))[1:-1]
+    n_min = max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
@@ -76,13 +77,72 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         w = np.minimum(w, 1e8)
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
-        # normalised convolution: the low-pass of the weighted estimates over that of the weights
-        # (instants with little hum evidence borrow from their neighbours)
-        # (a positive kernel, so the ratio stays a weighted mean)
-        err = (ndimage.convolve1d(num, kern, mode="constant")
-               / np.maximum(ndimage.convolve1d(den, kern, mode="constant"), 1e-300))
+        err = smoothed_correction(num, den, np.abs(c[0]) ** 2, ks[use], n_min, fs_d)
         psi = psi + np.interp(tc, td, err)
     return psi
+
+
+def smoothed_correction(num, den, power, ks, n_min: int, fs_d: float) -> np.ndarray:
+    """The phase correction (cycles, per decimated sample): the weighted estimates ``num / den``
+    smoothed by a Hann kernel (:func:`local_linear`) as long as the data allow.
+
+    The shortest kernel (``n_min`` samples: SMOOTH_HZ, so frequency modulation down to 5 s
+    periods is followed) suits strong lines. Weak lines (ECG, EEG) need a longer one: the phase
+    noise it passes must leave at most PHASE_NOISE_DB of the hum. A longer kernel is taken only
+    while what it smooths away, compared with the shortest one, is what the phase noise alone
+    predicts (within a factor 2): real modulation (FM with a 7 s period) shows as more, and then
+    the shorter kernel stays. At most MAX_SMOOTH_S; the block fit's own amplitude and phase take
+    up what a long kernel leaves over a block.
+
+    ``den`` (nd,): precision of the fundamental's phase (a phase estimate's variance is
+    1 / (2 den) rad^2); ``power`` (C, K): the lines' powers. A Hann kernel of n samples passes
+    1.5 / n of a white phase noise's variance; harmonic k carries k times the fundamental's
+    phase error.
+    """
+    short = local_linear(num, den, _hann(n_min))
+    prec = float(np.median(den)) if len(den) else 0.0
+    if prec <= 0:
+        return short
+    g = float((power * ks[None, :] ** 2).sum() / max(power.sum(), 1e-300))
+    var = 1.0 / (2 * prec) / (2 * np.pi) ** 2                       # cycles^2 per sample
+    n_req = 1.5 * g / max(2 * prec * 10 ** (PHASE_NOISE_DB / 10), 1e-300)
+    n_max = int(min(n_req, MAX_SMOOTH_S * fs_d, len(num) / 2))
+    best, n = short, 2 * n_min
+    while n <= n_max:
+        cand = local_linear(num, den, _hann(n))
+        expect = (1.5 / n_min - 1.5 / n) * var
+        if np.mean((short - cand) ** 2) > 2 * expect:
+            break
+        best, n = cand, 2 * n
+    return best
+
+
+def _hann(n: int) -> np.ndarray:
+    """Hann kernel of ``n`` samples (half-power frequency 0.72 / length)."""
+    return np.hanning(n + 2)[1:-1]
+
+
+def local_linear(num: np.ndarray, den: np.ndarray, kern: np.ndarray) -> np.ndarray:
+    """Kernel-weighted local linear fit of the estimates ``num / den`` (weights ``den``) at every
+    sample: normalised convolution of order one. Instants with little hum evidence borrow from
+    their neighbours. In the interior it equals the kernel-weighted mean (a symmetric kernel
+    over even weights); at the ends, where the kernel is one-sided, the local slope keeps a
+    phase error that grows towards the end (a fast ramp that the block track extrapolates) from
+    being pulled back towards the interior, which a weighted mean does (its lag does not shrink
+    from round to round)."""
+    x = np.arange(len(num), dtype=float)
+    x -= x.mean()
+    conv = [ndimage.convolve1d(v, kern, mode="constant") for v in (den, den * x, den * x * x, num, num * x)]
+    s0, s1, s2, b0, b1 = conv
+    # the fit about each sample i: a + c (x - x_i); moments shifted to the sample
+    m1 = s1 - x * s0
+    m2 = s2 - 2 * x * s1 + x * x * s0
+    r1 = b1 - x * b0
+    det = s0 * m2 - m1 * m1
+    mean = b0 / np.maximum(s0, 1e-300)
+    ok = det > 1e-9 * np.maximum(s0 * m2, 1e-300)
+    lin = np.where(ok, (m2 * b0 - m1 * r1) / np.where(ok, det, 1.0), mean)
+    return lin
 
 
 def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray, h: float = 0.25):
@@ -156,11 +216,11 @@ class PhaseTrack:
         return cyc
 
 
-def track_from_phase(psi: np.ndarray, sr: int, f_ref: float, n_frames: int, hop: int):
-    """A :class:`track.Track` for blocks of ``2 hop`` samples centred at ``b hop`` whose phase is
+def track_from_phase(psi: np.ndarray, f_ref: float, plan):
+    """A :class:`track.Track` for the blocks of ``plan`` (a blockplan.BlockPlan) whose phase is
     ``psi`` (the per-block fundamental, rate and curvature follow from it)."""
-    nb = (n_frames - 1) // hop + 2
-    t = np.arange(nb) * hop / sr
+    sr, hop, nb = plan.sr, plan.hop, plan.count
+    t = plan.centres_s
     tc = chunk_times(len(psi), sr)
     # per block: the mean frequency over the middle half of the block (reports, comb masks)
     f0, rate, curv = block_params(psi, tc, f_ref, t, h=max(0.25, 0.5 * hop / sr))

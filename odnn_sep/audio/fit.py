@@ -11,9 +11,11 @@ small, so theta is the weighted least-squares theta on the raw samples.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 
+from odnn_sep.audio.lines import as_combs
 from odnn_sep.core.linalg import factor_gram, solve
 
 log = logging.getLogger(__name__)
@@ -21,25 +23,42 @@ log = logging.getLogger(__name__)
 COND_LIMIT = 1e8
 
 
-def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float, curv: float,
-                ks, tones, nuisance: bool = True, cache: dict | None = None, step: int = 1,
-                dtype=np.float64, phase=None) -> np.ndarray:
-    """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line; Fortran order.
+@dataclass(frozen=True)
+class BasisSpec:
+    """What a block's hum basis holds: the tracked harmonics ``ks`` (following ``phase``, a
+    finetrack.PhaseTrack, or else the block's polynomial), the fixed lines (frequencies or
+    ``(fundamental, harmonics)`` combs, lines.as_combs) and, with ``nuisance``, a constant and a
+    linear-trend column. The nuisance columns are fitted but never subtracted: a baseline offset
+    or slow wander (ECG, EEG, DC-coupled audio) then cannot leak onto the hum lines in a block cut
+    short by the start or end of the signal."""
 
-    ``tones``: fixed-frequency lines, each a frequency or a ``(fundamental, harmonics)`` comb.
-    ``nuisance``: append a constant and a linear-trend column. They are fitted but never
-    subtracted: a baseline offset or slow wander (ECG, EEG, DC-coupled audio) then cannot leak
-    onto the hum lines in a block cut short by the start or end of the signal.
+    sr: int
+    ks: tuple = ()
+    fixed_lines: tuple = ()
+    nuisance: bool = True
+    phase: object = None
+
+    @property
+    def n_lines_cols(self) -> int:
+        return 2 * (len(self.ks) + sum(len(kk) for _, kk in as_combs(self.fixed_lines)))
+
+
+def block_basis(spec: BasisSpec, idx0: int, n: int, centre: int, poly=(0.0, 0.0, 0.0), *,
+                cache: dict | None = None, step: int = 1, dtype=np.float64) -> np.ndarray:
+    """Columns ``cos(k phi), sin(k phi)`` per harmonic then ``cos, sin`` per fixed line (then the
+    nuisance columns) over samples ``idx0 .. idx0 + n``; Fortran order.
+
+    ``poly``: the block's fundamental, rate and curvature ``(f0, rate, curv)`` about ``centre``
+    (used when ``spec.phase`` is None).
     ``cache``: a dict kept by the caller across blocks; full-length blocks then reuse the time
     axis, the nuisance columns and the output buffer (the result is overwritten by the next call).
     ``step``: evaluate only at samples idx0, idx0 + step, ... (rows of the full basis, taken
     every ``step``-th; used for the sub-sampled Gram matrix). ``dtype``: float32 suffices for the
-    Gram matrix (see :func:`solve_block`). ``phase``: a finetrack.PhaseTrack; the harmonics then
-    follow its phase instead of the block's polynomial.
+    Gram matrix (see :func:`solve_block`).
     """
-    ks = list(ks)
-    p = 2 * (len(ks) + sum(len(kk) for _, kk in _as_combs(tones)))
-    width = p + (2 if nuisance else 0)
+    ks, sr = list(spec.ks), spec.sr
+    p = spec.n_lines_cols
+    width = p + (2 if spec.nuisance else 0)
     key = (n, idx0 - centre, width, step, np.dtype(dtype).char)
     if cache is not None and cache.get("key") == key:
         F, tau = cache["F"], cache["tau"]
@@ -47,7 +66,7 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
         j = np.arange(0, n, step)
         F = np.empty((len(j), width), dtype=dtype, order="F")
         tau = (idx0 + j - centre) / sr
-        if nuisance:
+        if spec.nuisance:
             F[:, p] = 1.0
             F[:, p + 1] = (-1.0 + 2.0 * j / (n - 1)) if n > 1 else 0.0
         if cache is not None and n >= cache.get("min_n", 0):
@@ -55,15 +74,16 @@ def block_basis(idx0: int, n: int, centre: int, sr: int, f0: float, rate: float,
     if ks:
         # phase in cycles reduced to its fraction in float64 (fewer passes over a long block
         # than radians)
-        cyc = phase.cycles(idx0, n, centre, step) if phase is not None else tracked_cycles(tau, f0, rate, curv)
+        phase = spec.phase
+        cyc = phase.cycles(idx0, n, centre, step) if phase is not None else tracked_cycles(tau, *poly)
         cyc -= np.rint(cyc)
-        _put_harmonics(F, 0, _unit_cycles(cyc), ks)
+        _put_harmonics(F, 0, unit_phasor_cycles(cyc), ks)
     col = 2 * len(ks)
-    for fc, kk in _as_combs(tones):
+    for fc, kk in as_combs(spec.fixed_lines):
         # absolute time; the start phase is reduced modulo one cycle so long files keep full
         # precision, and harmonics of one fixed comb come from powers of its fundamental
         ph = 2 * np.pi * (np.mod(idx0 * (fc / sr), 1.0) + np.arange(0, n, step) * (fc / sr))
-        col = _put_harmonics(F, col, _unit(ph), kk)
+        col = _put_harmonics(F, col, unit_phasor(ph), kk)
     return F
 
 
@@ -97,7 +117,7 @@ def _put_harmonics(F, col, z, ks):
     return col
 
 
-def _unit(phi: np.ndarray) -> np.ndarray:
+def unit_phasor(phi: np.ndarray) -> np.ndarray:
     """exp(i phi) as complex64: the phase is reduced to [-pi, pi] in float64 first, so the fast
     (vectorised) float32 sine and cosine are accurate to about 1e-7 (hum residual near -140 dB,
     -110 dB after 40 harmonic powers) at a twentieth of the float64 cost."""
@@ -109,24 +129,15 @@ def _unit(phi: np.ndarray) -> np.ndarray:
     return z
 
 
-def _unit_cycles(frac: np.ndarray) -> np.ndarray:
+def unit_phasor_cycles(frac: np.ndarray) -> np.ndarray:
     """exp(2 pi i frac) as complex64 for a phase already reduced to [-1/2, 1/2] cycle (see
-    :func:`_unit`)."""
+    :func:`unit_phasor`)."""
     r32 = frac.astype(np.float32)
     r32 *= np.float32(2 * np.pi)
     z = np.empty(frac.shape, np.complex64)
     np.cos(r32, out=z.real)
     np.sin(r32, out=z.imag)
     return z
-
-
-def _as_combs(tones):
-    """``tones``: frequencies (Hz) or (fundamental, [harmonic numbers]) pairs, in column order."""
-    for t in tones:
-        if isinstance(t, tuple):
-            yield t[0], list(t[1])
-        else:
-            yield float(t), [1]
 
 
 def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1, F_sub: np.ndarray | None = None):
@@ -149,9 +160,9 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
         # F_sub: the same basis evaluated every gram_step-th sample (built directly; gathering
         # rows of a large F costs more than the product)
         Fs = np.asfortranarray(F[::gram_step]) if F_sub is None else F_sub
-        G = _weighted_gram(Fs, w[::gram_step], gram_step)
+        G = weighted_gram(Fs, w[::gram_step], gram_step)
     else:
-        G = _weighted_gram(F, w, 1.0)
+        G = weighted_gram(F, w, 1.0)
     # np.dot, not "@": with a Fortran-ordered F, matmul here can take a non-BLAS loop (50x slower)
     rhs = np.dot(F.T, (Y * w[:, None]).astype(dt, copy=False)).astype(np.float64)
     fac = factor_gram(G.astype(np.float64))
@@ -176,7 +187,7 @@ def sub_gram(n: int, p: int, gram_step: int) -> bool:
     return gram_step > 1 and n // gram_step >= 8 * p
 
 
-def _weighted_gram(F, w, scale):
+def weighted_gram(F, w, scale):
     """``scale * F^T diag(w) F`` with BLAS syrk (one triangle: half the work of a product), w >= 0."""
     from scipy.linalg import blas
 

@@ -6,6 +6,8 @@ import numpy as np
 
 from odnn_sep.audio import fit as _fit
 from odnn_sep.audio import gram as _gram
+from odnn_sep.audio.blockplan import sin2_window
+from odnn_sep.audio.lines import as_combs
 from odnn_sep.core.linalg import factor_gram
 
 NEAR_BINS = 64.0   # lines closer than this many window bins are coupled in the Gram matrix
@@ -41,7 +43,7 @@ class FullBlockFitter:
         self.L, self.sr, self.ks = L, sr, list(ks)
         self.fixed = list(fixed_lines)
         self.pm = 2 * len(self.ks)
-        pairs = [(fc, k) for fc, kk in _fit._as_combs(self.fixed) for k in kk]
+        pairs = [(fc, k) for fc, kk in as_combs(self.fixed) for k in kk]
         self.fc = np.array([p[0] for p in pairs], float)
         self.kf = np.array([p[1] for p in pairs], float)
         self.nf = len(pairs)
@@ -55,7 +57,8 @@ class FullBlockFitter:
         # chunk table: fixed columns over one chunk (as block_basis from sample 0), then 1 and u
         c = int(max(1, min(chunk, L)))
         self.c, self.nch = c, -(-L // c)
-        Rc = _fit.block_basis(0, c, 0, sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, dtype=np.float32)
+        self.fixed_spec = _fit.BasisSpec(sr, (), tuple(self.fixed), nuisance=True)
+        Rc = _fit.block_basis(self.fixed_spec, 0, c, 0, dtype=np.float32)
         Rc[:, self.pf + 1] = np.arange(c, dtype=np.float32)
         self.Rc = np.ascontiguousarray(Rc)                              # (c, pf + 2)
         self.RcT = np.ascontiguousarray(Rc[:, : self.pf].T)             # (pf, c)
@@ -70,7 +73,7 @@ class FullBlockFitter:
         a full block, a Hann over the visible part of a block cut by the signal's ends)."""
         got = self._win.get(n)
         if got is None:
-            w = np.sin(np.pi * (np.arange(n) + 0.5) / n) ** 2
+            w = sin2_window(np.arange(n) + 0.5, n)
             got = self._win[n] = (w, w.astype(np.float32), float(w.sum()))
         return got
 
@@ -87,9 +90,8 @@ class FullBlockFitter:
             else:
                 p = self.pm + self.pf + 2
                 q = self.gram_step if _fit.sub_gram(n, p, self.gram_step) else 1
-                R_sub = _fit.block_basis(0, n, 0, self.sr, 0.0, 0.0, 0.0, [], self.fixed, nuisance=True, step=q,
-                                         dtype=np.float32)
-                G = _fit._weighted_gram(R_sub, self.window(n)[0][::q], float(q)).astype(np.float64)
+                R_sub = _fit.block_basis(self.fixed_spec, 0, n, 0, step=q, dtype=np.float32)
+                G = _fit.weighted_gram(R_sub, self.window(n)[0][::q], float(q)).astype(np.float64)
             self._grr[n] = G
         return G
 
@@ -270,7 +272,7 @@ class FullBlockFitter:
             Jd = int(min(n, np.ceil(12 * NEAR_BINS)))
             s_d = n / Jd
             t_d = -0.5 + s_d * (np.arange(Jd) + 0.5)
-            w_d = np.sin(np.pi * (t_d + 0.5) / n) ** 2
+            w_d = sin2_window(t_d + 0.5, n)
             E_fix = np.exp(-2j * np.pi * np.mod(np.outer(self.kf * self.fc, t_d) / self.sr, 1.0))   # (nf, Jd)
             got = self._near[n] = (s_d, t_d, w_d, E_fix)
         s_d, t_d, w_d, E_fix = got

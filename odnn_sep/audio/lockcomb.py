@@ -13,15 +13,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.audio import baseband as _baseband
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lock as _lock
 from odnn_sep.audio import track as _track
+from odnn_sep.audio.blockplan import BlockPlan, hop_samples
 
 log = logging.getLogger(__name__)
 TRACK_HOP_S = 4.0     # blocks of the starting (coarse) track: 8 s
 NUMERICAL_REL = 3e-3  # new lines weaker than this (-50 dB re the strongest locked line) are not added
+SETTLE_ROUNDS = 3     # track / lock-test rounds until the set of locked lines settles
 LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
 
 
@@ -50,54 +51,78 @@ def _weights(spec, f_ref, ks, det_floors):
     return np.stack(cols, axis=1)
 
 
-def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool = True, rounds: int = 3,
-           progress=None) -> Comb:
+@dataclass
+class _Family:
+    """One family's candidate lines through the lock tests: chunk sums ``D`` (J, C, K) and floor
+    weights ``W`` (C, K) of the candidate harmonics ``cand`` at ``f_ref``, the coarse track's hop,
+    the Bonferroni count ``n_tests`` and, filled as lines are tested, ``info[k] = (p, lock index,
+    amplitude)``."""
+
+    D: np.ndarray
+    W: np.ndarray
+    cand: list
+    sr: int
+    N: int
+    f_ref: float
+    hop: int
+    alpha: float
+    n_tests: int
+    info: dict = field(default_factory=dict)
+
+    def cols(self, lines) -> list[int]:
+        return [self.cand.index(k) for k in lines]
+
+    def phase(self, lines):
+        """Block-track phase and its refinement (cycles at chunk centres) from harmonics ``lines``."""
+        cols = self.cols(lines)
+        trk = _track.track_fundamental(self.D[:, :, cols], self.f_ref, lines, self.W[:, cols],
+                                       BlockPlan(sr=self.sr, n_frames=self.N, hop=self.hop))
+        psi0 = _finetrack.block_track_phase(trk, _finetrack.chunk_times(self.D.shape[0], self.sr), self.f_ref,
+                                            self.sr)
+        return psi0, _finetrack.refine_phase(self.D[:, :, cols], self.sr, self.f_ref, lines, self.W[:, cols], psi0)
+
+
+def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool = True, progress=None) -> Comb:
     """Track and lock-test the family of ``det`` (harmonics ``det.harmonics`` plus ``extra``
     candidates). ``test=False``: the harmonics were given by the caller; only track them."""
     sr, N = source.sr, source.frames
-    f_ref = det.mains_hz
     cand = sorted(set(det.harmonics) | set(extra))
-    D_all = _track.demodulate(source, f_ref, cand, progress=progress)
-    W_all = _weights(spec, f_ref, cand, det.floors)
+    fam = _Family(D=_track.demodulate(source, det.mains_hz, cand, progress=progress),
+                  W=_weights(spec, det.mains_hz, cand, det.floors), cand=cand, sr=sr, N=N, f_ref=det.mains_hz,
+                  hop=hop_samples(2 * TRACK_HOP_S, sr), alpha=alpha, n_tests=n_tests)
     seen = list(det.harmonics) if det.harmonics else list(cand)
     ks = list(seen)
-    hop = max(1, int(round(TRACK_HOP_S * sr)))
-    tc = _finetrack.chunk_times(D_all.shape[0], sr)
-    info = {}
-
-    def phase(lines):
-        cols = [cand.index(k) for k in lines]
-        trk = _track.track_fundamental(D_all[:, :, cols], sr, N, f_ref, lines, W_all[:, cols], hop=hop)
-        psi0 = _finetrack.block_track_phase(trk, tc, f_ref, sr)
-        return psi0, _finetrack.refine_phase(D_all[:, :, cols], sr, f_ref, lines, W_all[:, cols], psi0)
-
     # the spectrum's lines first: track on them, keep those locked, until the set settles
-    psi0, psi = phase(ks)
-    for _ in range(rounds if test else 0):
-        keep = _locked_leave_one_out(D_all, cand, W_all, ks, psi0, sr, f_ref, alpha, info)
+    psi0, psi = fam.phase(ks)
+    for _ in range(SETTLE_ROUNDS if test else 0):
+        keep = _locked_leave_one_out(fam, ks, psi0)
         if keep == ks or not keep:
             ks = keep
             break
         ks = keep
-        psi0, psi = phase(ks)
+        psi0, psi = fam.phase(ks)
     if test and ks:
-        ks = sorted(ks + _new_lines(D_all, cand, seen, ks, psi, sr, N, f_ref, hop, alpha, n_tests, info))
+        ks, psi0, psi = _readmit(fam, seen, ks, psi0, psi)
+    if test and ks:
+        ks = sorted(ks + _new_lines(fam, seen, ks, psi))
     if test and ks and min(ks) > LOWEST_K:
         # mains hum lives at the fundamental and the first harmonics (a weak fundamental is
         # normal, a comb with nothing locked below the 6th harmonic is not): locked lines only
         # high up are partials of held notes that happen to keep their phase
         log.info("lines %s locked but none of harmonics 1-%d: not taken for hum", ks, LOWEST_K)
         ks = []
-    cols = [cand.index(k) for k in ks]
+    cols = fam.cols(ks)
+    info = fam.info
     ev = float(sum(-np.log10(max(info[k][0], 1e-300)) for k in ks)) if test else 0.0
-    return Comb(nominal_hz=det.nominal_hz, f_ref=f_ref, harmonics=ks, psi=psi if ks else None,
-                D=D_all[:, :, cols] if ks else None, weights=W_all[:, cols] if ks else None, evidence=ev,
+    return Comb(nominal_hz=det.nominal_hz, f_ref=fam.f_ref, harmonics=ks, psi=psi if ks else None,
+                D=fam.D[:, :, cols] if ks else None, weights=fam.W[:, cols] if ks else None, evidence=ev,
                 lock=info)
 
 
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:
     """The locked comb of the detected family, or of the other nominal family when it has more
-    locked evidence; None when no line is locked."""
+    locked evidence; None when no line is locked. Options as in :func:`~odnn_sep.audio.denoise`
+    (validated); keyword-only, which is why there are nine (why long)."""
     test = harmonics == "auto"
     n_first = max(1, sum(1 for c in det.candidates if c["harmonic"] is not None))
     fams = []
@@ -105,7 +130,7 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
         # every harmonic in range is tested for lock, not only those the spectrum showed: weak
         # harmonics of a hum (the even ones of odd-dominant hum, the 11th under music) are
         # clear on the tracked baseband
-        extra = [k for k in _detect._candidate_harmonics(det.mains_hz, source.sr, "auto", max_hz)
+        extra = [k for k in _detect.candidate_harmonics(det.mains_hz, source.sr, "auto", max_hz)
                  if k not in det.harmonics] if test else []
         fams.append(settle(source, spec, det, extra, alpha=alpha, n_tests=n_first + len(extra), test=test,
                            progress=progress))
@@ -114,12 +139,16 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
             if nom == det.nominal_hz:
                 continue
             other = [c["harmonic"] for c in det.candidates if c["family_hz"] == nom and c["significant"]]
-            if not other:
+            # a line both families share (300 Hz is 5 x 60 and 6 x 50) is evidence for neither:
+            # a family whose lines are all shared with the detected one is not demodulated
+            shared = [k for k in other if det.harmonics and min(
+                abs(k * nom - j * det.mains_hz) for j in det.harmonics) <= _detect.band_halfwidth(spec, k)]
+            if len(shared) == len(other):
                 continue
             d2 = _detect.detect_hum(spec, source.sr, mains=nom, harmonics="auto", tones=tones, alpha=alpha,
                                     max_hz=max_hz)
             d2.harmonics = sorted(set(d2.harmonics) | set(other))
-            extra = [k for k in _detect._candidate_harmonics(d2.mains_hz, source.sr, "auto", max_hz)
+            extra = [k for k in _detect.candidate_harmonics(d2.mains_hz, source.sr, "auto", max_hz)
                      if k not in d2.harmonics]
             fams.append(settle(source, spec, d2, extra, alpha=alpha, n_tests=n_first + len(extra), test=True))
     fams = [f for f in fams if f.harmonics]
@@ -131,45 +160,60 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     return best
 
 
-def _locked_leave_one_out(D_all, cand, W_all, ks, psi0, sr, f_ref, alpha, info) -> list[int]:
+def _locked_leave_one_out(fam: _Family, ks, psi0) -> list[int]:
     """The lines of ``ks`` that are phase-locked to a track made without them (leave one out): a
     phase that follows one line is trivially locked to it, a note partial included. A lone line
     is tested against the block track (8 s blocks cannot follow a note's phase from one onset to
-    the next). Fills ``info[k] = (p, lock index, amplitude)``."""
-    cols = [cand.index(k) for k in ks]
+    the next). Fills ``fam.info[k] = (p, lock index, amplitude)``."""
+    cols = fam.cols(ks)
     keep = []
     for i, k in enumerate(ks):
         if len(ks) > 1:
             rest = [cols[j] for j in range(len(ks)) if j != i]
-            psi_k = _finetrack.refine_phase(D_all[:, :, rest], sr, f_ref, [ks[j] for j in range(len(ks)) if j != i],
-                                            W_all[:, rest], psi0)
+            psi_k = _finetrack.refine_phase(fam.D[:, :, rest], fam.sr, fam.f_ref,
+                                            [ks[j] for j in range(len(ks)) if j != i], fam.W[:, rest], psi0)
         else:
             psi_k = psi0
-        kk, inf_k = _lock.locked(D_all[:, :, [cols[i]]], sr, [k], psi_k, alpha=alpha)
-        info[k] = inf_k[k]
+        kk, inf_k = _lock.locked(fam.D[:, :, [cols[i]]], fam.sr, [k], psi_k, alpha=fam.alpha)
+        fam.info[k] = inf_k[k]
         if kk:
             keep.append(k)
     return keep
 
 
-def _new_lines(D_all, cand, seen, ks, psi, sr, N, f_ref, hop, alpha, n_tests, info) -> list[int]:
+def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     """Harmonics the spectrum did not show, tested once against the settled track (they never
-    steer it). Each must be phase-locked and significant on the tracked baseband (a band of 1.5
-    fine bins), both Bonferroni-corrected over every line tested, and reach -50 dB of the strongest
-    locked line: below that, the sharp onsets of a host with no noise floor (broadband, so in phase
-    across harmonics, and followed a little by the track) read as weak locked lines, and removing
-    such lines would gain nothing (40 of them sum to -34 dB)."""
-    others = [k for k in cand if k not in seen]
+    steer it). Each must be phase-locked (a steady non-zero mean on the tracked baseband, which is
+    itself a significance test; Bonferroni-corrected over every line tested) and reach -50 dB of
+    the strongest locked line: below that, the sharp onsets of a host with no noise floor
+    (broadband, so in phase across harmonics, and followed a little by the track) read as weak
+    locked lines, and removing such lines would gain nothing (40 of them sum to -34 dB). A further
+    line test on the tracked baseband's spectrum is not asked for: it missed weak harmonics whose
+    lock was clear (-27 dB under the fundamental), and those are what limits the gain."""
+    others = [k for k in fam.cand if k not in seen]
     if not others:
         return []
-    _, inf_o = _lock.locked(D_all[:, :, [cand.index(k) for k in others]], sr, others, psi, alpha=alpha)
+    info, sr = fam.info, fam.sr
+    _, inf_o = _lock.locked(fam.D[:, :, fam.cols(others)], sr, others, psi, alpha=fam.alpha)
     info.update(inf_o)
     top_amp = max(info[k][2] for k in ks)
-    new = [k for k in others if info[k][0] * n_tests < alpha and info[k][2] > NUMERICAL_REL * top_amp]
-    if not new:
-        return []
-    trk_p = _finetrack.track_from_phase(psi, sr, f_ref, N, hop)
-    seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
-    sig, _ = _baseband.second_look(D_all[:, :, [cand.index(k) for k in new]], sr, f_ref, new, trk_p,
-                                   alpha=alpha, n_tests=n_tests, seg_s=seg_hr)
-    return [int(k) for k in sig]
+    return [int(k) for k in others if info[k][0] * fam.n_tests < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp]
+
+
+def _readmit(fam: _Family, seen, ks, psi0, psi):
+    """Spectrum lines dropped in an early round, tested again against the settled track (made
+    without them, so this is still a leave-one-out test). An early track can be steered by note
+    partials the spectrum took for harmonics (a fast ramp smears the true lines, so more partials
+    pass for them); a strong fundamental tested against it fails, and once dropped it would never
+    come back. Lines that pass are added and the track is made again with them."""
+    dropped = [k for k in seen if k not in ks]
+    if not dropped:
+        return ks, psi0, psi
+    back, inf_d = _lock.locked(fam.D[:, :, fam.cols(dropped)], fam.sr, dropped, psi, alpha=fam.alpha)
+    if not back:
+        return ks, psi0, psi
+    fam.info.update({k: inf_d[k] for k in back})
+    log.info("lines %s locked to the settled track: taken back", back)
+    ks = sorted(ks + back)
+    psi0, psi = fam.phase(ks)
+    return ks, psi0, psi

@@ -17,6 +17,7 @@ Pipeline (all passes stream in blocks, so memory does not grow with the file len
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -27,166 +28,192 @@ from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lockcomb as _lockcomb
-from odnn_sep.audio import params as _params
 from odnn_sep.audio import track as _track
+from odnn_sep.audio.blockplan import BlockPlan
+from odnn_sep.audio.lines import LineSet
+from odnn_sep.audio.options import DenoiseOptions, progress_bar
 from odnn_sep.audio.result import DenoiseResult
-from odnn_sep.errors import InputError, check_option
+from odnn_sep.errors import InputError
 
 log = logging.getLogger(__name__)
 
 SMOOTH_BLOCKS = 4   # line amplitudes pooled over up to this many blocks on each side (blockfit.py)
 POOL_MAIN = True    # pool the tracked comb too (in the track's common phase reference), not only fixed lines
+MAX_COMBS = 3       # the main comb and at most this many less one further combs
+MIN_S = 0.2         # shortest input (s)
 
 
-def run(source, sink, **kw):
+def run(source, sink, opts: DenoiseOptions, *, after_source_fn):
     """All passes over ``source`` (an ArraySource or FileSource); the cleaned samples go through
-    ``sink(piece, removed)``. Options as in :func:`api.denoise`, plus ``after_source_fn`` (the
-    written output as a source, for the line levels after). Returns the DenoiseResult."""
+    ``sink(piece, removed)``. ``opts`` as given by the caller (validated here, once);
+    ``after_source_fn()``: the written output as a source, for the line levels after. Returns the
+    DenoiseResult."""
     # Many small matrix products: BLAS threads only add spin-wait overhead here (and collapse
     # when the machine is busy), so run them single-threaded.
     try:
         from threadpoolctl import threadpool_limits  # present through librosa -> scikit-learn
     except ImportError:  # pragma: no cover
-        return _run_inner(source, sink, **kw)
+        return _run_inner(source, sink, opts, after_source_fn)
     with threadpool_limits(limits=1, user_api="blas"):
-        return _run_inner(source, sink, **kw)
+        return _run_inner(source, sink, opts, after_source_fn)
 
 
-def _run_inner(source, sink, *, mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state,
-               after_source_fn, max_combs=3):
-    sr, N, C = source.sr, source.frames, source.channels
-    mains = _params.parse_mains(mains, sr)
-    harmonics = _params.parse_harmonics(harmonics)
-    tones = _params.parse_tones(tones, sr)
-    max_hz = _params.parse_max_hz(max_hz, sr)
-    check_option("solver", solver, ("exact", "network"))
-    auto_block = isinstance(block_s, str) and block_s.strip().lower() == "auto"
-    if not auto_block:
-        try:
-            block_s = float(block_s)
-        except (TypeError, ValueError):
-            raise InputError(f"block_s must be 'auto' or a duration in seconds; got {block_s!r}") from None
-        if not np.isfinite(block_s) or block_s * 10 < 1.0 or block_s > 60:
-            raise InputError(f"block_s must be between 0.1 and 60 s; got {block_s!r}")
-    min_s = 0.2
-    if N < min_s * sr:
+@dataclass
+class _Found:
+    """What the analysis passes found: the spectra, the detection, the locked comb's track and
+    block plan, the lines, and the whole-input harmonic amplitudes."""
+
+    spec_before: object
+    spec_fine: object
+    det: object
+    plan: BlockPlan
+    trk: object
+    lines: LineSet
+    f_med: float | None
+    h_amp: dict
+
+
+def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
+    opts = opts.validated(source.sr)
+    sr, N = source.sr, source.frames
+    if N < MIN_S * sr:
         raise InputError(f"input is too short ({N} samples = {N / sr:.3f} s at {sr} Hz) to resolve mains hum; "
-                         f"pass at least {min_s:g} s of audio")
-
-    nyq = sr / 2
-    top = min(0.95 * nyq, max_hz if max_hz is not None else np.inf,
-              (_detect.MAX_HARMONICS + 1) * (65.0 if mains == "auto" else mains))
-    spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
-    det = _detect.detect_hum(spec_before, sr, mains=mains, harmonics=harmonics, tones=tones, alpha=alpha,
-                             max_hz=max_hz)
-    ks, tl = det.harmonics, det.tones
-    ks_spec = list(ks)
-    if auto_block and (not ks or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
-        block_s, auto_block = _blocklen.CANDIDATES_S[0], False
-    bar = _params.progress_bar(progress, (2 if ks else 1) * N, "denoise")
+                         f"pass at least {MIN_S:g} s of audio")
+    found, bar = _analyse(source, opts)
     tick = (lambda k: bar.update(k)) if bar is not None else None
-    trk = None
-    # only when the harmonics are the data's choice: a given count or list is removed as given
-    look_again = bool(ks) and harmonics == "auto" and max_combs > 1
-    h_amp = {}
-    comb = _lockcomb.choose(source, spec_before, det, mains=mains, harmonics=harmonics, alpha=alpha,
-                            max_hz=max_hz, tones=tl, progress=tick) if ks else None
-    if comb is None:
-        ks = []
-        if auto_block:
-            block_s, auto_block = _blocklen.CANDIDATES_S[0], False
-    else:
-        ks = comb.harmonics
-        det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
-        det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
-                            "p_value_bonferroni": p, "lock_index": ix, "significant": k in ks,
-                            "look": "phase lock"} for k, (p, ix, _) in sorted(comb.lock.items())]
-        if auto_block:
-            block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
-        hop = max(1, int(round(block_s * sr / 2)))
-        trk = _finetrack.track_from_phase(comb.psi, sr, comb.f_ref, N, hop)
-        # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
-        h_amp = dict(zip(ks, _amplitude.steady_amplitudes(comb.D, sr, comb.f_ref, ks, trk, hop, N).T,
-                         strict=True))
-        comb.D = None
-    hop = max(1, int(round(block_s * sr / 2)))
-    nb = (N - 1) // hop + 2
-    if not ks and not tl:
-        log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
-                    "persist); the output equals the input", "50 and 60 Hz" if mains == "auto" else f"{mains:g} Hz")
-    if not ks:
-        t = np.arange(nb) * hop / sr
-        z = np.zeros(nb)
-        trk = _track.Track(t=t, f0=z, rate=z, curv=z, confident=np.zeros(nb, bool), strength=z)
+    amps, phs, valid, overall = _fit(source, sink, opts, found, tick)
+    if bar is not None:
+        bar.close()
+    return _result(found, opts, after_source_fn, amps, phs, valid, overall, source)
 
+
+def _analyse(source, opts: DenoiseOptions):
+    """Detection, phase-locked comb, block plan and track, further combs: a :class:`_Found` and
+    the progress bar (or None)."""
+    sr, N = source.sr, source.frames
+    top = min(0.95 * sr / 2, opts.max_hz if opts.max_hz is not None else np.inf,
+              (_detect.MAX_HARMONICS + 1) * (65.0 if opts.mains == "auto" else opts.mains))
+    keep_hz = top + 2 * _detect.FLOOR_WIDTH_HZ
+    spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=keep_hz)
+    det = _detect.detect_hum(spec_before, sr, mains=opts.mains, harmonics=opts.harmonics, tones=opts.tones,
+                             alpha=opts.alpha, max_hz=opts.max_hz)
+    ks_spec = list(det.harmonics)
+    bar = progress_bar(opts.progress, (2 if det.harmonics else 1) * N, "denoise")
+    tick = (lambda k: bar.update(k)) if bar is not None else None
+    comb = _lockcomb.choose(source, spec_before, det, mains=opts.mains, harmonics=opts.harmonics,
+                            alpha=opts.alpha, max_hz=opts.max_hz, tones=det.tones,
+                            progress=tick) if det.harmonics else None
+    plan, trk, h_amp = _plan_and_track(source, opts, det, comb)
+    ks = comb.harmonics if comb is not None else []
+    if not ks and not det.tones:
+        log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and persist); "
+                    "the output equals the input", "50 and 60 Hz" if opts.mains == "auto" else f"{opts.mains:g} Hz")
     # the finest spectrum at hand: the high-resolution one when the comb is looked at again
     combs, f_med, spec_fine = [], det.mains_hz, spec_before
-    look_again = look_again and bool(ks)
-    if look_again:
-        # further combs near the same nominal frequency, on a finer spectrum with the tracked
-        # comb's lines (widened by how far the track wandered) masked out
-        f_med = trk.median_f0(det.mains_hz)
-        spread = float(np.ptp(trk.f0)) if len(trk.f0) > 1 else 0.0
-        log.debug("track spread %.4f Hz", spread)
-        seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
-        spec_fine = _detect.excerpt_spectrum(source, seg_s=seg_hr,
-                                             keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
-        df_hr = spec_fine.df
-        # as far up as the comb the spectrum showed (a line there that is not locked to the
-        # track may belong to a further comb), at most twice the locked comb's reach
-        k_top = max([k for k in ks_spec if k <= 2 * max(ks)] + ks)
-        known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in tl]
-        combs = _combs.detect_extra_combs(spec_fine, sr, det.nominal_hz, known, min_sep_hz=1.5 * sr / (2 * hop),
-                                          alpha=alpha, max_hz=max_hz, max_combs=max_combs - 1,
-                                          max_harmonic=k_top, main_f0=f_med)
-    tl = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=tl)
-    names = [f"h{k}" for k in ks] + [f"tone_{t:g}Hz" for t in tl]
-    comb_tones = [k * c.fundamental_hz for c in combs for k in c.harmonics]
-    names += [f"c{i + 2}_h{k}" for i, c in enumerate(combs) for k in c.harmonics]
-    tl_fit = list(tl) + comb_tones
-    fixed_lines = list(tl) + [(c.fundamental_hz, c.harmonics) for c in combs]
+    # only when the harmonics are the data's choice: a given count or list is removed as given
+    if ks and opts.harmonics == "auto" and MAX_COMBS > 1:
+        combs, f_med, spec_fine = _further_combs(source, opts, det, trk, plan, ks, ks_spec, keep_hz)
+    tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
+    lines = LineSet(harmonics=ks, tones=tones, combs=combs)
+    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp), bar
 
-    f_top = max([k * (det.mains_hz or 0.0) * 1.01 for k in ks] + [float(t) for t in tl_fit] + [1.0])
-    gram_step = max(1, int(sr // (4 * f_top + 1)))
-    # local noise floor at every line (for pooling amplitudes across blocks)
+
+def _plan_and_track(source, opts: DenoiseOptions, det, comb):
+    """Block plan, track (all zeros without hum) and whole-input harmonic amplitudes; the locked
+    comb's family and lock statistics go into ``det``."""
+    sr, N = source.sr, source.frames
+    block_s = opts.block_s
+    if opts.auto_block and (comb is None or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
+        block_s = _blocklen.CANDIDATES_S[0]
+    if comb is None:
+        plan = BlockPlan.from_block_s(block_s, sr, N)
+        z = np.zeros(plan.count)
+        trk = _track.Track(t=plan.centres_s, f0=z, rate=z, curv=z, confident=np.zeros(plan.count, bool),
+                           strength=z)
+        return plan, trk, {}
+    ks = comb.harmonics
+    det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
+    det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
+                        "p_value_bonferroni": p, "lock_index": ix, "significant": k in ks,
+                        "look": "phase lock"} for k, (p, ix, _) in sorted(comb.lock.items())]
+    if block_s == "auto":
+        block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
+    plan = BlockPlan.from_block_s(block_s, sr, N)
+    trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan)
+    # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
+    h_amp = dict(zip(ks, _amplitude.steady_amplitudes(comb.D, comb.f_ref, ks, trk, plan).T, strict=True))
+    comb.D = None
+    return plan, trk, h_amp
+
+
+def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, keep_hz):
+    """Further combs near the same nominal frequency, on a finer spectrum with the tracked comb's
+    lines (widened by how far the track wandered) masked out: ``(combs, f_med, spec_fine)``."""
+    sr, N = source.sr, source.frames
+    f_med = trk.median_f0(det.mains_hz)
+    spread = float(np.ptp(trk.f0)) if len(trk.f0) > 1 else 0.0
+    log.debug("track spread %.4f Hz", spread)
+    seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
+    spec_fine = _detect.excerpt_spectrum(source, seg_s=seg_hr, keep_segments_hz=keep_hz)
+    df_hr = spec_fine.df
+    # as far up as the comb the spectrum showed (a line there that is not locked to the
+    # track may belong to a further comb), at most twice the locked comb's reach
+    k_top = max([k for k in ks_spec if k <= 2 * max(ks)] + ks)
+    known = [(k * f_med, 2 * df_hr + 0.5 * k * spread) for k in ks] + [(t, 2 * df_hr) for t in det.tones]
+    combs = _combs.detect_extra_combs(spec_fine, sr, det.nominal_hz, known,
+                                      _combs.CombSearch(min_sep_hz=1.5 * sr / (2 * plan.hop), alpha=opts.alpha,
+                                                        max_hz=opts.max_hz, max_combs=MAX_COMBS - 1,
+                                                        max_harmonic=k_top, main_f0=f_med))
+    return combs, f_med, spec_fine
+
+
+def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
+    """Pass 2 (blockfit.py) with the local noise floor at every line (for pooling amplitudes
+    across blocks); the harmonics' whole-input amplitudes replace the pooled ones."""
+    lines, spec_fine, f_med, det = found.lines, found.spec_fine, found.f_med, found.det
+    ks, fixed_freqs = lines.harmonics, lines.fixed_freqs
+    f_top = max([k * (det.mains_hz or 0.0) * 1.01 for k in ks] + [float(t) for t in fixed_freqs] + [1.0])
     main_psd = fixed_psd = None
-    if ks or tl_fit:
-        all_f = [k * f_med for k in ks] + tl_fit
+    if ks or fixed_freqs:
+        all_f = [k * f_med for k in ks] + fixed_freqs
         fl_all = [(f, 2 * spec_fine.df) for f in all_f]
         psd = np.stack([_detect.line_level(spec_fine, f, 2 * spec_fine.df,
                                            [e for e in fl_all if abs(e[0] - f) > 1e-9])["floor"] for f in all_f])
         if np.isfinite(psd).all():
-            main_psd, fixed_psd = (psd[: len(ks)] if ks else None), (psd[len(ks):] if tl_fit else None)
-    amps, phs, valid, overall = _blockfit.fit_pass(source, sink, hop=hop, trk=trk, ks=ks, fixed_lines=fixed_lines,
-                                          names=names, solver=solver, random_state=random_state,
-                                          gram_step=gram_step, fixed_psd=fixed_psd,
-                                          main_psd=main_psd if POOL_MAIN else None,
-                                          smooth_blocks=SMOOTH_BLOCKS,
-                                          tick=tick)
-    if bar is not None:
-        bar.close()
-    if h_amp:
+            main_psd, fixed_psd = (psd[: len(ks)] if ks else None), (psd[len(ks):] if fixed_freqs else None)
+    settings = _blockfit.FitSettings(solver=opts.solver, random_state=opts.random_state,
+                                     gram_step=max(1, int(source.sr // (4 * f_top + 1))), fixed_psd=fixed_psd,
+                                     main_psd=main_psd if POOL_MAIN else None, smooth_blocks=SMOOTH_BLOCKS)
+    amps, phs, valid, overall = _blockfit.fit_pass(source, sink, found.plan, found.trk, lines, settings, tick=tick)
+    if found.h_amp:
         # harmonics: the generalised least-squares amplitudes (amplitude.py) replace the pooled ones
         if overall is None:
-            overall = np.full((C, len(names)), np.nan)
-        overall[:, : len(ks)] = np.stack([h_amp[k] for k in ks], axis=1)
+            overall = np.full((source.channels, len(lines.names)), np.nan)
+        overall[:, : len(ks)] = np.stack([found.h_amp[k] for k in ks], axis=1)
+    return amps, phs, valid, overall
 
+
+def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, valid, overall, source):
+    """Line levels before and after, and the DenoiseResult."""
     out_src = after_source_fn()
     spec_after = _detect.excerpt_spectrum(out_src)
     out_src.close()
+    det, trk, lines = found.det, found.trk, found.lines
+    ks = lines.harmonics
     # (without hum the track is all zeros and never confident)
     f_med = trk.median_f0(det.mains_hz)
-    line_f = [k * f_med for k in ks] + list(tl_fit)
-    before = _detect.line_levels(spec_before, line_f)
-    after = _detect.line_levels(spec_after, line_f)
+    line_f = [k * f_med for k in ks] + lines.fixed_freqs
+    sr, N, C = source.sr, source.frames, source.channels
     return DenoiseResult(
-        y=None, hum=None, sr=sr, mains_hz=f_med, nominal_hz=det.nominal_hz, harmonics=ks, tones=tl,
-        extra_combs=[{"fundamental_hz": c.fundamental_hz, "harmonics": c.harmonics} for c in combs],
+        y=None, hum=None, sr=sr, mains_hz=f_med, nominal_hz=det.nominal_hz, harmonics=ks, tones=lines.tones,
+        extra_combs=[{"fundamental_hz": c.fundamental_hz, "harmonics": c.harmonics} for c in lines.combs],
         line_freqs=line_f,
         track_t=trk.t, track_hz=trk.f0 if ks else np.zeros(0), amplitudes=amps, phases=phs,
-        line_names=names, levels_before=before, levels_after=after,
-        candidates=det.candidates + [c for comb in combs for c in comb.candidates],
+        line_names=lines.names, levels_before=_detect.line_levels(found.spec_before, line_f),
+        levels_after=_detect.line_levels(spec_after, line_f),
+        candidates=det.candidates + [c for comb in lines.combs for c in comb.candidates],
         block_valid=valid, amplitude_overall=overall,
-        info={"solver": solver, "block_s": 2 * hop / sr, "channels": C, "frames": N, "duration_s": N / sr},
-        spectra={"freqs": spec_before.freqs, "before": spec_before.psd, "after": spec_after.psd},
+        info={"solver": opts.solver, "block_s": found.plan.block_s, "channels": C, "frames": N,
+              "duration_s": N / sr},
+        spectra={"freqs": found.spec_before.freqs, "before": found.spec_before.psd, "after": spec_after.psd},
     )

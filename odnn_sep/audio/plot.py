@@ -62,39 +62,53 @@ def plot_denoise(result, before, after, out, *, max_seconds: float = 120.0) -> N
         axis.set_xlabel("time (s)")
         axis.set_ylabel("frequency (Hz)")
         axis.ticklabel_format(axis="y", useOffset=False, style="plain")
-    # removed lines, labelled by comb, at the right edge of the input's spectrogram
+    _mark_lines(ax[0, 0], groups, fmax)
+    _levels_panel(ax[1, 0], result)
+    _track_panel(ax[1, 1], result)
+    fig.tight_layout()
+    save_figure(fig, out)
+
+
+def _mark_lines(axis, groups, fmax):
+    """The removed lines, labelled by comb, at the right edge of the input's spectrogram."""
     for gi, (label, lines) in enumerate(groups):
         col = COMB_COLOURS[gi % len(COMB_COLOURS)]
         for j, (name, f) in enumerate(lines):
             if f > fmax:
                 continue
-            ax[0, 0].axhline(f, color=col, lw=0.6, ls="--", alpha=0.8, label=label if j == 0 else None)
-            ax[0, 0].annotate(name, (1.0, f), xycoords=("axes fraction", "data"), xytext=(2, 0),
+            axis.axhline(f, color=col, lw=0.6, ls="--", alpha=0.8, label=label if j == 0 else None)
+            axis.annotate(name, (1.0, f), xycoords=("axes fraction", "data"), xytext=(2, 0),
                               textcoords="offset points", fontsize=6, color=col, va="center")
     if groups:
-        ax[0, 0].legend(loc="upper left", fontsize=7, framealpha=0.7)
+        axis.legend(loc="upper left", fontsize=7, framealpha=0.7)
+
+
+def _levels_panel(axis, result):
+    """Line levels above the local floor before and after, per line."""
     names = result.line_names
     if names:
         lb = np.array([np.max(h["level_db"]) for h in result.levels_before])
         la = np.array([np.max(h["level_db"]) for h in result.levels_after])
         x = np.arange(len(names))
-        ax[1, 0].bar(x - 0.2, lb, 0.4, label="before")
-        ax[1, 0].bar(x + 0.2, la, 0.4, label="after")
-        ax[1, 0].set_xticks(x, names, rotation=45, ha="right", fontsize=8)
-        ax[1, 0].axhline(0, color="k", lw=0.8)
-        ax[1, 0].legend()
+        axis.bar(x - 0.2, lb, 0.4, label="before")
+        axis.bar(x + 0.2, la, 0.4, label="after")
+        axis.set_xticks(x, names, rotation=45, ha="right", fontsize=8)
+        axis.axhline(0, color="k", lw=0.8)
+        axis.legend()
     else:
-        ax[1, 0].text(0.5, 0.5, "no hum found: nothing removed", ha="center", va="center",
-                      transform=ax[1, 0].transAxes)
-    ax[1, 0].set_ylabel("line level above local floor (dB, max over channels)")
-    ax[1, 0].set_title("line levels (h: main comb, cN_h: further comb N)")
+        axis.text(0.5, 0.5, "no hum found: nothing removed", ha="center", va="center",
+                      transform=axis.transAxes)
+    axis.set_ylabel("line level above local floor (dB, max over channels)")
+    axis.set_title("line levels (h: main comb, cN_h: further comb N)")
+
+
+def _track_panel(axis, result):
+    """The tracked fundamental over the whole input."""
     if result.track_hz.size:
-        ax[1, 1].plot(result.track_t, result.track_hz, ".-", ms=3)
-        ax[1, 1].set_ylabel("fundamental (Hz)")
-        ax[1, 1].ticklabel_format(axis="y", useOffset=False, style="plain")
+        axis.plot(result.track_t, result.track_hz, ".-", ms=3)
+        axis.set_ylabel("fundamental (Hz)")
+        axis.ticklabel_format(axis="y", useOffset=False, style="plain")
     else:
-        ax[1, 1].text(0.5, 0.5, "no hum found", ha="center", va="center", transform=ax[1, 1].transAxes)
-    ax[1, 1].set_xlabel("time (s)")
-    ax[1, 1].set_title("tracked fundamental (whole input)")
-    fig.tight_layout()
-    save_figure(fig, out)
+        axis.text(0.5, 0.5, "no hum found", ha="center", va="center", transform=axis.transAxes)
+    axis.set_xlabel("time (s)")
+    axis.set_title("tracked fundamental (whole input)")

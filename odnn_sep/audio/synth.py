@@ -77,7 +77,7 @@ def make_hum_mix(duration_s: float = 30.0, sr: int = 16000, *, mains_hz: float =
                  amplitudes=(1.0, 0.6, 0.45, 0.3, 0.2, 0.12, 0.08, 0.05), drift_hz: float = 0.05,
                  snr_db: float = 0.0, noise_db: float = -30.0, near_partials: bool = True,
                  channels: int = 1, random_state=0):
-    """Host + drifting hum with known truth.
+    """Host + drifting hum with known truth (one keyword per property of the mix: why long).
 
     Parameters
     ----------
@@ -118,18 +118,7 @@ def make_hum_mix(duration_s: float = 30.0, sr: int = 16000, *, mains_hz: float =
     amps = np.asarray(amplitudes, dtype=float)
     ks = [k for k in range(1, len(amps) + 1) if k * (mains_hz + drift_hz) < sr / 2 * 0.95]
     amps = amps[: len(ks)]
-    hosts, hums, amp_rows = [], [], []
-    for c in range(channels):
-        host = _host(n, sr, rng, mains_hz, near_partials)
-        host += 10 ** (noise_db / 20) * host.std() * rng.standard_normal(n)
-        gain = 1.0 if c == 0 else rng.uniform(0.4, 1.2)
-        hum = np.zeros(n)
-        a_c = amps * gain
-        for k, a in zip(ks, a_c, strict=False):
-            hum += a * np.cos(k * phase + rng.uniform(0, 2 * np.pi))
-        hosts.append(host)
-        hums.append(hum)
-        amp_rows.append(a_c)
+    hosts, hums, amp_rows = _channels(n, sr, rng, mains_hz, near_partials, noise_db, phase, ks, amps, channels)
     # one scale for all channels, set on channel 0, so relative gains stay as drawn
     scale = np.sqrt(np.mean(hosts[0] ** 2) / np.mean(hums[0] ** 2) / 10 ** (snr_db / 10))
     hums = [h * scale for h in hums]
@@ -147,6 +136,25 @@ def make_hum_mix(duration_s: float = 30.0, sr: int = 16000, *, mains_hz: float =
     truth = {"host": host, "hum": hum, "t_track": t[::step], "f0_track": mains_hz + df[::step],
              "harmonics": ks, "amplitudes": amp_rows, "snr_db": float(snr_db), "mains_hz": float(mains_hz)}
     return y, sr, truth
+
+
+def _channels(n, sr, rng, mains_hz, near_partials, noise_db, phase, ks, amps, channels):
+    """Per channel: a host with its noise, and the hum with its own gain and phases (lists of
+    arrays, and the amplitude rows). Internal to :func:`make_hum_mix`, whose drawing order it
+    keeps (same outputs for a seed), hence its parameter list (why long)."""
+    hosts, hums, amp_rows = [], [], []
+    for c in range(channels):
+        host = _host(n, sr, rng, mains_hz, near_partials)
+        host += 10 ** (noise_db / 20) * host.std() * rng.standard_normal(n)
+        gain = 1.0 if c == 0 else rng.uniform(0.4, 1.2)
+        hum = np.zeros(n)
+        a_c = amps * gain
+        for k, a in zip(ks, a_c, strict=False):
+            hum += a * np.cos(k * phase + rng.uniform(0, 2 * np.pi))
+        hosts.append(host)
+        hums.append(hum)
+        amp_rows.append(a_c)
+    return hosts, hums, amp_rows
 
 
 def make_hum_demo(duration_s: float = 8.0, sr: int = 16000, random_state=0):

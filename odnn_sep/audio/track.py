@@ -18,7 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import fft as sp_fft
 
+from odnn_sep.audio.blockplan import sin2_window
+
 log = logging.getLogger(__name__)
+MAX_DRIFT_HZ = 1.6    # farthest the fundamental is followed from where the spectrum puts it (+ 1 %)
 
 
 @dataclass
@@ -205,65 +208,113 @@ def _parabolic(grid, E, i):
     return float(grid[i])
 
 
-def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, hop: int,
-                      max_offset_hz: float | None = None, min_strength: float = 10.0,
-                      progress=None) -> Track:
-    """Per-block fundamental estimates from the chunk sums (see module docstring).
+def track_fundamental(D, f_ref: float, ks, weights, plan, *, max_offset_hz: float | None = None,
+                      min_strength: float = 10.0, progress=None) -> Track:
+    """Per-block fundamental estimates from the chunk sums (see module docstring), for the blocks
+    of ``plan`` (a blockplan.BlockPlan).
 
     ``weights`` (C, K): inverse noise-floor PSD per channel and harmonic (SNR weighting).
     """
+    sr, n_frames, hop, nb = plan.sr, plan.n_frames, plan.hop, plan.count
     m = chunk_length(sr)
-    L = 2 * hop
     J = D.shape[0]
     ks = np.asarray(ks, dtype=float)
-    sqw = np.sqrt(np.asarray(weights, dtype=float))[None, :, :]
-    t_chunk = (np.arange(J) * m + (m - 1) / 2) / sr
-    nb = (n_frames - 1) // hop + 2
-    L_s = L / sr
-    k_coarse = float(min(ks.max(), 8.0))
-    coarse_ks = ks <= max(k_coarse, ks.min())
-    step = 0.25 / (L_s * k_coarse)
     if max_offset_hz is None:
-        max_offset_hz = max(1.0, 0.02 * f_ref)   # ramps of 50 mHz/s over 40 s reach +-1 Hz
+        # ramps of 50 mHz/s reach +-1.5 Hz over a minute, and the spectrum's reference can sit
+        # up to 1 % off the mean of a line smeared that far
+        max_offset_hz = MAX_DRIFT_HZ + 0.01 * f_ref
+    est = _BlockEstimator(D, sr, f_ref, ks, weights, plan.length, max_offset_hz)
     f = np.full(nb, np.nan)
     strength = np.zeros(nb)
     coverage = np.zeros(nb)
     t_eff = np.arange(nb) * hop / sr
-    prev = 0.0
-    cache = {}
-    ks_c = ks[coarse_ks]
-    for b in range(nb):
+    t_chunk = (np.arange(J) * m + (m - 1) / 2) / sr
+
+    def visit(b, prev, wide):
         s0, s1 = (b - 1) * hop, (b + 1) * hop
         j0, j1 = max(0, s0 // m), min(J, -(-s1 // m))
         if j1 - j0 < 3:
-            continue
+            return
         tc = t_chunk[j0:j1]
         # Hann over the part of the block inside the signal: at the ends a one-sided window
         # would leak the host's energy onto the lines
         a0, a1 = max(s0, 0), min(s1, n_frames)
-        win = np.sin(np.pi * np.clip((tc * sr - a0) / max(a1 - a0, 1), 0, 1)) ** 2
+        win = sin2_window(np.clip((tc * sr - a0) / max(a1 - a0, 1), 0, 1), 1)
         # a block cut by the start/end of the signal sees one side of its window only: its
         # estimate is the frequency at the window's centroid, not at the block centre
-        coverage[b] = win.sum() / (L / m / 2)
+        coverage[b] = win.sum() / (plan.length / m / 2)
         t_eff[b] = float((win * tc).sum() / max(win.sum(), 1e-300))
-        A = D[j0:j1] * (win[:, None, None] * sqw).astype(np.float32)
+        # between neighbouring blocks the grid moves by a few mHz: a narrow search around the
+        # prediction (re-centred when the peak sits on its edge)
+        half = max(0.15, 0.0025 * f_ref) if wide else 0.03
+        f[b], strength[b] = est(j0, j1, win, tc - b * hop / sr, prev, half)
+        if progress is not None:
+            progress(1)
+
+    _outwards(nb, f, strength, min_strength, 0.1 * hop / sr, visit)
+    ok = np.isfinite(f) & (strength >= min_strength)
+    ok &= coverage >= 0.25
+    f0 = f_ref + _offsets(plan.centres_s, t_eff, f, ok, max_offset_hz, f_ref)
+    hop_s = hop / sr
+    rate = np.gradient(f0, hop_s) if nb > 1 else np.zeros(nb)
+    curv = np.gradient(rate, hop_s) if nb > 2 else np.zeros(nb)
+    return Track(t=plan.centres_s, f0=f0, rate=rate, curv=curv, confident=ok, strength=strength)
+
+
+def _outwards(nb, f, strength, min_strength, max_step_hz, visit) -> None:
+    """Visit blocks from the middle of the input outwards, each searched around the value the
+    last two trusted ones predict (``visit(b, predicted offset, wide)`` fills ``f[b]`` and
+    ``strength[b]``). The spectrum's reference is the mean frequency, which a ramp or a slow
+    wander passes in the middle, not at the start (a +-1.5 Hz ramp starts farther away than a
+    search can reach). ``max_step_hz``: largest predicted change per block (100 mHz/s, twice the
+    fastest grid ramp)."""
+    mid = (nb - 1) // 2
+    for order in (range(mid, nb), range(mid - 1, -1, -1)):
+        trusted = [b for b in ((mid + 1, mid) if order.start != mid else ()) if b < nb and strength[b] >= min_strength]
+        for b in order:
+            prev = 0.0
+            if trusted:
+                prev = f[trusted[-1]]
+                if len(trusted) > 1:
+                    b1, b2 = trusted[-1], trusted[-2]
+                    prev += float(np.clip((f[b1] - f[b2]) / (b1 - b2), -max_step_hz, max_step_hz)) * (b - b1)
+            visit(b, prev, wide=not trusted or abs(b - trusted[-1]) > 1)
+            if np.isfinite(f[b]) and strength[b] >= min_strength:
+                trusted.append(b)
+
+
+class _BlockEstimator:
+    """One block's fundamental offset and line strength from the chunk sums: a coarse grid on the
+    low harmonics, then a fine grid and a noise reference on all of them."""
+
+    def __init__(self, D, sr, f_ref, ks, weights, L, max_offset_hz):
+        self.D, self.f_ref, self.ks, self.max_offset_hz = D, f_ref, ks, max_offset_hz
+        self.sqw = np.sqrt(np.asarray(weights, dtype=float))[None, :, :]
+        L_s = L / sr
+        self.k_coarse = float(min(ks.max(), 8.0))
+        self.coarse_ks = ks <= max(self.k_coarse, ks.min())
+        self.step = 0.25 / (L_s * self.k_coarse)
+        self.cache = {}
+
+    def __call__(self, j0, j1, win, tau, prev, half):
+        """``(offset Hz, strength)`` of the block over chunks ``j0 .. j1`` (window ``win``, times
+        ``tau`` from the block centre), searched around ``prev`` within ``half``."""
+        ks, step, cache = self.ks, self.step, self.cache
+        A = self.D[j0:j1] * (win[:, None, None] * self.sqw).astype(np.float32)
         # E is used only through ratios and log differences: normalise so the single-precision
         # products cannot overflow whatever the sample units and floor weights
         amax = float(np.abs(A).max()) if A.size else 0.0
         if amax > 0 and np.isfinite(amax):
             A *= np.float32(1.0 / amax)
-        tau = tc - b * hop / sr
-        # between neighbouring blocks the grid moves by a few mHz: a narrow search around the
-        # previous estimate (re-centred below when the peak sits on its edge)
-        half = 0.03 if b > 0 and np.isfinite(f[b - 1]) else max(0.15, 0.0025 * f_ref)
         centre = prev
         rel = np.arange(-half, half + step / 2, step)
-        Ac = A[:, :, coarse_ks]
+        Ac = A[:, :, self.coarse_ks]
+        ks_c = ks[self.coarse_ks]
         for _ in range(6):
             grid = centre + rel
             E = _energy_rel(Ac, tau, ks_c, centre, rel, cache)
             i = int(np.argmax(E))
-            if 0 < i < len(grid) - 1 or abs(grid[i]) >= max_offset_hz:
+            if 0 < i < len(grid) - 1 or abs(grid[i]) >= self.max_offset_hz:
                 break
             centre = grid[i]
         fine_rel = np.linspace(-step, step, 11)
@@ -277,37 +328,30 @@ def track_fundamental(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, h
         i2 = int(np.argmax(Ef))
         est = _parabolic(fine, Ef, i2)
         noise = float(np.median(E2[len(fine_rel):]))
-        strength[b] = float(Ef[i2]) / max(noise, 1e-300)
-        if abs(est) > max_offset_hz:
-            est = float(np.clip(est, -max_offset_hz, max_offset_hz))
-            strength[b] = 0.0
-        f[b] = est
-        if strength[b] >= min_strength:
-            prev = est
-        if progress is not None:
-            progress(1)
-    t = np.arange(nb) * hop / sr
-    ok = np.isfinite(f) & (strength >= min_strength)
-    ok &= coverage >= 0.25
+        strength = float(Ef[i2]) / max(noise, 1e-300)
+        if abs(est) > self.max_offset_hz:
+            est = float(np.clip(est, -self.max_offset_hz, self.max_offset_hz))
+            strength = 0.0
+        return est, strength
+
+
+def _offsets(t, t_eff, f, ok, max_offset_hz, f_ref) -> np.ndarray:
+    """Offsets at the block centres ``t`` from the trusted estimates ``f[ok]`` (taken at their
+    window centroids ``t_eff``): interpolated, extrapolated linearly beyond the ends, clipped."""
+    nb = len(t)
     if ok.sum() == 0:
         log.info("hum too weak in every block to track its frequency; using the fixed fundamental %.4f Hz",
-                    f_ref)
-        off = np.zeros(nb)
-    elif ok.sum() == 1 or np.ptp(t_eff[ok]) == 0:
-        off = np.full(nb, f[ok][0])
-    else:
-        ti, fi = t_eff[ok], f[ok]
-        off = np.interp(t, ti, fi)
-        # linear extrapolation beyond the first/last trusted estimate (not a flat hold)
-        lo, hi = t < ti[0], t > ti[-1]
-        off[lo] = fi[0] + (t[lo] - ti[0]) * (fi[1] - fi[0]) / (ti[1] - ti[0])
-        off[hi] = fi[-1] + (t[hi] - ti[-1]) * (fi[-1] - fi[-2]) / (ti[-1] - ti[-2])
-        off = np.clip(off, -max_offset_hz, max_offset_hz)
-    f0 = f_ref + off
-    hop_s = hop / sr
-    rate = np.gradient(f0, hop_s) if nb > 1 else np.zeros(nb)
-    curv = np.gradient(rate, hop_s) if nb > 2 else np.zeros(nb)
-    return Track(t=t, f0=f0, rate=rate, curv=curv, confident=ok, strength=strength)
+                 f_ref)
+        return np.zeros(nb)
+    if ok.sum() == 1 or np.ptp(t_eff[ok]) == 0:
+        return np.full(nb, f[ok][0])
+    ti, fi = t_eff[ok], f[ok]
+    off = np.interp(t, ti, fi)
+    # linear extrapolation beyond the first/last trusted estimate (not a flat hold)
+    lo, hi = t < ti[0], t > ti[-1]
+    off[lo] = fi[0] + (t[lo] - ti[0]) * (fi[1] - fi[0]) / (ti[1] - ti[0])
+    off[hi] = fi[-1] + (t[hi] - ti[-1]) * (fi[-1] - fi[-2]) / (ti[-1] - ti[-2])
+    return np.clip(off, -max_offset_hz, max_offset_hz)
 
 
 def refine_fixed_comb(D, sr: int, f_ref: float, ks, weights, *, half_hz: float, max_seconds: float = 300.0) -> float:
@@ -327,7 +371,7 @@ def refine_fixed_comb(D, sr: int, f_ref: float, ks, weights, *, half_hz: float, 
     Dd = Dc[: Jd * g].reshape(Jd, g, *Dc.shape[1:]).sum(axis=1)
     t = ((j0 + np.arange(Jd) * g + (g - 1) / 2) * m + (m - 1) / 2) / sr
     tau = t - t.mean()
-    win = np.sin(np.pi * (np.arange(Jd) + 0.5) / Jd) ** 2
+    win = sin2_window(np.arange(Jd) + 0.5, Jd)
     ks = np.asarray(ks, dtype=float)
     A = Dd * win[:, None, None] * np.sqrt(np.asarray(weights, float))[None, :, :]
     span = tau[-1] - tau[0]

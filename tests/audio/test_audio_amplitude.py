@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.audio import amplitude, denoise, track
+from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.io import ArraySource
 
 SR = 2000
@@ -24,7 +25,7 @@ def _steady(y, ks, f0=50.0, hop_s=4.0):
     z = np.zeros(nb)
     trk = track.Track(t=np.arange(nb) * hop_s, f0=np.full(nb, f0), rate=z, curv=z,
                       confident=np.ones(nb, bool), strength=z)
-    return amplitude.steady_amplitudes(D, SR, f0, ks, trk, int(hop_s * SR), src.frames)
+    return amplitude.steady_amplitudes(D, f0, ks, trk, BlockPlan(sr=SR, n_frames=src.frames, hop=int(hop_s * SR)))
 
 
 def test_weights_follow_the_content_level_and_beat_equal_weights():

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from odnn_sep.audio import fit, fullblock, gram
+from odnn_sep.audio.lines import as_combs
 
 
 def test_full_block_fitter_matches_float64_least_squares():
@@ -17,7 +18,7 @@ def test_full_block_fitter_matches_float64_least_squares():
     fr = fullblock.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3, chunk=3000)
     i0, centre, f0, rate, curv = 3 * 16000, 4 * 16000, 59.99, 0.002, -0.0003
     # the general basis: tracked comb in the block's reference, fixed lines in absolute time
-    F = fit.block_basis(i0, L, centre, sr, f0, rate, curv, ks, fixed, nuisance=True).astype(float)
+    F = fit.block_basis(fit.BasisSpec(sr, ks, fixed), i0, L, centre, (f0, rate, curv)).astype(float)
     Y = rng.standard_normal((L, 2)) + F[:, :6] @ rng.standard_normal((6, 2))
     # the block handed over in two pieces, as the fit pass does
     theta = fr.fit(i0, centre, f0, rate, curv, [Y[: L // 2], Y[L // 2:]])
@@ -49,7 +50,7 @@ def test_full_block_fitter_declines_harmonics_near_nyquist():
 def test_closed_form_fixed_gram_matches_direct_sum():
     sr = 8000
     fixed = [(59.95, [2, 3, 7]), (60.002, [1, 5]), 1234.5]
-    om = np.array([2 * np.pi * k * fc / sr for fc, kk in fit._as_combs(fixed) for k in kk])
+    om = np.array([2 * np.pi * k * fc / sr for fc, kk in as_combs(fixed) for k in kk])
     for n in (64000, 5001):
         t = np.arange(n)
         cols = [f(np.mod(o * t, 2 * np.pi)) for o in om for f in (np.cos, np.sin)]
@@ -68,7 +69,7 @@ def test_block_cut_by_the_signal_end_matches_float64_least_squares():
     w = np.sin(np.pi * (np.arange(L) + 0.5) / L) ** 2
     fr = fullblock.FullBlockFitter(L, sr, ks, fixed, w, gram_step=3)
     i0, centre, f0, rate, curv = 16000, 16000, 60.02, -0.001, 0.0002
-    F = fit.block_basis(i0, n, centre, sr, f0, rate, curv, ks, fixed, nuisance=True).astype(float)
+    F = fit.block_basis(fit.BasisSpec(sr, ks, fixed), i0, n, centre, (f0, rate, curv)).astype(float)
     Y = 0.1 * rng.standard_normal((n, 1)) + F[:, :8] @ rng.standard_normal((8, 1))
     theta = fr.fit(i0, centre, f0, rate, curv, [Y], n=n)
     assert theta is not None

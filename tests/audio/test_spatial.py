@@ -60,13 +60,14 @@ def test_line_patterns_recover_complex_gains():
 
 
 def test_weak_shared_hum_is_removed_where_single_channels_fail():
-    x, brain, hum, sfreq = _shared_hum(hum_rms=0.08)    # about -6 dB in a 1 Hz band on the best channel
+    # weak enough that a channel alone holds little of it (single-channel removal ~5 dB here)
+    x, brain, hum, sfreq = _shared_hum(hum_rms=0.05)
     single = denoise(x, sfreq=sfreq)
     out, rep = denoise(x, sfreq=sfreq, spatial=True, return_report=True)
     assert rep["spatial"]["n_components"] >= 1 and rep["spatial"]["components"]["harmonics"] == [1]
     red_single = _line_power(hum, sfreq) / _line_power(single - brain, sfreq)
     red_spatial = _line_power(hum, sfreq) / _line_power(out - brain, sfreq)
-    assert red_spatial > 10 ** 1.2 and red_spatial > 4 * red_single      # > 12 dB, and 6 dB ahead
+    assert red_spatial > 10 ** 1.0 and red_spatial > 3 * red_single      # > 10 dB, and ~5 dB ahead
     # off the line the brain signal is left alone
     fr, p_err = signal.welch(out - brain, fs=sfreq, nperseg=1000, axis=-1)
     _, p_b = signal.welch(brain, fs=sfreq, nperseg=1000, axis=-1)
