@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.core.linalg import Projector, intervals, orthonormal_basis, solve, varpro
+from odnn_sep.core.uncertainty import sandwich_standard_errors
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
 from odnn_sep.mismatch.presets import ModelIntegrationError
@@ -151,21 +152,11 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
 def robust_stderr(J, r, dof):
     """Standard errors that hold when the model or the noise is not quite right.
 
-    The larger of the classical Gauss-Newton error ``s^2 (J'J)^-1`` and a block sandwich
-    ``(J'J)^-1 (sum_b J_b' r_b r_b' J_b) (J'J)^-1`` over contiguous blocks of about 2 n^(1/3)
-    samples (so correlated noise and leftover structure within a block count fully), with the
-    small-sample factor nb / (nb - 1) * n / dof.
+    The core's block sandwich (:func:`odnn_sep.core.uncertainty.sandwich_standard_errors`) over
+    contiguous blocks of about 2 n^(1/3) samples, or the classical error where that is larger.
     """
-    n = len(r)
-    JtJ_inv = np.linalg.pinv(J.T @ J)
-    classic = np.diag(JtJ_inv) * float(np.sum(r ** 2)) / dof
-    L = max(1, int(round(2 * n ** (1 / 3))))
-    nb = max(n // L, 1)
-    edges = np.linspace(0, n, nb + 1).astype(int)
-    S = np.stack([J[a:b].T @ r[a:b] for a, b in zip(edges[:-1], edges[1:], strict=True)])
-    meat = S.T @ S * (nb / max(nb - 1, 1)) * (n / dof)
-    sandwich = np.diag(JtJ_inv @ meat @ JtJ_inv)
-    return [float(np.sqrt(max(a, b, 0.0))) for a, b in zip(classic, sandwich, strict=True)]
+    L = max(1, int(round(2 * len(r) ** (1 / 3))))
+    return [float(s) for s in sandwich_standard_errors(J, r, dof, block=L).stderr]
 
 
 def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):
