@@ -269,8 +269,8 @@ def _candidate_names(m, effects, aux, G, periodic_declared):
         names = [e for e in names if e not in ("offset", "drift")]
     for e in names:
         if e not in EFFECTS:
-            from odnn_sep.mismatch.model import _suggest
-            raise InputError(f"unknown effect {e!r}; {_suggest(e, EFFECTS)}known effects: {', '.join(EFFECTS)}")
+            from odnn_sep.mismatch.model import suggest_name
+            raise InputError(f"unknown effect {e!r}; {suggest_name(e, EFFECTS)}known effects: {', '.join(EFFECTS)}")
     return names
 
 

@@ -10,10 +10,10 @@ import numpy as np
 
 from odnn_sep.errors import InputError
 from odnn_sep.mismatch.effects import EFFECTS, applicable, apply_generic
-from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, _integrate
+from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, integrate_ode
 
 
-def _suggest(word, options):
+def suggest_name(word, options):
     close = difflib.get_close_matches(str(word), list(options), n=1, cutoff=0.5)
     return f"did you mean {close[0]!r}? " if close else ""
 
@@ -63,7 +63,7 @@ class Model:
 
     def with_effect(self, name: str, start: dict | None = None) -> "Model":
         if name not in EFFECTS:
-            raise InputError(f"unknown effect {name!r}; {_suggest(name, EFFECTS)}"
+            raise InputError(f"unknown effect {name!r}; {suggest_name(name, EFFECTS)}"
                              f"known effects: {', '.join(EFFECTS)}")
         if name == "channel_coupling":
             raise InputError("channel_coupling needs the recording's other channels: pass aux={name: array} "
@@ -100,7 +100,7 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
         return name.with_start(params or {})
     key = str(name)
     if key not in PRESETS:
-        raise InputError(f"unknown model {key!r}; {_suggest(key, PRESETS)}"
+        raise InputError(f"unknown model {key!r}; {suggest_name(key, PRESETS)}"
                          f"available presets: {', '.join(PRESETS)}")
     preset = PRESETS[key]
     start = dict(preset.params)
@@ -123,7 +123,7 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
         allowed |= {f"S{i + 1}" for i in range(n_src)}
     for k in params:
         if k not in allowed:
-            raise InputError(f"unknown parameter {k!r} for model {key!r}; {_suggest(k, allowed)}"
+            raise InputError(f"unknown parameter {k!r} for model {key!r}; {suggest_name(k, allowed)}"
                              f"parameters: {', '.join(sorted(allowed))}")
     for k, v in params.items():
         if k == "sources":
@@ -167,7 +167,7 @@ def _check_user_params(func, params, what):
         names = list(sig.parameters)
         for k in params:
             if k not in names:
-                raise InputError(f"unknown parameter {k!r} for the user model; {_suggest(k, names)}"
+                raise InputError(f"unknown parameter {k!r} for the user model; {suggest_name(k, names)}"
                                  f"its signature accepts: {', '.join(names)}")
 
 
@@ -217,7 +217,7 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
         raise InputError("ode_model needs params={name: starting value} for the parameters to calibrate")
     for s in state0:
         if isinstance(s, str) and s not in start:
-            raise InputError(f"state0 entry {s!r} is not a parameter; {_suggest(s, start)}"
+            raise InputError(f"state0 entry {s!r} is not a parameter; {suggest_name(s, start)}"
                              f"parameters: {', '.join(start)}")
     rhs_names = [k for k in start if k not in {s for s in state0 if isinstance(s, str)}]
     from odnn_sep.mismatch.inputs import check_inputs, interpolator
@@ -232,7 +232,7 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
             def f(tt, s):
                 return rhs(tt, s, **kw, **{k: g(tt) for k, g in at.items()})
             try:
-                return _integrate(name, f, y0, t, p)[:, output]
+                return integrate_ode(name, f, y0, t, p)[:, output]
             except (ArithmeticError, ValueError, TypeError) as exc:
                 raise ModelIntegrationError(f"model {name!r} failed to integrate with parameters "
                                             f"{ {k: p[k] for k in start} }: {exc}") from None

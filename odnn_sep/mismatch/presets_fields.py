@@ -12,7 +12,7 @@ from odnn_sep.mismatch.inputs import (
     linear_response,
     regression_start,
 )
-from odnn_sep.mismatch.presets_base import INF, Preset, _integrate
+from odnn_sep.mismatch.presets_base import INF, Preset, integrate_ode
 
 
 def _psat(T):
@@ -74,7 +74,7 @@ class Cooling(Preset):
                         d += drive(tt)
                     return [d]
 
-                out = _integrate(self.name, rhs, [p["T0"]], t, p)[:, 0]
+                out = integrate_ode(self.name, rhs, [p["T0"]], t, p)[:, 0]
             if "two_body_heat" in effects:
                 out = out + p["B_2"] * (np.exp(-p["lam_2"] * tau) - np.exp(-p["h"] * tau))
             return out
@@ -130,7 +130,7 @@ class Hum(Preset):
         span = t[-1] - t[0]
         best = None
         for f in f0 + np.linspace(-0.5, 0.5, 201) / max(span, 1e-9) * 4:
-            F = _hum_columns(t, f, H)
+            F = hum_columns(t, f, H)
             coef = solve(F, y, method="lstsq")
             rss = float(np.sum((F @ coef - y) ** 2))
             if best is None or rss < best[0]:
@@ -141,7 +141,7 @@ class Hum(Preset):
         return out
 
 
-def _hum_columns(t, f0, H):
+def hum_columns(t, f0, H):
     cols = []
     for h in range(1, H + 1):
         cols += [np.cos(2 * np.pi * h * f0 * t), np.sin(2 * np.pi * h * f0 * t)]
