@@ -436,14 +436,16 @@ def population(args, names):
                     fh.write(json.dumps(r, default=float) + "\n")
         rows = _map(run_population_case, jobs, args.jobs, log)
     print(f"population: {len(rows)} cases in {time.time() - t0:.0f} s", file=sys.stderr)
-    overall, confusions, by_kind, by_sys = summarize_population(rows)
+    overall, confusions, by_kind, by_sys, by_param = summarize_population(rows)
     print(by_kind)
     print(by_sys)
+    print(by_param)
     print("population overall:", json.dumps(overall, default=str))
     print("population confusions:", confusions)
     if args.json:
         Path(args.json).with_suffix(".population.json").write_text(json.dumps(rows, default=float, indent=1))
-    return {"rows": rows, "overall": overall, "confusions": confusions, "by_kind": by_kind, "by_sys": by_sys}
+    return {"rows": rows, "overall": overall, "confusions": confusions, "by_kind": by_kind, "by_sys": by_sys,
+            "by_param": by_param}
 
 
 def _population_extent(rows):
@@ -465,11 +467,17 @@ def pop_text(pop, args):
         "spikes, quantisation; each case also has a two-effect version and a null twin with the same "
         f"noise and disturbance). {_population_extent(pop['rows'])} Methods were chosen on development "
         "seeds 0+; these are evaluation seeds 100+. "
-        "\"named exactly\" = the true effect and no other physics.\n\n"
+        "\"named exactly\" = the true effect and no other physics, with no equivalence reported; "
+        "\"equivalence reported\" = the truth is named only up to a reported equivalence (\"radiation or "
+        "evaporation: the data cannot tell them apart\"), not counted as correct.\n\n"
         + pop["by_kind"] + "\nBy system (all kinds):\n\n" + pop["by_sys"] +
+        "\n95% interval coverage by parameter (effect parameters where the effect is named, base "
+        "parameters where the final model is the true one):\n\n" + pop["by_param"] +
         f"\n**Targets**: naming at ratio >= 1.2 for every kind >= 90%: worst kind "
         f"{o['naming_worst_kind'][1]} {o['naming_worst_kind'][0]:.1%} (all kinds {o['naming_exact_ratio_ge_1.2']:.1%}); "
-        f"both effects named and nothing else >= 80%: {o['both_named_rate']:.1%}; false physics on nulls "
+        f"both effects named and nothing else >= 80%: {o['both_named_rate']:.1%} (equivalence reported: "
+        f"{o['equivalence_effect']:.1%} of effect cases, {o['equivalence_pair']:.1%} of two-effect cases); "
+        f"false physics on nulls "
         f"<= 5% for every kind: worst {o['false_physics_worst_kind'][1]} {o['false_physics_worst_kind'][0]:.1%} "
         f"(all {o['false_physics_nulls']:.1%}); 95% intervals covering 90-98%: effect parameters "
         f"{'-' if cov is None else f'{cov:.1%}'}, base parameters on nulls "

@@ -36,6 +36,7 @@ class Fit:
     disturbance: np.ndarray = field(repr=False)
     residual: np.ndarray = field(repr=False)
     converged: bool = True
+    interval_dof: float = np.inf   # degrees of freedom of the spread estimate (blocks - 1 for the sandwich)
 
     @property
     def n_params(self) -> float:
@@ -62,7 +63,9 @@ class Fit:
         (the true value is inside the bounds) and never reports impossible values.
         """
         names = list(self.stderr)
-        wald = intervals([self.params[k] for k in names], [self.stderr[k] for k in names])
+        # a sandwich over nb blocks has about nb - 1 degrees of freedom: Student-t, not normal, quantiles
+        widen = t_over_normal(self.interval_dof)
+        wald = intervals([self.params[k] for k in names], [widen * self.stderr[k] for k in names])
         out = {}
         for k, (a, b) in zip(names, wald, strict=True):
             lo, hi = self.model.bounds.get(k, (-np.inf, np.inf))
@@ -139,24 +142,25 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     rss = float(np.sum(r[idx] ** 2))
     n_eff = len(idx) - (0 if P is None else P.rank)
     dof = max(n_eff - len(free), 1)
-    stderr = {}
+    stderr, interval_dof = {}, np.inf
     if free:
-        stderr = dict(zip(free, robust_stderr(J, r[idx], dof), strict=True))
+        spread = sandwich_standard_errors(J, r[idx], dof)
+        stderr = dict(zip(free, (float(s) for s in spread.stderr), strict=True))
+        interval_dof = float(max(spread.n_blocks - 1, 1))
     if not converged and warn:
         warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
                       f"{max_nfev} evaluations before converging; treat its numbers with care",
                       ConvergenceWarning, stacklevel=2)
-    return Fit(model, p, free, stderr, rss, n_eff, pred, dist, r, converged)
+    return Fit(model, p, free, stderr, rss, n_eff, pred, dist, r, converged, interval_dof)
 
 
-def robust_stderr(J, r, dof):
-    """Standard errors that hold when the model or the noise is not quite right.
-
-    The core's block sandwich (:func:`odnn_sep.core.uncertainty.sandwich_standard_errors`) over
-    contiguous blocks of about 2 n^(1/3) samples, or the classical error where that is larger.
-    """
-    L = max(1, int(round(2 * len(r) ** (1 / 3))))
-    return [float(s) for s in sandwich_standard_errors(J, r, dof, block=L).stderr]
+def t_over_normal(dof, level=0.95):
+    """Ratio of the Student-t to the normal two-sided quantile (1 for infinite ``dof``)."""
+    if not np.isfinite(dof):
+        return 1.0
+    from scipy import stats  # on use: the package is imported by every subcommand
+    q = 0.5 + level / 2
+    return float(stats.t.ppf(q, dof) / stats.norm.ppf(q))
 
 
 def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):

@@ -1,7 +1,7 @@
 """Report of a mismatch analysis: the JSON the issue names, a text summary, and the figure."""
 from __future__ import annotations
 
-from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
+from odnn_sep.mismatch.effects import EFFECTS
 
 
 def _params_table(fit):
@@ -22,7 +22,17 @@ def _effect_entry(c, final, base):
             "stderr": {k: final.stderr.get(k) for k in p},
             "intervals": {k: list(iv[k]) if k in iv else None for k in p},
             "score": c.score, "heldout_improvement": c.cv_improvement, "heldout_gain": c.heldout_gain,
-            "heldout_p_value": c.cv_p_value, "step": c.step}
+            "heldout_p_value": c.cv_p_value, "step": c.step,
+            "equivalent_to": list(c.equivalent), "equivalence": equivalence_sentence(c)}
+
+
+def equivalence_sentence(c):
+    """"radiation or evaporation: the data cannot tell them apart", or None when the data can."""
+    if not c.equivalent:
+        return None
+    return (f"{' or '.join([c.effect] + list(c.equivalent))}: the data cannot tell them apart "
+            f"(BIC within the equivalence margin after allowing for correlated noise); {c.effect} is the "
+            f"one fitted")
 
 
 def result_dict(res) -> dict:
@@ -44,10 +54,8 @@ def result_dict(res) -> dict:
     else:
         first = res.named[0]
         verdict = dict(effects[0])
-        # runners-up of the first step within 6 BIC units are not clearly worse ("positive" evidence at most)
-        verdict["ambiguous_with"] = [c.effect for c in res.candidates if c.effect != first.effect
-                                     and c.step == 1 and abs(first.score - c.score) < 6.0
-                                     and c.effect not in DISTURBANCE_EFFECTS and first.step == 1]
+        # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
+        verdict["ambiguous_with"] = list(first.equivalent)
     verdict["effects"] = effects
     verdict["disturbances"] = list(res.disturbances)
     verdict["declared_disturbances"] = list(res.declared)
@@ -93,13 +101,14 @@ def summary_text(res) -> str:
     else:
         lines.append(f"Verdict: {len(v['effects'])} effect(s) missing from the model, in the order found:")
         for i, e in enumerate(v["effects"], 1):
+            gain = "-" if e["heldout_gain"] is None else f"{e['heldout_gain']:.1f}"
             lines.append(f"  {i}. {e['effect']} — {e['description']}; BIC drop {e['score']:.1f}, "
-                         f"held-out gain {e['heldout_gain']:.1f}")
+                         f"held-out gain {gain}")
+            if e["equivalence"]:
+                lines.append(f"     {e['equivalence']}")
             for k, x in e["parameters"].items():
                 lo, hi = e["intervals"].get(k) or (None, None)
                 lines.append(f"       {k} = {_fmt(x)}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
-        if v.get("ambiguous_with"):
-            lines.append(f"  first effect not clearly better than: {', '.join(v['ambiguous_with'])} (BIC within 6)")
     for dd in v["disturbances"]:
         lines.append(f"Disturbance found (absorbed, not physics): {dd['description']}")
     for dd in v["declared_disturbances"]:
