@@ -91,12 +91,9 @@ def disturbance_projector(G, rows=None):
     return Projector(G if rows is None else G[rows], **_BASIS_RULE)
 
 
-def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) -> Fit:
-    """Fit the free parameters of ``model`` to ``y`` (rows ``rows`` only) with ``G`` projected out."""
-    p0 = dict(model.start if start is None else start)
+def _optimise(model, t, y, idx, P, p0, max_nfev):
+    """Bounded least squares of the free parameters from ``p0``: (parameters, Jacobian, converged)."""
     free = model.free
-    idx = np.arange(len(y)) if rows is None else np.asarray(rows)
-    P = disturbance_projector(G, idx)
     yy = y[idx]
     lo = np.array([model.bounds.get(k, (-np.inf, np.inf))[0] for k in free], float)
     hi = np.array([model.bounds.get(k, (-np.inf, np.inf))[1] for k in free], float)
@@ -119,18 +116,31 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
             r = P.project_out(r)
         return r
 
-    if free:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            res = varpro(resid, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
-                         method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                         # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
-                         # finite-difference Jacobians well above that floor
-                         diff_step=1e-5).result
-        x, J, converged = res.x, res.jac, bool(res.status > 0)
-    else:
-        x, J, converged = x0, np.zeros((len(yy), 0)), True
-    p = unpack(x)
+    if not free:
+        return unpack(x0), np.zeros((len(yy), 0)), True
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = varpro(resid, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
+                     method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
+                     # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
+                     # finite-difference Jacobians well above that floor
+                     diff_step=1e-5).result
+    return unpack(res.x), res.jac, bool(res.status > 0)
+
+
+def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) -> Fit:
+    """Fit the free parameters of ``model`` to ``y`` (rows ``rows`` only) with ``G`` projected out.
+
+    A model whose parameters have two labellings of the same curve (two exponentials) is refitted
+    from its canonical one (:meth:`Model.canonical`), so intervals always describe the same parameter.
+    """
+    free = model.free
+    idx = np.arange(len(y)) if rows is None else np.asarray(rows)
+    P = disturbance_projector(G, idx)
+    p, J, converged = _optimise(model, t, y, idx, P, dict(model.start if start is None else start), max_nfev)
+    relabelled = model.canonical(p)
+    if relabelled is not None:
+        p, J, converged = _optimise(model, t, y, idx, P, relabelled, max_nfev)
     pred = model.predict(t, p)
     r_all = y - pred
     if P is not None:

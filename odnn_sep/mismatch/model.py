@@ -58,6 +58,12 @@ class Model:
                                         f"check the starting values (--param)")
         return out
 
+    def canonical(self, p: dict) -> dict | None:
+        """The same curve's parameters in the preset's canonical labelling, or None when ``p`` is canonical."""
+        if self.preset is None:
+            return None
+        return self.preset.canonical(self.effects, p)
+
     def applicable_effects(self) -> list:
         return [e for e in applicable(self.family) if e not in self.effects]
 

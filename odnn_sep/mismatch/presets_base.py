@@ -53,6 +53,10 @@ class Preset:
         """Data-driven starting values for parameters the user did not give (dict, may be partial)."""
         return {}
 
+    def canonical(self, effects, p):
+        """Parameters of the same curve in the canonical labelling when ``p`` is another one, else None."""
+        return None
+
 
 def dominant_omega(t, y):
     """Angular frequency of the largest periodogram peak (zero-padded, mean removed)."""

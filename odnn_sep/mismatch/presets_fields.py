@@ -81,6 +81,18 @@ class Cooling(Preset):
 
         return predict
 
+    def canonical(self, effects, p):
+        """Two-exponential cooling is the same curve with h and lam_2 swapped; the second body is the
+        fast one (lam_2 > h), so B_2 and lam_2 always mean the same thing (and their intervals too).
+
+        Without radiation, evaporation or inputs, ``Ta + (T0-Ta-B) e^(-h t) + B e^(-lam t)`` is
+        unchanged by h <-> lam_2, B_2 -> T0 - Ta - B_2.
+        """
+        if ("two_body_heat" not in effects or set(effects) & {"radiation", "evaporation"} or self.inputs
+                or not p["lam_2"] < p["h"]):
+            return None
+        return {**p, "h": p["lam_2"], "lam_2": p["h"], "B_2": p["T0"] - p["T_ambient"] - p["B_2"]}
+
     def initial_guess(self, t, y, p):
         if self.inputs:
             # regress T' on T, 1 and the inputs: h, h T_ambient and the gains

@@ -66,3 +66,19 @@ def test_equivalence_only_within_the_margin():
     red = Candidate("radiation", 40.0, _F(_ar1(rng, 300, 0.8)))
     attach_equivalents(red, [red, far], 10.0, t)
     assert red.equivalent == ["two_body_heat"]
+
+
+def test_two_exponential_cooling_is_reported_in_one_labelling():
+    from odnn_sep.mismatch import make_model
+    from odnn_sep.mismatch.fitting import fit
+    t = np.linspace(0, 200, 200)
+    truth = make_model("cooling", {"h": 0.02, "T_ambient": 22.0, "T0": 95.0}).with_effect(
+        "two_body_heat", {"B_2": 2.0, "lam_2": 0.2})
+    y = truth.predict(t) + 0.05 * np.random.default_rng(4).normal(size=200)
+    # start in the swapped labelling (the fast exponential as "h"): the same curve, B_2 = T0 - Ta - 2
+    swapped = {**truth.start, "h": 0.2, "lam_2": 0.02, "B_2": 71.0}
+    f = fit(truth, t, y, start=swapped)
+    assert f.params["lam_2"] > f.params["h"]
+    assert abs(f.params["h"] - 0.02) < 0.002 and abs(f.params["B_2"] - 2.0) < 0.5
+    lo, hi = f.intervals()["B_2"]
+    assert lo < 2.0 < hi
