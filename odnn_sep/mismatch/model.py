@@ -120,6 +120,22 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
         preset = copy.copy(preset)
         preset.inputs = dict(inputs)
         start.update({g: 0.0 for g in gain_names(inputs)})
+    _check_param_names(key, preset, params, start)
+    start.update(_coerce_params(params))
+    if key == "hum":
+        for n in preset.amplitude_names(start["harmonics"]):
+            start.setdefault(n, 0.0)
+    if key == "heat2d":
+        from odnn_sep.mismatch.presets import parse_sources
+        for i in range(len(parse_sources(start["sources"]))):
+            start.setdefault(f"S{i + 1}", 1.0)
+    return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
+                 fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
+                 ndim=preset.ndim, autonomous=preset.autonomous and not inputs, preset=preset)
+
+
+def _check_param_names(key, preset, params, start):
+    """Every given parameter is one the preset knows (hum amplitudes and heat2d strengths included)."""
     allowed = set(start)
     if key == "hum":
         allowed |= set(preset.amplitude_names(int(float(params.get("harmonics", start["harmonics"])))))
@@ -131,29 +147,25 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
         if k not in allowed:
             raise InputError(f"unknown parameter {k!r} for model {key!r}; {suggest_name(k, allowed)}"
                              f"parameters: {', '.join(sorted(allowed))}")
+
+
+def _coerce_params(params):
+    """Given parameters as the preset stores them: sources a string, harmonics a count, the rest floats."""
+    out = {}
     for k, v in params.items():
         if k == "sources":
-            start[k] = str(v)
+            out[k] = str(v)
         elif k == "harmonics":
             h = int(float(v))
             if h < 1 or h != float(v):
                 raise InputError(f"harmonics must be a positive integer (number of harmonics); got {v!r}")
-            start[k] = h
+            out[k] = h
         else:
             try:
-                start[k] = float(v)
+                out[k] = float(v)
             except (TypeError, ValueError):
                 raise InputError(f"parameter {k!r} must be a number; got {v!r}") from None
-    if key == "hum":
-        for n in preset.amplitude_names(start["harmonics"]):
-            start.setdefault(n, 0.0)
-    if key == "heat2d":
-        from odnn_sep.mismatch.presets import parse_sources
-        for i in range(len(parse_sources(start["sources"]))):
-            start.setdefault(f"S{i + 1}", 1.0)
-    return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
-                 fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
-                 ndim=preset.ndim, autonomous=preset.autonomous and not inputs, preset=preset)
+    return out
 
 
 def _check_user_params(func, params, what):
