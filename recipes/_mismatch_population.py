@@ -92,14 +92,21 @@ def groups_match(named, equivalences, truth):
             and set().union(*groups) >= set(truth))
 
 
+def _equivalences(r):
+    """Reported equivalences, without effects that are themselves named (the tool drops those too;
+    rows recorded before it did are read the same way)."""
+    eq = {k: [e for e in v if e not in r["named"]] for k, v in (r.get("equivalences") or {}).items()}
+    return {k: v for k, v in eq.items() if v}
+
+
 def exact(r):
     """Named exactly the true effects, and no equivalence reported on them."""
-    return sorted(r["named"]) == sorted(r["truth"]) and not r.get("equivalences")
+    return sorted(r["named"]) == sorted(r["truth"]) and not _equivalences(r)
 
 
 def equivalence_reported(r):
     """Not exact, but the true effects are named up to a reported equivalence."""
-    eq = r.get("equivalences") or {}
+    eq = _equivalences(r)
     return bool(eq) and groups_match(r["named"], eq, r["truth"])
 
 
@@ -271,7 +278,7 @@ def summarize_population(rows):
     confusions = {}
     for r in rows:
         if not exact(r):   # the order effects were found in is not an error
-            eq = r.get("equivalences") or {}
+            eq = _equivalences(r)
             got = "+".join(n + (f" (or {'/'.join(eq[n])})" if n in eq else "") for n in r["named"]) or "none"
             k = f"{r['mode']} {r['kind']}: {'+'.join(r['truth']) or 'none'} -> {got}"
             confusions[k] = confusions.get(k, 0) + 1

@@ -174,6 +174,10 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
     physics = [c for c in sel.accepted if c.effect not in DISTURBANCE_EFFECTS]
     if len(sel.accepted) >= 2 and physics:
         _backward(sel, base, setup)
+    named = {c.effect for c in sel.accepted}
+    for c in sel.accepted:
+        # an effect that is itself named later is not an alternative to this one: both are in the model
+        c.equivalent = [e for e in c.equivalent if e not in named]
     return sel
 
 
