@@ -19,6 +19,7 @@ from odnn_sep.mismatch import explain, make_model
 from odnn_sep.mismatch.calibrate import calibrate
 
 STRUCTURAL = ("harmonics", "sources", "t", "m", "L")
+BASE_KEYS = ("k", "c", "w2", "h", "T_ambient", "g", "f0", "alpha", "h0")
 
 
 def _user(spec):
@@ -67,15 +68,46 @@ def truth(name, spec, effects, theta0):
 
 
 def _named(res):
-    """Named physics effects as [(effect, params, intervals)] (works with the old single verdict)."""
+    """Named physics effects as [(effect, params, intervals, equivalents)], read off the final fit
+    (what the report prints); works with the old single verdict too."""
     named = getattr(res, "named", None)
     if named is not None:
-        return [(c.effect, c.effect_params, c.intervals) for c in named]
+        final = res.final_fit
+        iv = final.intervals()
+        return [(c.effect, {k: final.params[k] for k in c.effect_params},
+                 {k: iv.get(k) for k in c.effect_params}, list(getattr(c, "equivalent", []))) for c in named]
     v = res.verdict
     if v is None:
         return []
     iv = {k: (v.fit.params[k] - 1.96 * s, v.fit.params[k] + 1.96 * s) for k, s in v.fit.stderr.items()}
-    return [(v.effect, v.effect_params, iv)]
+    return [(v.effect, v.effect_params, iv, [])]
+
+
+def groups_match(named, equivalences, truth):
+    """True when each named effect, widened by its reported equivalents, holds exactly one true effect."""
+    groups = [{e} | set(equivalences.get(e, [])) for e in named]
+    if not groups:
+        return not truth
+    return (len(groups) == len(truth) and all(len(g & set(truth)) == 1 for g in groups)
+            and set().union(*groups) >= set(truth))
+
+
+def _equivalences(r):
+    """Reported equivalences, without effects that are themselves named (the tool drops those too;
+    rows recorded before it did are read the same way)."""
+    eq = {k: [e for e in v if e not in r["named"]] for k, v in (r.get("equivalences") or {}).items()}
+    return {k: v for k, v in eq.items() if v}
+
+
+def exact(r):
+    """Named exactly the true effects, and no equivalence reported on them."""
+    return sorted(r["named"]) == sorted(r["truth"]) and not _equivalences(r)
+
+
+def equivalence_reported(r):
+    """Not exact, but the true effects are named up to a reported equivalence."""
+    eq = _equivalences(r)
+    return bool(eq) and groups_match(r["named"], eq, r["truth"])
 
 
 def _final_fit(res):
@@ -127,18 +159,20 @@ def run_population_case(job):
         res = explain(spec["preset"], x, y, params=_user(spec), aux=aux)
     dt = time.time() - t0
     named = _named(res)
-    names = [n for n, _, _ in named]
+    names = [n for n, _, _, _ in named]
     want = [e for e, _, _, _ in truth_effects]
     row = {"system": name, "kind": kind, "seed": seed, "mode": mode, "truth": want, "named": names,
            "disturbances": [d.get("effect") for d in getattr(res, "disturbances", []) or []],
            "failed": [c.effect for c in getattr(res, "failed", []) or []], "seconds": dt,
-           "ratio": None, "errors": [], "covered": [], "base_covered": []}
+           "ratio": None, "errors": [], "covered": [], "base_covered": [], "covered_by": {},
+           "equivalences": {n: eq for n, _, _, eq in named if eq},
+           "rivals": {c.effect: c.rivals for c in getattr(res, "named", []) if getattr(c, "rivals", None)}}
     base = res.calibration.fit
     if mode == "effect":
         c = next((c for c in res.candidates if c.effect == want[0]), None)
         row["ratio"] = base.rms / c.fit.rms if c is not None else float("nan")
     for eff, key, val, _ in truth_effects:
-        hit = next(((p, iv) for n, p, iv in named if n == eff), None)
+        hit = next(((p, iv) for n, p, iv, _ in named if n == eff), None)
         if hit is None or eff == "channel_coupling" or key not in hit[0]:
             continue
         true_v = 1.0 if eff == "large_angle" else val
@@ -146,6 +180,16 @@ def run_population_case(job):
         if key in hit[1] and hit[1][key] is not None:
             lo, hi = hit[1][key]
             row["covered"].append(bool(lo <= true_v <= hi))
+            row["covered_by"].setdefault(key, []).append(bool(lo <= true_v <= hi))
+    if sorted(names) == sorted(want):
+        # the final model is the true one: its base parameters have a known truth too
+        f = _final_fit(res)
+        iv = f.intervals()
+        true_p = dict(spec["params"], **({"theta0": theta0} if theta0 is not None else {}))
+        for k in BASE_KEYS:
+            if k in iv and isinstance(true_p.get(k), float):
+                lo, hi = iv[k]
+                row["covered_by"].setdefault(k, []).append(bool(lo <= true_p[k] <= hi))
     if mode == "null" and not names:
         # coverage of the calibrated model's own parameters on nulls (the truth is known there)
         f = _final_fit(res)
@@ -189,7 +233,8 @@ def summarize_population(rows):
     """Tables by disturbance kind and by system, and the overall numbers the issue's targets name."""
     from _bench_md import md_table
     header = ["group", "effect cases (ratio >= 1.2)", "named exactly", "true effect among named",
-              "two-effect cases", "both named, nothing else", "nulls", "false physics on nulls",
+              "two-effect cases", "both named, nothing else", "equivalence reported (effect / two-effect)",
+              "nulls", "false physics on nulls",
               "median / worst param error", "95% interval coverage (effect / base on nulls)", "fits failed",
               "s per case"]
 
@@ -200,9 +245,11 @@ def summarize_population(rows):
         errs = [e for r in rr if r["mode"] != "null" for e in r["errors"]]
         cov = [c for r in rr for c in r["covered"]]
         bcov = [c for r in rr for c in r["base_covered"]]
-        return [label, str(len(eff)), _pct(_rate(eff, lambda r: r["named"] == r["truth"])),
+        return [label, str(len(eff)), _pct(_rate(eff, exact)),
                 _pct(_rate(eff, lambda r: r["truth"][0] in r["named"])), str(len(pair)),
-                _pct(_rate(pair, lambda r: sorted(r["named"]) == sorted(r["truth"]))), str(len(nul)),
+                _pct(_rate(pair, exact)),
+                f"{_pct(_rate(eff, equivalence_reported))} / {_pct(_rate(pair, equivalence_reported))}",
+                str(len(nul)),
                 _pct(_rate(nul, lambda r: bool(r["named"]))),
                 f"{np.median(errs):.1%} / {np.max(errs):.0%}" if errs else "-",
                 f"{_pct(np.mean(cov) if cov else None)} (n={len(cov)}) / "
@@ -215,11 +262,12 @@ def summarize_population(rows):
     by_sys = [line(s, [r for r in rows if r["system"] == s]) for s in systems]
     eff = [r for r in rows if r["mode"] == "effect" and (r["ratio"] or 0) >= 1.2]
     overall = {
-        "naming_exact_ratio_ge_1.2": _rate(eff, lambda r: r["named"] == r["truth"]),
-        "naming_worst_kind": min((_rate([r for r in eff if r["kind"] == k], lambda r: r["named"] == r["truth"]), k)
+        "naming_exact_ratio_ge_1.2": _rate(eff, exact),
+        "naming_worst_kind": min((_rate([r for r in eff if r["kind"] == k], exact), k)
                                  for k in kinds) if eff else None,
-        "both_named_rate": _rate([r for r in rows if r["mode"] == "pair"],
-                                 lambda r: sorted(r["named"]) == sorted(r["truth"])),
+        "both_named_rate": _rate([r for r in rows if r["mode"] == "pair"], exact),
+        "equivalence_effect": _rate(eff, equivalence_reported),
+        "equivalence_pair": _rate([r for r in rows if r["mode"] == "pair"], equivalence_reported),
         "false_physics_nulls": _rate([r for r in rows if r["mode"] == "null"], lambda r: bool(r["named"])),
         "false_physics_worst_kind": max((_rate([r for r in rows if r["mode"] == "null" and r["kind"] == k],
                                                lambda r: bool(r["named"])), k) for k in kinds),
@@ -229,7 +277,29 @@ def summarize_population(rows):
     }
     confusions = {}
     for r in rows:
-        if sorted(r["named"]) != sorted(r["truth"]):   # the order effects were found in is not an error
-            k = f"{r['mode']} {r['kind']}: {'+'.join(r['truth']) or 'none'} -> {'+'.join(r['named']) or 'none'}"
+        if not exact(r):   # the order effects were found in is not an error
+            eq = _equivalences(r)
+            got = "+".join(n + (f" (or {'/'.join(eq[n])})" if n in eq else "") for n in r["named"]) or "none"
+            k = f"{r['mode']} {r['kind']}: {'+'.join(r['truth']) or 'none'} -> {got}"
             confusions[k] = confusions.get(k, 0) + 1
-    return overall, confusions, md_table(header, by_kind), md_table(header, by_sys)
+    return overall, confusions, md_table(header, by_kind), md_table(header, by_sys), coverage_table(rows)
+
+
+def coverage_table(rows):
+    """95% interval coverage per parameter (effect parameters when named; base parameters when the
+    final model is the true one), by disturbance kind."""
+    from _bench_md import md_table
+    keys = sorted({k for r in rows for k in (r.get("covered_by") or {})})
+    kinds = [k for k in ("slow", "periodic", "coloured", "spikes", "quantisation") if any(r["kind"] == k for r in rows)]
+    table = []
+    for key in keys:
+        cells = []
+        for kind in kinds + ["all"]:
+            c = [v for r in rows if kind in ("all", r["kind"]) for v in (r.get("covered_by") or {}).get(key, [])]
+            cells.append(f"{_pct(np.mean(c) if c else None)} (n={len(c)})")
+        table.append([key] + cells)
+    table.append(["all parameters"] + [
+        f"{_pct(np.mean(c) if c else None)} (n={len(c)})" for c in
+        [[v for r in rows if kind in ('all', r['kind']) for vs in (r.get('covered_by') or {}).values() for v in vs]
+         for kind in kinds + ["all"]]])
+    return md_table(["parameter"] + kinds + ["all kinds"], table)

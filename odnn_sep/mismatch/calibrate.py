@@ -18,7 +18,7 @@ import numpy as np
 from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.errors import InputError, NotIdentifiableError
 from odnn_sep.mismatch.fitting import Fit, fit
-from odnn_sep.mismatch.presets import _dominant_omega
+from odnn_sep.mismatch.presets import dominant_omega
 
 SLOW_FAMILIES = {"oscillator", "pendulum", "hum"}
 # at most 10 modes: with 20 cross-validation blocks the slowest held-out gap must stay
@@ -35,10 +35,10 @@ def slow_cutoff(t, y, model=None):
     if model is not None and model.preset is not None:
         try:
             guess = {**model.start, **model.preset.initial_guess(t, y, dict(model.start))}
-            return _dominant_omega(t, model.predict(t, guess)) / (2 * np.pi) / 2.0
+            return dominant_omega(t, model.predict(t, guess)) / (2 * np.pi) / 2.0
         except (InputError, ValueError, np.linalg.LinAlgError):
             pass
-    return _dominant_omega(t, y) / (2 * np.pi) / 2.0
+    return dominant_omega(t, y) / (2 * np.pi) / 2.0
 
 
 def slow_disturbance(t, *, cutoff_hz=None, y=None, model=None):

@@ -33,6 +33,8 @@ class Candidate:
     heldout_mse: object = field(default=None, repr=False)
     step: int = 1                          # forward-selection step at which it was scored
     note: str | None = None
+    equivalent: list = field(default_factory=list)   # physics effects the data cannot tell from this one
+    rivals: list = field(default_factory=list)       # every other passing physics candidate: gap, inflation
 
     @property
     def effect_params(self) -> dict:
@@ -50,7 +52,8 @@ class Candidate:
                 "interval95": {k: (list(v) if v is not None else None) for k, v in iv.items()},
                 "residual_rms": self.fit.rms, "bic": self.fit.bic, "step": self.step,
                 "heldout_improvement": self.cv_improvement, "heldout_gain": self.heldout_gain,
-                "heldout_p_value": self.cv_p_value, "note": self.note}
+                "heldout_p_value": self.cv_p_value, "note": self.note,
+                "equivalent_to": list(self.equivalent)}
 
 
 @dataclass

@@ -62,7 +62,7 @@ def hum_free(t, a, *, f0, harmonics):
     ``f0`` is the analysed channel's calibrated mains frequency (the start of the aux channel's own
     refinement: the grid frequency is common to all channels).
     """
-    from odnn_sep.mismatch.presets_fields import Hum, _hum_columns
+    from odnn_sep.mismatch.presets_fields import Hum, hum_columns
 
     t = np.asarray(t, float)
     dt = float(np.median(np.diff(t)))
@@ -72,7 +72,7 @@ def hum_free(t, a, *, f0, harmonics):
     H = max(H, 1)
     guess = Hum().initial_guess(t, a, {"f0": f0, "harmonics": H})
     f = guess["f0"]
-    F = _hum_columns(t, f, H)
+    F = hum_columns(t, f, H)
     coef = np.array([guess[k] for k in Hum().amplitude_names(H)])
     r = a - F @ coef
     n = len(r)

@@ -36,7 +36,7 @@ from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 from odnn_sep.mismatch.fitting import cross_validate, cv_folds
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
-from odnn_sep.mismatch.selection import forward_backward
+from odnn_sep.mismatch.selection import SelectionSetup, forward_backward
 
 log = logging.getLogger(__name__)
 
@@ -154,6 +154,11 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     -------
     MismatchResult
 
+    Notes
+    -----
+    Why long (parameter list): these are the analysis's public keyword options, each documented
+    above; the work itself is done by the helpers below and :func:`forward_backward`.
+
     Examples
     --------
     >>> import numpy as np
@@ -165,6 +170,43 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     >>> res.effect, round(res.verdict.fit.params["q_drag"], 2)
     ('quadratic_drag', 0.02)
     """
+    m, t, y, aux, rate_note = _prepare(model, t, y, params, inputs, aux)
+    block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
+    G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
+    base = cal.fit
+    res = MismatchResult(t=t, y=y, model=m, calibration=cal, declared=declared, unit=unit)
+    if rate_note:
+        res.notes.append(rate_note)
+    if len(y) < SMALL_DATA:
+        res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
+                         f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
+    from odnn_sep.mismatch.locate import noise_sigma
+    res.noise_sigma = noise_sigma(base.residual)
+    res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)
+    names = _candidate_names(m, effects, aux, G, periodic_declared)
+    res.aux_channels = list(aux)
+    slow_hz = 0.0
+    if G is not None and np.ndim(t) == 1:
+        from odnn_sep.mismatch.calibrate import slow_cutoff
+        slow_hz = slow_cutoff(t, y, m)
+    mse0 = _quiet_cross_validate(base, t, y, G, block_id, folds)
+    res.heldout_rmse_before = float(np.sqrt(mse0[np.isfinite(mse0)].mean()))
+    setup = SelectionSetup(t=t, y=y, G=G, make_model=_candidate_factory(t, y, aux, G, slow_hz), block_id=block_id,
+                           folds=folds, bic_threshold=bic_threshold, heldout_threshold=heldout_threshold, n_cv=n_cv,
+                           max_steps=max_effects, progress=progress)
+    out = forward_backward(base, mse0, names, setup)
+    res.candidates, res.failed, res.final_fit, res.dropped = out.first_step, out.failed, out.fit, out.dropped
+    res.heldout_rmse_after = out.heldout_rmse if out.heldout_rmse is not None else res.heldout_rmse_before
+    res.named = [c for c in out.accepted if c.effect not in DISTURBANCE_EFFECTS]
+    res.disturbances = [_disturbance_entry(c, out.fit, unit) for c in out.accepted
+                        if c.effect in DISTURBANCE_EFFECTS]
+    from odnn_sep.mismatch.inputs import physical_warnings
+    res.warnings = physical_warnings(out.fit.params)
+    return res
+
+
+def _prepare(model, t, y, params, inputs, aux):
+    """The model (with its inputs), checked data and aux channels, at the analysis rate (+ a note)."""
     if inputs and isinstance(model, Model):
         raise InputError("inputs of a user model are given to ode_model(..., inputs=...); "
                          "explain(inputs=...) drives the presets")
@@ -181,7 +223,12 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     if aux and m.family != "hum":
         raise InputError(f"aux channels are used by the channel_coupling effect of the 'hum' preset only; "
                          f"model {m.name!r} has family {m.family!r}: drop aux (CLI: --no-aux)")
-    block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
+    return m, t, y, aux, rate_note
+
+
+def _declared_disturbances(disturbance, m, t, y, params):
+    """Disturbance columns G (the wander class plus declared lines), the calibration with them
+    projected out, the declared disturbances in words, and whether any periodic one was declared."""
     cls, declared_hz, want_lines = parse_disturbance(disturbance)
     G = disturbance_columns(cls if cls is not None else "auto", m, t, y)
     declared = [f"a periodic component at {f:.4g} Hz (declared; absorbed)" for f in declared_hz]
@@ -195,27 +242,13 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
             cal = calibrate(m, t, y, user_params={**(params or {}), **_numeric(cal.fit.params, m)}, G=G)
         declared.append("spectral lines of the residual (declared 'lines'; absorbed): " +
                         (", ".join(f"{f:.4g} Hz" for f in found) if found else "none found"))
-    slow_hz = 0.0
-    if G is not None and np.ndim(t) == 1:
-        from odnn_sep.mismatch.calibrate import slow_cutoff
-        slow_hz = slow_cutoff(t, y, m)
-    base = cal.fit
-    res = MismatchResult(t=t, y=y, model=m, calibration=cal, declared=declared, unit=unit)
-    if rate_note:
-        res.notes.append(rate_note)
-    if len(y) < SMALL_DATA:
-        res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
-                         f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
-    from odnn_sep.mismatch.locate import noise_sigma
-    res.noise_sigma = noise_sigma(base.residual)
-    res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)
+    return G, cal, declared, bool(declared_hz or want_lines)
 
-    names = _candidate_names(m, effects, aux, G, declared_hz or want_lines)
-    res.aux_channels = list(aux)
 
+def _candidate_factory(t, y, aux, G, slow_hz):
+    """make_model(e, cur, with_starts=True) -> (model with effect e on top of cur, starts)."""
     def make_candidate_model(e, cur, with_starts=True):
-        """(model with effect e on top of cur, starts) — the coupling effect needs the aux channels."""
-        if e == COUPLING:
+        if e == COUPLING:   # the coupling effect is built from the aux channels
             regs = coupling_regressors(t, aux, f0=cur.params["f0"], harmonics=cur.params["harmonics"])
             me = with_coupling(cur.model, regs)
             return me, [coupling_start(me, cur, t, y, G, regs)]
@@ -225,26 +258,16 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         if not with_starts:
             return me
         return me, effect_starts(e, cur, t, y, model=me, G=G)
+    return make_candidate_model
 
+
+def _quiet_cross_validate(fit, t, y, G, block_id, folds):
     import warnings
 
     from odnn_sep.errors import ConvergenceWarning
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        mse0 = cross_validate(base.model, t, y, base.params, G=G, block_id=block_id, folds=folds)
-    held = np.isfinite(mse0)
-    res.heldout_rmse_before = float(np.sqrt(mse0[held].mean()))
-    out = forward_backward(base, mse0, names, make_candidate_model, t, y, G, block_id=block_id, folds=folds,
-                           bic_threshold=bic_threshold, heldout_threshold=heldout_threshold, n_cv=n_cv,
-                           max_steps=max_effects, progress=progress)
-    res.candidates, res.failed, res.final_fit, res.dropped = out.first_step, out.failed, out.fit, out.dropped
-    res.heldout_rmse_after = out.heldout_rmse if out.heldout_rmse is not None else res.heldout_rmse_before
-    res.named = [c for c in out.accepted if c.effect not in DISTURBANCE_EFFECTS]
-    res.disturbances = [_disturbance_entry(c, out.fit, unit) for c in out.accepted
-                        if c.effect in DISTURBANCE_EFFECTS]
-    from odnn_sep.mismatch.inputs import physical_warnings
-    res.warnings = physical_warnings(out.fit.params)
-    return res
+        return cross_validate(fit.model, t, y, fit.params, G=G, block_id=block_id, folds=folds)
 
 
 def _stack(G, P):
@@ -269,8 +292,8 @@ def _candidate_names(m, effects, aux, G, periodic_declared):
         names = [e for e in names if e not in ("offset", "drift")]
     for e in names:
         if e not in EFFECTS:
-            from odnn_sep.mismatch.model import _suggest
-            raise InputError(f"unknown effect {e!r}; {_suggest(e, EFFECTS)}known effects: {', '.join(EFFECTS)}")
+            from odnn_sep.mismatch.model import suggest_name
+            raise InputError(f"unknown effect {e!r}; {suggest_name(e, EFFECTS)}known effects: {', '.join(EFFECTS)}")
     return names
 
 

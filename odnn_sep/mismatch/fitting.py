@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.core.linalg import Projector, intervals, orthonormal_basis, solve, varpro
+from odnn_sep.core.uncertainty import sandwich_standard_errors
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
 from odnn_sep.mismatch.presets import ModelIntegrationError
@@ -35,6 +36,7 @@ class Fit:
     disturbance: np.ndarray = field(repr=False)
     residual: np.ndarray = field(repr=False)
     converged: bool = True
+    interval_dof: float = np.inf   # degrees of freedom of the spread estimate (blocks - 1 for the sandwich)
 
     @property
     def n_params(self) -> float:
@@ -61,7 +63,9 @@ class Fit:
         (the true value is inside the bounds) and never reports impossible values.
         """
         names = list(self.stderr)
-        wald = intervals([self.params[k] for k in names], [self.stderr[k] for k in names])
+        # a sandwich over nb blocks has about nb - 1 degrees of freedom: Student-t, not normal, quantiles
+        widen = t_over_normal(self.interval_dof)
+        wald = intervals([self.params[k] for k in names], [widen * self.stderr[k] for k in names])
         out = {}
         for k, (a, b) in zip(names, wald, strict=True):
             lo, hi = self.model.bounds.get(k, (-np.inf, np.inf))
@@ -87,12 +91,9 @@ def disturbance_projector(G, rows=None):
     return Projector(G if rows is None else G[rows], **_BASIS_RULE)
 
 
-def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) -> Fit:
-    """Fit the free parameters of ``model`` to ``y`` (rows ``rows`` only) with ``G`` projected out."""
-    p0 = dict(model.start if start is None else start)
+def _optimise(model, t, y, idx, P, p0, max_nfev):
+    """Bounded least squares of the free parameters from ``p0``: (parameters, Jacobian, converged)."""
     free = model.free
-    idx = np.arange(len(y)) if rows is None else np.asarray(rows)
-    P = disturbance_projector(G, idx)
     yy = y[idx]
     lo = np.array([model.bounds.get(k, (-np.inf, np.inf))[0] for k in free], float)
     hi = np.array([model.bounds.get(k, (-np.inf, np.inf))[1] for k in free], float)
@@ -115,18 +116,31 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
             r = P.project_out(r)
         return r
 
-    if free:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            res = varpro(resid, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
-                         method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                         # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
-                         # finite-difference Jacobians well above that floor
-                         diff_step=1e-5).result
-        x, J, converged = res.x, res.jac, bool(res.status > 0)
-    else:
-        x, J, converged = x0, np.zeros((len(yy), 0)), True
-    p = unpack(x)
+    if not free:
+        return unpack(x0), np.zeros((len(yy), 0)), True
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = varpro(resid, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
+                     method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
+                     # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
+                     # finite-difference Jacobians well above that floor
+                     diff_step=1e-5).result
+    return unpack(res.x), res.jac, bool(res.status > 0)
+
+
+def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) -> Fit:
+    """Fit the free parameters of ``model`` to ``y`` (rows ``rows`` only) with ``G`` projected out.
+
+    A model whose parameters have two labellings of the same curve (two exponentials) is refitted
+    from its canonical one (:meth:`Model.canonical`), so intervals always describe the same parameter.
+    """
+    free = model.free
+    idx = np.arange(len(y)) if rows is None else np.asarray(rows)
+    P = disturbance_projector(G, idx)
+    p, J, converged = _optimise(model, t, y, idx, P, dict(model.start if start is None else start), max_nfev)
+    relabelled = model.canonical(p)
+    if relabelled is not None:
+        p, J, converged = _optimise(model, t, y, idx, P, relabelled, max_nfev)
     pred = model.predict(t, p)
     r_all = y - pred
     if P is not None:
@@ -138,34 +152,25 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     rss = float(np.sum(r[idx] ** 2))
     n_eff = len(idx) - (0 if P is None else P.rank)
     dof = max(n_eff - len(free), 1)
-    stderr = {}
+    stderr, interval_dof = {}, np.inf
     if free:
-        stderr = dict(zip(free, robust_stderr(J, r[idx], dof), strict=True))
+        spread = sandwich_standard_errors(J, r[idx], dof)
+        stderr = dict(zip(free, (float(s) for s in spread.stderr), strict=True))
+        interval_dof = float(max(spread.n_blocks - 1, 1))
     if not converged and warn:
         warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
                       f"{max_nfev} evaluations before converging; treat its numbers with care",
                       ConvergenceWarning, stacklevel=2)
-    return Fit(model, p, free, stderr, rss, n_eff, pred, dist, r, converged)
+    return Fit(model, p, free, stderr, rss, n_eff, pred, dist, r, converged, interval_dof)
 
 
-def robust_stderr(J, r, dof):
-    """Standard errors that hold when the model or the noise is not quite right.
-
-    The larger of the classical Gauss-Newton error ``s^2 (J'J)^-1`` and a block sandwich
-    ``(J'J)^-1 (sum_b J_b' r_b r_b' J_b) (J'J)^-1`` over contiguous blocks of about 2 n^(1/3)
-    samples (so correlated noise and leftover structure within a block count fully), with the
-    small-sample factor nb / (nb - 1) * n / dof.
-    """
-    n = len(r)
-    JtJ_inv = np.linalg.pinv(J.T @ J)
-    classic = np.diag(JtJ_inv) * float(np.sum(r ** 2)) / dof
-    L = max(1, int(round(2 * n ** (1 / 3))))
-    nb = max(n // L, 1)
-    edges = np.linspace(0, n, nb + 1).astype(int)
-    S = np.stack([J[a:b].T @ r[a:b] for a, b in zip(edges[:-1], edges[1:], strict=True)])
-    meat = S.T @ S * (nb / max(nb - 1, 1)) * (n / dof)
-    sandwich = np.diag(JtJ_inv @ meat @ JtJ_inv)
-    return [float(np.sqrt(max(a, b, 0.0))) for a, b in zip(classic, sandwich, strict=True)]
+def t_over_normal(dof, level=0.95):
+    """Ratio of the Student-t to the normal two-sided quantile (1 for infinite ``dof``)."""
+    if not np.isfinite(dof):
+        return 1.0
+    from scipy import stats  # on use: the package is imported by every subcommand
+    q = 0.5 + level / 2
+    return float(stats.t.ppf(q, dof) / stats.norm.ppf(q))
 
 
 def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):

@@ -10,10 +10,10 @@ import numpy as np
 
 from odnn_sep.errors import InputError
 from odnn_sep.mismatch.effects import EFFECTS, applicable, apply_generic
-from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, _integrate
+from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, integrate_ode
 
 
-def _suggest(word, options):
+def suggest_name(word, options):
     close = difflib.get_close_matches(str(word), list(options), n=1, cutoff=0.5)
     return f"did you mean {close[0]!r}? " if close else ""
 
@@ -58,12 +58,18 @@ class Model:
                                         f"check the starting values (--param)")
         return out
 
+    def canonical(self, p: dict) -> dict | None:
+        """The same curve's parameters in the preset's canonical labelling, or None when ``p`` is canonical."""
+        if self.preset is None:
+            return None
+        return self.preset.canonical(self.effects, p)
+
     def applicable_effects(self) -> list:
         return [e for e in applicable(self.family) if e not in self.effects]
 
     def with_effect(self, name: str, start: dict | None = None) -> "Model":
         if name not in EFFECTS:
-            raise InputError(f"unknown effect {name!r}; {_suggest(name, EFFECTS)}"
+            raise InputError(f"unknown effect {name!r}; {suggest_name(name, EFFECTS)}"
                              f"known effects: {', '.join(EFFECTS)}")
         if name == "channel_coupling":
             raise InputError("channel_coupling needs the recording's other channels: pass aux={name: array} "
@@ -100,7 +106,7 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
         return name.with_start(params or {})
     key = str(name)
     if key not in PRESETS:
-        raise InputError(f"unknown model {key!r}; {_suggest(key, PRESETS)}"
+        raise InputError(f"unknown model {key!r}; {suggest_name(key, PRESETS)}"
                          f"available presets: {', '.join(PRESETS)}")
     preset = PRESETS[key]
     start = dict(preset.params)
@@ -114,30 +120,8 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
         preset = copy.copy(preset)
         preset.inputs = dict(inputs)
         start.update({g: 0.0 for g in gain_names(inputs)})
-    allowed = set(start)
-    if key == "hum":
-        allowed |= set(preset.amplitude_names(int(float(params.get("harmonics", start["harmonics"])))))
-    if key == "heat2d":
-        from odnn_sep.mismatch.presets import parse_sources
-        n_src = len(parse_sources(params.get("sources", start["sources"])))
-        allowed |= {f"S{i + 1}" for i in range(n_src)}
-    for k in params:
-        if k not in allowed:
-            raise InputError(f"unknown parameter {k!r} for model {key!r}; {_suggest(k, allowed)}"
-                             f"parameters: {', '.join(sorted(allowed))}")
-    for k, v in params.items():
-        if k == "sources":
-            start[k] = str(v)
-        elif k == "harmonics":
-            h = int(float(v))
-            if h < 1 or h != float(v):
-                raise InputError(f"harmonics must be a positive integer (number of harmonics); got {v!r}")
-            start[k] = h
-        else:
-            try:
-                start[k] = float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"parameter {k!r} must be a number; got {v!r}") from None
+    _check_param_names(key, preset, params, start)
+    start.update(_coerce_params(params))
     if key == "hum":
         for n in preset.amplitude_names(start["harmonics"]):
             start.setdefault(n, 0.0)
@@ -148,6 +132,40 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
     return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
                  fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
                  ndim=preset.ndim, autonomous=preset.autonomous and not inputs, preset=preset)
+
+
+def _check_param_names(key, preset, params, start):
+    """Every given parameter is one the preset knows (hum amplitudes and heat2d strengths included)."""
+    allowed = set(start)
+    if key == "hum":
+        allowed |= set(preset.amplitude_names(int(float(params.get("harmonics", start["harmonics"])))))
+    if key == "heat2d":
+        from odnn_sep.mismatch.presets import parse_sources
+        n_src = len(parse_sources(params.get("sources", start["sources"])))
+        allowed |= {f"S{i + 1}" for i in range(n_src)}
+    for k in params:
+        if k not in allowed:
+            raise InputError(f"unknown parameter {k!r} for model {key!r}; {suggest_name(k, allowed)}"
+                             f"parameters: {', '.join(sorted(allowed))}")
+
+
+def _coerce_params(params):
+    """Given parameters as the preset stores them: sources a string, harmonics a count, the rest floats."""
+    out = {}
+    for k, v in params.items():
+        if k == "sources":
+            out[k] = str(v)
+        elif k == "harmonics":
+            h = int(float(v))
+            if h < 1 or h != float(v):
+                raise InputError(f"harmonics must be a positive integer (number of harmonics); got {v!r}")
+            out[k] = h
+        else:
+            try:
+                out[k] = float(v)
+            except (TypeError, ValueError):
+                raise InputError(f"parameter {k!r} must be a number; got {v!r}") from None
+    return out
 
 
 def _check_user_params(func, params, what):
@@ -167,7 +185,7 @@ def _check_user_params(func, params, what):
         names = list(sig.parameters)
         for k in params:
             if k not in names:
-                raise InputError(f"unknown parameter {k!r} for the user model; {_suggest(k, names)}"
+                raise InputError(f"unknown parameter {k!r} for the user model; {suggest_name(k, names)}"
                                  f"its signature accepts: {', '.join(names)}")
 
 
@@ -217,7 +235,7 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
         raise InputError("ode_model needs params={name: starting value} for the parameters to calibrate")
     for s in state0:
         if isinstance(s, str) and s not in start:
-            raise InputError(f"state0 entry {s!r} is not a parameter; {_suggest(s, start)}"
+            raise InputError(f"state0 entry {s!r} is not a parameter; {suggest_name(s, start)}"
                              f"parameters: {', '.join(start)}")
     rhs_names = [k for k in start if k not in {s for s in state0 if isinstance(s, str)}]
     from odnn_sep.mismatch.inputs import check_inputs, interpolator
@@ -232,7 +250,7 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
             def f(tt, s):
                 return rhs(tt, s, **kw, **{k: g(tt) for k, g in at.items()})
             try:
-                return _integrate(name, f, y0, t, p)[:, output]
+                return integrate_ode(name, f, y0, t, p)[:, output]
             except (ArithmeticError, ValueError, TypeError) as exc:
                 raise ModelIntegrationError(f"model {name!r} failed to integrate with parameters "
                                             f"{ {k: p[k] for k in start} }: {exc}") from None

@@ -12,12 +12,12 @@ from odnn_sep.mismatch.presets_base import (  # noqa: F401  (re-exported)
     INF,
     ModelIntegrationError,
     Preset,
-    _dominant_omega,
-    _integrate,
-    _sinusoid_start,
+    dominant_omega,
+    integrate_ode,
+    sinusoid_start,
 )
 from odnn_sep.mismatch.presets_fields import Cooling, Heat2D, Hum, parse_sources  # noqa: F401
-from odnn_sep.mismatch.presets_mech import Freefall, Oscillator, Pendulum, _linear_oscillator  # noqa: F401
+from odnn_sep.mismatch.presets_mech import Freefall, Oscillator, Pendulum, linear_oscillator  # noqa: F401
 
 PRESETS: dict[str, Preset] = {p.name: p for p in (Oscillator(), Pendulum(), Cooling(), Hum(), Heat2D(),
                                                     Freefall())}

@@ -11,7 +11,7 @@ from odnn_sep.errors import InputError, ModelIntegrationError  # noqa: F401  (re
 INF = np.inf
 
 
-def _integrate(name, rhs, state0, t, p):
+def integrate_ode(name, rhs, state0, t, p):
     from scipy.integrate import odeint  # on use: the package is imported by every subcommand
 
     with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -27,7 +27,7 @@ def _integrate(name, rhs, state0, t, p):
     return sol
 
 
-def _friction_scale(v_scale):
+def friction_scale(v_scale):
     # tanh(v/eps) replaces sign(v): LSODA cannot step through a discontinuous force.
     return 3e-2 * max(float(v_scale), 1e-9)
 
@@ -53,8 +53,12 @@ class Preset:
         """Data-driven starting values for parameters the user did not give (dict, may be partial)."""
         return {}
 
+    def canonical(self, effects, p):
+        """Parameters of the same curve in the canonical labelling when ``p`` is another one, else None."""
+        return None
 
-def _dominant_omega(t, y):
+
+def dominant_omega(t, y):
     """Angular frequency of the largest periodogram peak (zero-padded, mean removed)."""
     n = len(t)
     dt = float(np.median(np.diff(t)))
@@ -65,7 +69,7 @@ def _dominant_omega(t, y):
     return 2 * np.pi * freqs[int(np.argmax(spec))]
 
 
-def _sinusoid_start(t, y, omega):
+def sinusoid_start(t, y, omega):
     """Amplitudes (x0, v0) of a pure oscillation at omega matched to the data by least squares."""
     tau = t - t[0]
     F = np.column_stack([np.cos(omega * tau), np.sin(omega * tau), np.ones_like(tau)])

@@ -12,7 +12,7 @@ from odnn_sep.mismatch.inputs import (
     linear_response,
     regression_start,
 )
-from odnn_sep.mismatch.presets_base import INF, Preset, _integrate
+from odnn_sep.mismatch.presets_base import INF, Preset, integrate_ode
 
 
 def _psat(T):
@@ -74,12 +74,24 @@ class Cooling(Preset):
                         d += drive(tt)
                     return [d]
 
-                out = _integrate(self.name, rhs, [p["T0"]], t, p)[:, 0]
+                out = integrate_ode(self.name, rhs, [p["T0"]], t, p)[:, 0]
             if "two_body_heat" in effects:
                 out = out + p["B_2"] * (np.exp(-p["lam_2"] * tau) - np.exp(-p["h"] * tau))
             return out
 
         return predict
+
+    def canonical(self, effects, p):
+        """Two-exponential cooling is the same curve with h and lam_2 swapped; the second body is the
+        fast one (lam_2 > h), so B_2 and lam_2 always mean the same thing (and their intervals too).
+
+        Without radiation, evaporation or inputs, ``Ta + (T0-Ta-B) e^(-h t) + B e^(-lam t)`` is
+        unchanged by h <-> lam_2, B_2 -> T0 - Ta - B_2.
+        """
+        if ("two_body_heat" not in effects or set(effects) & {"radiation", "evaporation"} or self.inputs
+                or not p["lam_2"] < p["h"]):
+            return None
+        return {**p, "h": p["lam_2"], "lam_2": p["h"], "B_2": p["T0"] - p["T_ambient"] - p["B_2"]}
 
     def initial_guess(self, t, y, p):
         if self.inputs:
@@ -130,7 +142,7 @@ class Hum(Preset):
         span = t[-1] - t[0]
         best = None
         for f in f0 + np.linspace(-0.5, 0.5, 201) / max(span, 1e-9) * 4:
-            F = _hum_columns(t, f, H)
+            F = hum_columns(t, f, H)
             coef = solve(F, y, method="lstsq")
             rss = float(np.sum((F @ coef - y) ** 2))
             if best is None or rss < best[0]:
@@ -141,7 +153,7 @@ class Hum(Preset):
         return out
 
 
-def _hum_columns(t, f0, H):
+def hum_columns(t, f0, H):
     cols = []
     for h in range(1, H + 1):
         cols += [np.cos(2 * np.pi * h * f0 * t), np.sin(2 * np.pi * h * f0 * t)]

@@ -17,14 +17,14 @@ from odnn_sep.mismatch.inputs import (
 from odnn_sep.mismatch.presets_base import (
     INF,
     Preset,
-    _dominant_omega,
-    _friction_scale,
-    _integrate,
-    _sinusoid_start,
+    dominant_omega,
+    friction_scale,
+    integrate_ode,
+    sinusoid_start,
 )
 
 
-def _linear_oscillator(tau, k, c, m, x0, v0, *, with_velocity=False):
+def linear_oscillator(tau, k, c, m, x0, v0, *, with_velocity=False):
     """Closed-form solution of m x'' + c x' + k x = 0 (complex roots cover every damping regime)."""
     disc = complex(c * c - 4 * m * k)
     r = np.sqrt(disc)
@@ -60,7 +60,7 @@ class Oscillator(Preset):
         return [p["x0"], p["v0"]]
 
     def _closed_form(self, tau, p):
-        r = _linear_oscillator(tau, p["k"], p["c"], p["m"], p["x0"], p["v0"], with_velocity=True)
+        r = linear_oscillator(tau, p["k"], p["c"], p["m"], p["x0"], p["v0"], with_velocity=True)
         return r
 
     def _observe(self, t, x, v, p, effects, eps):
@@ -85,11 +85,11 @@ class Oscillator(Preset):
                 if np.all(np.isfinite(x)):
                     return self._observe(t, x[:, 0], x[:, 1], p, effects, 0.0)
             m = p.get("m", 1.0)
-            eps = _friction_scale(max(abs(p.get("v0", p.get("omega0", 0.0))),
+            eps = friction_scale(max(abs(p.get("v0", p.get("omega0", 0.0))),
                                       np.sqrt(abs(self._stiffness(p))) * abs(self._amplitude(p))))
 
             rhs = self._make_rhs(p, effects, m, eps)
-            sol = _integrate(name, rhs, self._initial_state(p), t, p)
+            sol = integrate_ode(name, rhs, self._initial_state(p), t, p)
             return self._observe(t, sol[:, 0], sol[:, 1], p, effects, eps)
 
         return predict
@@ -138,8 +138,8 @@ class Oscillator(Preset):
     def initial_guess(self, t, y, p):
         if self.inputs:
             return self._driven_guess(t, y, p, "k", "x0", "v0")
-        omega = _dominant_omega(t, y)
-        x0, v0 = _sinusoid_start(t, y, omega)
+        omega = dominant_omega(t, y)
+        x0, v0 = sinusoid_start(t, y, omega)
         return {"k": p.get("m", 1.0) * omega ** 2, "c": 0.0, "x0": x0, "v0": v0}
 
     def _driven_guess(self, t, y, p, kname, xname, vname):
@@ -172,7 +172,7 @@ class Pendulum(Oscillator):
         return [p["theta0"], p["omega0"]]
 
     def _closed_form(self, tau, p):
-        return _linear_oscillator(tau, p["w2"], p["c"], 1.0, p["theta0"], p["omega0"], with_velocity=True)
+        return linear_oscillator(tau, p["w2"], p["c"], 1.0, p["theta0"], p["omega0"], with_velocity=True)
 
     def _observe(self, t, x, v, p, effects, eps):
         L = float(p.get("L", 0.0))
@@ -199,8 +199,8 @@ class Pendulum(Oscillator):
         return p["theta0"]
 
     def _free_guess(self, t, y, p):
-        omega = _dominant_omega(t, y)
-        x0, v0 = _sinusoid_start(t, y, omega)
+        omega = dominant_omega(t, y)
+        x0, v0 = sinusoid_start(t, y, omega)
         L = float(p.get("L", 0.0))
         if L > 0:   # data are accelerations: -L w2 theta
             x0, v0 = -x0 / (L * omega ** 2), -v0 / (L * omega ** 2)

@@ -1,7 +1,7 @@
 """Report of a mismatch analysis: the JSON the issue names, a text summary, and the figure."""
 from __future__ import annotations
 
-from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
+from odnn_sep.mismatch.effects import EFFECTS
 
 
 def _params_table(fit):
@@ -22,7 +22,17 @@ def _effect_entry(c, final, base):
             "stderr": {k: final.stderr.get(k) for k in p},
             "intervals": {k: list(iv[k]) if k in iv else None for k in p},
             "score": c.score, "heldout_improvement": c.cv_improvement, "heldout_gain": c.heldout_gain,
-            "heldout_p_value": c.cv_p_value, "step": c.step}
+            "heldout_p_value": c.cv_p_value, "step": c.step,
+            "equivalent_to": list(c.equivalent), "equivalence": equivalence_sentence(c)}
+
+
+def equivalence_sentence(c):
+    """"radiation or evaporation: the data cannot tell them apart", or None when the data can."""
+    if not c.equivalent:
+        return None
+    return (f"{' or '.join([c.effect] + list(c.equivalent))}: the data cannot tell them apart "
+            f"(BIC within the equivalence margin after allowing for correlated noise); {c.effect} is the "
+            f"one fitted")
 
 
 def result_dict(res) -> dict:
@@ -44,10 +54,8 @@ def result_dict(res) -> dict:
     else:
         first = res.named[0]
         verdict = dict(effects[0])
-        # runners-up of the first step within 6 BIC units are not clearly worse ("positive" evidence at most)
-        verdict["ambiguous_with"] = [c.effect for c in res.candidates if c.effect != first.effect
-                                     and c.step == 1 and abs(first.score - c.score) < 6.0
-                                     and c.effect not in DISTURBANCE_EFFECTS and first.step == 1]
+        # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
+        verdict["ambiguous_with"] = list(first.equivalent)
     verdict["effects"] = effects
     verdict["disturbances"] = list(res.disturbances)
     verdict["declared_disturbances"] = list(res.declared)
@@ -83,59 +91,55 @@ def _fmt(v):
     return str(v)
 
 
-def summary_text(res) -> str:
-    """Human-readable summary (what the CLI prints)."""
-    d = result_dict(res)
-    lines = []
-    v = d["verdict"]
+def _verdict_lines(v):
     if v["effect"] is None:
-        lines.append(f"Verdict: {v['description']}")
-    else:
-        lines.append(f"Verdict: {len(v['effects'])} effect(s) missing from the model, in the order found:")
-        for i, e in enumerate(v["effects"], 1):
-            lines.append(f"  {i}. {e['effect']} — {e['description']}; BIC drop {e['score']:.1f}, "
-                         f"held-out gain {e['heldout_gain']:.1f}")
-            for k, x in e["parameters"].items():
-                lo, hi = e["intervals"].get(k) or (None, None)
-                lines.append(f"       {k} = {_fmt(x)}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
-        if v.get("ambiguous_with"):
-            lines.append(f"  first effect not clearly better than: {', '.join(v['ambiguous_with'])} (BIC within 6)")
-    for dd in v["disturbances"]:
-        lines.append(f"Disturbance found (absorbed, not physics): {dd['description']}")
-    for dd in v["declared_disturbances"]:
-        lines.append(f"Disturbance declared: {dd}")
-    for dd in v["dropped_by_backward_check"]:
-        lines.append(f"Dropped by the backward check: {dd['effect']} (BIC drop against the others "
-                     f"{_fmt(dd['score_against_others'])})")
-    for w in v["warnings"]:
-        lines.append(f"Warning: {w}")
-    for w in v["notes"]:
-        lines.append(f"Note: {w}")
-    if d["failed_fits"]:
-        for f in d["failed_fits"]:
-            lines.append(f"Fit failed (not ranked): {f['effect']} at step {f['step']}: {f['reason']}")
+        return [f"Verdict: {v['description']}"]
+    lines = [f"Verdict: {len(v['effects'])} effect(s) missing from the model, in the order found:"]
+    for i, e in enumerate(v["effects"], 1):
+        gain = "-" if e["heldout_gain"] is None else f"{e['heldout_gain']:.1f}"
+        lines.append(f"  {i}. {e['effect']} — {e['description']}; BIC drop {e['score']:.1f}, "
+                     f"held-out gain {gain}")
+        if e["equivalence"]:
+            lines.append(f"     {e['equivalence']}")
+        for k, x in e["parameters"].items():
+            lo, hi = e["intervals"].get(k) or (None, None)
+            lines.append(f"       {k} = {_fmt(x)}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
+    return lines
+
+
+def _context_lines(v, failed):
+    lines = [f"Disturbance found (absorbed, not physics): {dd['description']}" for dd in v["disturbances"]]
+    lines += [f"Disturbance declared: {dd}" for dd in v["declared_disturbances"]]
+    lines += [f"Dropped by the backward check: {dd['effect']} (BIC drop against the others "
+              f"{_fmt(dd['score_against_others'])})" for dd in v["dropped_by_backward_check"]]
+    lines += [f"Warning: {w}" for w in v["warnings"]] + [f"Note: {w}" for w in v["notes"]]
+    if failed:
+        lines += [f"Fit failed (not ranked): {f['effect']} at step {f['step']}: {f['reason']}" for f in failed]
     else:
         lines.append("Effect fits: none failed (every refit ended at least as good as the model it extends)")
-    lines.append("Calibration (without the effect):")
-    for k, p in d["calibration"]["parameters"].items():
-        lo, hi = p["interval95"] or (None, None)
-        lines.append(f"  {k} = {_fmt(p['value'])} ± {_fmt(p['stderr'])}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
-    if d["where"]:
-        lines.append("Where the residual exceeds the noise:")
-        for w in d["where"][:8]:
-            if w["kind"] == "time":
-                lines.append(f"  time {w['start']:.4g}–{w['end']:.4g}: rms {w['rms_over_noise']:.2f}x noise "
-                             f"(p={w['p_value']:.2g})")
-            elif w["kind"] == "frequency":
-                lines.append(f"  band {w['lo_hz']:.4g}–{w['hi_hz']:.4g} Hz (peak {w['peak_hz']:.4g}): "
-                             f"power {w['power_over_noise']:.1f}x noise (p={w['p_value']:.2g})")
-            else:
-                lines.append(f"  region x {w['x'][0]:.3g}–{w['x'][1]:.3g}, y {w['y'][0]:.3g}–{w['y'][1]:.3g}: "
-                             f"rms {w['rms_over_noise']:.2f}x noise (p={w['p_value']:.2g})")
-    else:
-        lines.append("Where: nowhere does the residual exceed the noise significantly.")
-    lines.append("Candidates of the first step (score = BIC drop; an effect needs score > 10 and held-out "
-                 "gain > 6):")
+    return lines
+
+
+def _where_lines(where):
+    if not where:
+        return ["Where: nowhere does the residual exceed the noise significantly."]
+    lines = ["Where the residual exceeds the noise:"]
+    for w in where[:8]:
+        if w["kind"] == "time":
+            lines.append(f"  time {w['start']:.4g}–{w['end']:.4g}: rms {w['rms_over_noise']:.2f}x noise "
+                         f"(p={w['p_value']:.2g})")
+        elif w["kind"] == "frequency":
+            lines.append(f"  band {w['lo_hz']:.4g}–{w['hi_hz']:.4g} Hz (peak {w['peak_hz']:.4g}): "
+                         f"power {w['power_over_noise']:.1f}x noise (p={w['p_value']:.2g})")
+        else:
+            lines.append(f"  region x {w['x'][0]:.3g}–{w['x'][1]:.3g}, y {w['y'][0]:.3g}–{w['y'][1]:.3g}: "
+                         f"rms {w['rms_over_noise']:.2f}x noise (p={w['p_value']:.2g})")
+    return lines
+
+
+def _fit_lines(d):
+    lines = ["Candidates of the first step (score = BIC drop; an effect needs score > 10 and held-out "
+             "gain > 6):"]
     for c in d["candidates"][:6]:
         hi = "" if c["heldout_gain"] is None else \
             f", held-out RMSE {100 * c['heldout_improvement']:+.1f}%, gain {c['heldout_gain']:.1f}"
@@ -150,72 +154,94 @@ def summary_text(res) -> str:
         for k, s in a["bias_of_calibration"].items():
             lines.append(f"  {k}: {_fmt(s['without_effect'])} -> {_fmt(s['with_effect'])}"
                          f" ({_fmt(s['shift_in_stderr'])} stderr)")
-    return "\n".join(lines)
+    return lines
+
+
+def summary_text(res) -> str:
+    """Human-readable summary (what the CLI prints)."""
+    d = result_dict(res)
+    v = d["verdict"]
+    lines = _verdict_lines(v) + _context_lines(v, d["failed_fits"])
+    lines.append("Calibration (without the effect):")
+    for k, p in d["calibration"]["parameters"].items():
+        lo, hi = p["interval95"] or (None, None)
+        lines.append(f"  {k} = {_fmt(p['value'])} ± {_fmt(p['stderr'])}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
+    return "\n".join(lines + _where_lines(d["where"]) + _fit_lines(d))
 
 
 def plot(res, out) -> None:
     """Figure: data with both fits, residual before/after, and the flagged locations."""
-    import numpy as np
-
     from odnn_sep.report.figures import pyplot, save_figure
 
     plt = pyplot()
-    base = res.calibration.fit
-    after = res.final_fit or base
     added = list(res.effects) + [d["effect"] for d in res.disturbances]
     unit = f" ({res.unit})" if res.unit else " (data units)"
-    t, y = res.t, res.y
-    if t.ndim == 2:
-        fig, ax = plt.subplots(1, 3, figsize=(13, 4))
-        for a, (vals, title) in zip(ax, [(y, "data"), (base.residual, "residual before"),
-                                         (after.residual, "residual after")], strict=True):
-            sc = a.scatter(t[:, 0], t[:, 1], c=vals, s=8, cmap="RdBu_r" if "res" in title else "viridis")
-            fig.colorbar(sc, ax=a, label="value" + unit)
-            a.set_title(title + (" (+ " + ", ".join(added) + ")" if title == "residual after" and added else ""))
-            a.set_xlabel("x")
-            a.set_ylabel("y")
-        for w in res.where:
-            ax[1].add_patch(plt.Rectangle((w["x"][0], w["y"][0]), w["x"][1] - w["x"][0], w["y"][1] - w["y"][0],
-                                          fill=False, ec="k", lw=1.5))
-        if res.where:
-            ax[1].plot([], [], "s", mfc="none", mec="k", label="residual above the noise (5% FDR)")
-            ax[1].legend(loc="upper right", fontsize=7)
-    else:
-        fig, ax = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
-        ax[0].plot(t, y, ".", ms=2, color="0.5", label="data")
-        ax[0].plot(t, base.prediction + base.disturbance, lw=1, label="calibrated model")
-        if after is not base:
-            ax[0].plot(t, after.prediction + after.disturbance, lw=1, label="+ " + ", ".join(added))
-        ax[0].set_ylabel("value" + unit)
-        ax[0].legend(loc="best", fontsize=8)
-        ax[1].plot(t, base.residual, lw=0.7, label=f"before (rms {base.rms:.3g})")
-        ax[1].plot(t, after.residual, lw=0.7, label=f"after (rms {after.rms:.3g})")
-        ax[1].set_ylabel("residual" + unit)
-        shaded = False
-        for w in res.where:
-            if w["kind"] == "time":
-                for i, a in enumerate(ax[:2]):
-                    a.axvspan(w["start"], w["end"], color="red", alpha=0.1,
-                              label=None if shaded or i == 0 else "residual above the noise (5% FDR)")
-                shaded = True
-        ax[1].legend(loc="best", fontsize=8)
-        # where: residual RMS over the noise level per window, before and after
-        sigma = res.noise_sigma or 1.0
-        nw = int(np.clip(len(t) // 50, 4, 20))
-        edges = np.linspace(0, len(t), nw + 1).astype(int)
-        for fit_, lab in ((base, "before"), (after, "after")):
-            vals = [np.sqrt(np.mean(fit_.residual[a:b] ** 2)) / sigma for a, b in zip(edges[:-1], edges[1:],
-                                                                                     strict=True)]
-            ax[2].step(np.r_[t[edges[:-1]], t[-1]], vals + vals[-1:], where="post", label=lab)
-        ax[2].axhline(1.0, color="k", lw=0.7, ls="--")
-        ax[2].set_ylabel("residual RMS / noise")
-        ax[2].legend(loc="best", fontsize=8)
-        if np.any(base.disturbance):
-            ax[0].plot(t, base.disturbance + np.mean(y), lw=0.8, color="C2", label="disturbance (shifted)")
-            ax[0].legend(loc="best", fontsize=8)
-        ax[2].set_xlabel("time (s)")
-        title = "verdict: " + (", ".join(res.effects) if res.effects else "nothing missing")
-        if res.disturbances:
-            title += "; disturbances: " + ", ".join(d["effect"] for d in res.disturbances)
-        ax[0].set_title(title)
+    fig = (_plot_field if res.t.ndim == 2 else _plot_series)(plt, res, added, unit)
     save_figure(fig, out)
+
+
+def _plot_field(plt, res, added, unit):
+    base = res.calibration.fit
+    after = res.final_fit or base
+    t, y = res.t, res.y
+    fig, ax = plt.subplots(1, 3, figsize=(13, 4))
+    for a, (vals, title) in zip(ax, [(y, "data"), (base.residual, "residual before"),
+                                     (after.residual, "residual after")], strict=True):
+        sc = a.scatter(t[:, 0], t[:, 1], c=vals, s=8, cmap="RdBu_r" if "res" in title else "viridis")
+        fig.colorbar(sc, ax=a, label="value" + unit)
+        a.set_title(title + (" (+ " + ", ".join(added) + ")" if title == "residual after" and added else ""))
+        a.set_xlabel("x")
+        a.set_ylabel("y")
+    for w in res.where:
+        ax[1].add_patch(plt.Rectangle((w["x"][0], w["y"][0]), w["x"][1] - w["x"][0], w["y"][1] - w["y"][0],
+                                      fill=False, ec="k", lw=1.5))
+    if res.where:
+        ax[1].plot([], [], "s", mfc="none", mec="k", label="residual above the noise (5% FDR)")
+        ax[1].legend(loc="upper right", fontsize=7)
+    return fig
+
+
+def _plot_series(plt, res, added, unit):
+    import numpy as np
+
+    base = res.calibration.fit
+    after = res.final_fit or base
+    t, y = res.t, res.y
+    fig, ax = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
+    ax[0].plot(t, y, ".", ms=2, color="0.5", label="data")
+    ax[0].plot(t, base.prediction + base.disturbance, lw=1, label="calibrated model")
+    if after is not base:
+        ax[0].plot(t, after.prediction + after.disturbance, lw=1, label="+ " + ", ".join(added))
+    ax[0].set_ylabel("value" + unit)
+    ax[0].legend(loc="best", fontsize=8)
+    ax[1].plot(t, base.residual, lw=0.7, label=f"before (rms {base.rms:.3g})")
+    ax[1].plot(t, after.residual, lw=0.7, label=f"after (rms {after.rms:.3g})")
+    ax[1].set_ylabel("residual" + unit)
+    shaded = False
+    for w in res.where:
+        if w["kind"] == "time":
+            for i, a in enumerate(ax[:2]):
+                a.axvspan(w["start"], w["end"], color="red", alpha=0.1,
+                          label=None if shaded or i == 0 else "residual above the noise (5% FDR)")
+            shaded = True
+    ax[1].legend(loc="best", fontsize=8)
+    # where: residual RMS over the noise level per window, before and after
+    sigma = res.noise_sigma or 1.0
+    nw = int(np.clip(len(t) // 50, 4, 20))
+    edges = np.linspace(0, len(t), nw + 1).astype(int)
+    for fit_, lab in ((base, "before"), (after, "after")):
+        vals = [np.sqrt(np.mean(fit_.residual[a:b] ** 2)) / sigma for a, b in zip(edges[:-1], edges[1:],
+                                                                                 strict=True)]
+        ax[2].step(np.r_[t[edges[:-1]], t[-1]], vals + vals[-1:], where="post", label=lab)
+    ax[2].axhline(1.0, color="k", lw=0.7, ls="--")
+    ax[2].set_ylabel("residual RMS / noise")
+    ax[2].legend(loc="best", fontsize=8)
+    if np.any(base.disturbance):
+        ax[0].plot(t, base.disturbance + np.mean(y), lw=0.8, color="C2", label="disturbance (shifted)")
+        ax[0].legend(loc="best", fontsize=8)
+    ax[2].set_xlabel("time (s)")
+    title = "verdict: " + (", ".join(res.effects) if res.effects else "nothing missing")
+    if res.disturbances:
+        title += "; disturbances: " + ", ".join(d["effect"] for d in res.disturbances)
+    ax[0].set_title(title)
+    return fig

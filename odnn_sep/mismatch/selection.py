@@ -15,6 +15,61 @@ from odnn_sep.mismatch.presets import ModelIntegrationError
 # (a release-time offset of a body falling from rest is a drift plus an offset of its height)
 EQUIVALENT = {"periodic_forcing": "periodic_pickup", "time_delay": "drift"}
 
+# two physics effects whose BIC scores differ by at most this much, after dividing by the noise's
+# low-frequency variance inflation, are reported as equivalent ("the data cannot tell them apart"):
+# 2 ln 19 ~ 6 is where the better one reaches 95 % posterior odds (equal priors), matching the 95 %
+# intervals. Checked on development seeds 0+ of recipes/bench_mismatch.py: wrong picks there had
+# adjusted gaps up to 3.3, right ones from 0.2 up (a drag law or radiation at these strengths is
+# often a coin toss)
+EQUIVALENCE_GAP = 6.0
+
+
+def variance_inflation(resid, t) -> float:
+    """Low-frequency variance inflation of the residual, ``(1 + rho) / (1 - rho)`` (AR(1), rho >= 0).
+
+    Effect shapes are smooth, so the BIC gap between two of them is driven by the noise at low
+    frequencies, whose power AR(1) noise raises by this factor over white noise of the same variance.
+    """
+    if np.ndim(t) != 1 or len(resid) < 3:
+        return 1.0
+    r = np.asarray(resid, float) - np.mean(resid)
+    den = float(r @ r)
+    rho = float(r[1:] @ r[:-1]) / den if den > 0 else 0.0
+    rho = min(max(rho, 0.0), 0.95)
+    return (1 + rho) / (1 - rho)
+
+
+def attach_equivalents(chosen, eligible, bic_threshold, t, gap=EQUIVALENCE_GAP):
+    """Record on ``chosen`` the passing physics candidates within ``gap`` (inflation-adjusted) of it."""
+    if chosen.effect in DISTURBANCE_EFFECTS:
+        return
+    vif = variance_inflation(chosen.fit.residual, t)
+    for c in eligible:
+        if c is chosen or c.effect in DISTURBANCE_EFFECTS or c.score <= bic_threshold:
+            continue
+        d = chosen.score - c.score
+        chosen.rivals.append({"effect": c.effect, "bic_gap": float(d), "inflation": float(vif)})
+        if d / vif <= gap:
+            chosen.equivalent.append(c.effect)
+
+
+@dataclass(frozen=True)
+class SelectionSetup:
+    """What every selection step needs besides the current model: the data, the disturbance columns
+    ``G``, the candidate-model factory, the held-out split and the thresholds fixed in advance."""
+
+    t: np.ndarray
+    y: np.ndarray
+    G: np.ndarray | None
+    make_model: object          # (effect, current fit, with_starts=True) -> (model, starts)
+    block_id: np.ndarray
+    folds: int
+    bic_threshold: float
+    heldout_threshold: float
+    n_cv: int
+    max_steps: int
+    progress: bool = False
+
 
 @dataclass
 class Selection:
@@ -26,15 +81,16 @@ class Selection:
     heldout_rmse: float | None = None
 
 
-def _score_step(cur, names, make_model, t, y, G, step, failed, progress):
+def _score_step(cur, names, setup, step, failed):
+    """Every compatible effect refitted on top of ``cur``, best BIC drop first (failed fits to ``failed``)."""
     cands = []
     it = [e for e in names if compatible(e, cur.model.effects)]
-    if progress:
+    if setup.progress:
         from tqdm import tqdm
-        it = tqdm(names, desc=f"effects (step {step})", leave=False)
+        it = tqdm(it, desc=f"effects (step {step})", leave=False)
     for e in it:
-        me, starts = make_model(e, cur)
-        f, why = refit_robust(e, me, starts, cur, t, y, G)
+        me, starts = setup.make_model(e, cur)
+        f, why = refit_robust(e, me, starts, cur, setup.t, setup.y, setup.G)
         if f is None:
             failed.append(FailedFit(e, why, step))
             continue
@@ -83,29 +139,33 @@ def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
     return out
 
 
-def forward_backward(base, mse0, names, make_model, t, y, G, *, block_id, folds, bic_threshold,
-                     heldout_threshold, n_cv, max_steps, progress=False) -> Selection:
+def _choose(eligible, cur_mse, setup):
+    """The best of the top ``n_cv`` eligible candidates that passes both thresholds, or None."""
+    for c in eligible[:setup.n_cv]:
+        if c.score <= setup.bic_threshold:
+            return None
+        heldout(c, cur_mse, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
+        if passes(c, setup.bic_threshold, setup.heldout_threshold):
+            return c
+    return None
+
+
+def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
     """Add the best supported effect while one passes both thresholds; then check each named one."""
     sel = Selection(fit=base)
     cur, cur_mse = base, mse0
     remaining = list(names)
-    for step in range(1, max_steps + 1):
+    for step in range(1, setup.max_steps + 1):
         if not remaining:
             break
-        cands = _score_step(cur, remaining, make_model, t, y, G, step, sel.failed, progress)
+        cands = _score_step(cur, remaining, setup, step, sel.failed)
         if step == 1:
             sel.first_step = cands
-        eligible = _demote_equivalents(cands, bic_threshold, cur, t, y, G)
-        chosen = None
-        for c in eligible[:n_cv]:
-            if c.score <= bic_threshold:
-                break
-            heldout(c, cur_mse, t, y, G, block_id, folds)
-            if passes(c, bic_threshold, heldout_threshold):
-                chosen = c
-                break
+        eligible = _demote_equivalents(cands, setup.bic_threshold, cur, setup.t, setup.y, setup.G)
+        chosen = _choose(eligible, cur_mse, setup)
         if chosen is None:
             break
+        attach_equivalents(chosen, eligible, setup.bic_threshold, setup.t)
         sel.accepted.append(chosen)
         cur, cur_mse = chosen.fit, chosen.heldout_mse
         sel.heldout_rmse = chosen.heldout_rmse
@@ -113,7 +173,11 @@ def forward_backward(base, mse0, names, make_model, t, y, G, *, block_id, folds,
     sel.fit = cur
     physics = [c for c in sel.accepted if c.effect not in DISTURBANCE_EFFECTS]
     if len(sel.accepted) >= 2 and physics:
-        _backward(sel, base, make_model, t, y, G, block_id, folds, bic_threshold, heldout_threshold)
+        _backward(sel, base, setup)
+    named = {c.effect for c in sel.accepted}
+    for c in sel.accepted:
+        # an effect that is itself named later is not an alternative to this one: both are in the model
+        c.equivalent = [e for e in c.equivalent if e not in named]
     return sel
 
 
@@ -135,31 +199,42 @@ class _Stub:
     rss: float = np.inf
 
 
-def _backward(sel, base, make_model, t, y, G, block_id, folds, bic_threshold, heldout_threshold):
-    """Drop a named effect that no longer passes both thresholds against the model without it."""
+def _drop_check(c, sel, base, setup):
+    """Candidate-like record of ``c`` against the model without it (score, held-out gain), with that
+    model's fit and held-out errors; None when the reduced model cannot be fitted or evaluated."""
     from odnn_sep.mismatch.fitting import cross_validate
 
+    others = [o.effect for o in sel.accepted if o is not c]
+    stub = _rebuild(base, others, sel.fit, setup.make_model)
+    f, _ = refit_robust("backward", stub.model, [stub.params], _Stub(None, {}, np.inf), setup.t, setup.y, setup.G)
+    if f is None:
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            mse_red = cross_validate(f.model, setup.t, setup.y, f.params, G=setup.G, block_id=setup.block_id,
+                                     folds=setup.folds)
+    except ModelIntegrationError:   # a reduced model that cannot be evaluated keeps c
+        return None
+    check = Candidate(c.effect, float(f.bic - sel.fit.bic), sel.fit)
+    check.heldout_mse = None
+    heldout(check, mse_red, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
+    return check, f, mse_red
+
+
+def _backward(sel, base, setup):
+    """Drop a named effect that no longer passes both thresholds against the model without it."""
     changed = True
     while changed and len(sel.accepted) >= 2:
         changed = False
         for c in [c for c in sel.accepted if c.effect not in DISTURBANCE_EFFECTS]:
-            others = [o.effect for o in sel.accepted if o is not c]
-            if "channel_coupling" in others + [c.effect]:
+            if "channel_coupling" in [o.effect for o in sel.accepted]:
                 continue   # its model is built from the aux channels, not by name
-            stub = _rebuild(base, others, sel.fit, make_model)
-            f, _ = refit_robust("backward", stub.model, [stub.params], _Stub(None, {}, np.inf), t, y, G)
-            if f is None:
+            out = _drop_check(c, sel, base, setup)
+            if out is None:
                 continue
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", ConvergenceWarning)
-                    mse_red = cross_validate(f.model, t, y, f.params, G=G, block_id=block_id, folds=folds)
-            except ModelIntegrationError:   # a reduced model that cannot be evaluated keeps c
-                continue
-            check = Candidate(c.effect, float(f.bic - sel.fit.bic), sel.fit)
-            check.heldout_mse = None
-            heldout(check, mse_red, t, y, G, block_id, folds)
-            if not passes(check, bic_threshold, heldout_threshold):
+            check, f, mse_red = out
+            if not passes(check, setup.bic_threshold, setup.heldout_threshold):
                 sel.dropped.append({"effect": c.effect, "score_against_others": check.score,
                                     "heldout_gain_against_others": check.heldout_gain})
                 sel.accepted.remove(c)

@@ -77,68 +77,108 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
     return out
 
 
-def effect_starts(effect, base, t, y, model=None, G=None):
-    """List of starting dicts (base parameters + effect parameters) for refitting with ``effect``."""
-    p = dict(base.params)
-    r = base.residual
+def _forcing_starts(p, r, tt, base, model, t):
+    out = []
     fam = base.model.family
+    for f in _peaks(tt, r, n_peaks=2):
+        w = 2 * np.pi * f
+        a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
+        X = a - 1j * b   # response phasor: a cos + b sin = Re[X e^{i w t}]
+        if fam in ("oscillator", "pendulum"):
+            k = p["k"] if fam == "oscillator" else p["w2"]
+            m = p.get("m", 1.0)
+            X = X * (k - m * w ** 2 + 1j * p["c"] * w)
+        out.append({**p, "omega_f": w, "F": float(abs(X)), "phase_f": float(np.angle(X))})
+    return out
+
+
+def _pickup_starts(p, r, tt, base, model, t):
+    out = []
+    for f in _not_harmonics(_peaks(tt, r, n_peaks=4), base, tt)[:2]:
+        w = 2 * np.pi * f
+        a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
+        out.append({**p, "omega_pk": w, "a_pk": float(a), "b_pk": float(b)})
+    return out
+
+
+def _modulation_starts(p, r, tt, base, model, t):
+    out = []
+    pred = base.prediction
+    env = r * pred / max(np.mean(pred ** 2), 1e-300)
+    for f in _peaks(tt, env, n_peaks=2, fmax=_nyq_quarter(tt)):
+        w = 2 * np.pi * f
+        a, b = _ls([pred * np.cos(w * tt), pred * np.sin(w * tt)], r)
+        m = float(np.hypot(a, b))
+        out.append({**p, "f_am": f, "m_am": float(np.clip(m, -0.9, 0.9)), "phase_am": float(np.arctan2(-b, a))})
+    return out
+
+
+def _two_body_starts(p, r, tt, base, model, t):
+    out = []
+    tau = tt - tt[0]
+    for mult in (0.2, 3.0, 10.0):
+        lam = mult * p["h"]
+        col = np.exp(-lam * tau) - np.exp(-p["h"] * tau)
+        B = float(_ls([col], r)[0]) if np.any(col) else 0.0
+        out.append({**p, "lam_2": lam, "B_2": B})
+    return out
+
+
+def _harmonic_starts(p, r, tt, base, model, t):
+    H = int(p.get("harmonics", 1))
+    nyq = 0.5 / float(np.median(np.diff(tt)))
+    best = None
+    for k in range(H + 1, H + 7):
+        if k * p["f0"] >= nyq:
+            break
+        # the harmonic's own columns from the model, so it follows a frequency drift already found
+        cols = _harmonic_columns(model, {**model.start, **p}, tt, k)
+        a, b = _ls(cols, r)
+        gain = a * a + b * b
+        if best is None or gain > best[0]:
+            best = (gain, k, a, b)
+    if best is None:
+        return []
+    return [{**p, "k_h": float(best[1]), "a_h": float(best[2]), "b_h": float(best[3])}]
+
+
+def _source_starts(p, r, tt, base, model, t):
+    out = []
+    xy = np.asarray(t)
+    s2 = 4 * p["alpha"] * p["t"]
+    for i in np.argsort(-np.abs(r))[:1]:
+        xs, ys = xy[i]
+        col = np.exp(-((xy[:, 0] - xs) ** 2 + (xy[:, 1] - ys) ** 2) / s2) / (np.pi * s2)
+        S = float(_ls([col], r)[0])
+        out.append({**p, "xs": float(xs), "ys": float(ys), "S_extra": S})
+    return out
+
+
+# effect -> (start rule, needs a time series (True) or 2D coordinates (False) or either (None))
+_START_RULES = {
+    "periodic_forcing": (_forcing_starts, True),
+    "periodic_pickup": (_pickup_starts, True),
+    "amplitude_modulation": (_modulation_starts, True),
+    "two_body_heat": (_two_body_starts, True),
+    "missing_harmonic": (_harmonic_starts, True),
+    "extra_source": (_source_starts, False),
+    "offset": (lambda p, r, tt, base, model, t: [{**p, "offset": float(np.mean(r))}], None),
+}
+
+
+def effect_starts(effect, base, t, y, model=None, G=None):
+    """List of starting dicts (base parameters + effect parameters) for refitting with ``effect``.
+
+    Effects with a rule in ``_START_RULES`` start from the calibrated residual (periodogram peaks,
+    residual maxima, least-squares amplitudes); the others, and any rule that finds nothing, from
+    one Gauss-Newton step off the calibrated model.
+    """
+    p = dict(base.params)
     tt = t if np.ndim(t) == 1 else None
     out = []
-    if effect == "periodic_forcing" and tt is not None:
-        for f in _peaks(tt, r, n_peaks=2):
-            w = 2 * np.pi * f
-            a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
-            X = a - 1j * b   # response phasor: a cos + b sin = Re[X e^{i w t}]
-            if fam in ("oscillator", "pendulum"):
-                k = p["k"] if fam == "oscillator" else p["w2"]
-                m = p.get("m", 1.0)
-                X = X * (k - m * w ** 2 + 1j * p["c"] * w)
-            out.append({**p, "omega_f": w, "F": float(abs(X)), "phase_f": float(np.angle(X))})
-    elif effect == "periodic_pickup" and tt is not None:
-        for f in _not_harmonics(_peaks(tt, r, n_peaks=4), base, tt)[:2]:
-            w = 2 * np.pi * f
-            a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
-            out.append({**p, "omega_pk": w, "a_pk": float(a), "b_pk": float(b)})
-    elif effect == "amplitude_modulation" and tt is not None:
-        pred = base.prediction
-        env = r * pred / max(np.mean(pred ** 2), 1e-300)
-        for f in _peaks(tt, env, n_peaks=2, fmax=_nyq_quarter(tt)):
-            w = 2 * np.pi * f
-            a, b = _ls([pred * np.cos(w * tt), pred * np.sin(w * tt)], r)
-            m = float(np.hypot(a, b))
-            out.append({**p, "f_am": f, "m_am": float(np.clip(m, -0.9, 0.9)), "phase_am": float(np.arctan2(-b, a))})
-    elif effect == "two_body_heat" and tt is not None:
-        tau = tt - tt[0]
-        for mult in (0.2, 3.0, 10.0):
-            lam = mult * p["h"]
-            col = np.exp(-lam * tau) - np.exp(-p["h"] * tau)
-            B = float(_ls([col], r)[0]) if np.any(col) else 0.0
-            out.append({**p, "lam_2": lam, "B_2": B})
-    elif effect == "missing_harmonic" and tt is not None:
-        H = int(p.get("harmonics", 1))
-        nyq = 0.5 / float(np.median(np.diff(tt)))
-        best = None
-        for k in range(H + 1, H + 7):
-            if k * p["f0"] >= nyq:
-                break
-            # the harmonic's own columns from the model, so it follows a frequency drift already found
-            cols = _harmonic_columns(model, {**model.start, **p}, tt, k)
-            a, b = _ls(cols, r)
-            gain = a * a + b * b
-            if best is None or gain > best[0]:
-                best = (gain, k, a, b)
-        if best is not None:
-            out.append({**p, "k_h": float(best[1]), "a_h": float(best[2]), "b_h": float(best[3])})
-    elif effect == "extra_source" and tt is None:
-        xy = np.asarray(t)
-        s2 = 4 * p["alpha"] * p["t"]
-        for i in np.argsort(-np.abs(r))[:1]:
-            xs, ys = xy[i]
-            col = np.exp(-((xy[:, 0] - xs) ** 2 + (xy[:, 1] - ys) ** 2) / s2) / (np.pi * s2)
-            S = float(_ls([col], r)[0])
-            out.append({**p, "xs": float(xs), "ys": float(ys), "S_extra": S})
-    elif effect == "offset":
-        out.append({**p, "offset": float(np.mean(r))})
+    rule = _START_RULES.get(effect)
+    if rule is not None and (rule[1] is None or rule[1] == (tt is not None)):
+        out = rule[0](p, base.residual, tt, base, model, t)
     if not out:
         s = one_step(model, {**model.start, **p}, t, y, G) if model is not None else None
         out.append(p if s is None else s)
