@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.core import Basis, Convex
+from odnn_sep.core import Basis, Convex, Orthogonal
 from odnn_sep.errors import InputError
 from odnn_sep.signals._base import Dataset, add_noise, check_n, check_snr, rng_from
 from odnn_sep.signals.grid_flow import CASES, adjacency, admittance, candidate_graph, load_case, run_snapshots
@@ -238,13 +238,17 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
         noise = noise_p[:, i]
         theta = {f"{s}[{i},{k}]": float(M[i, k]) for k in others for s, M in (("G", G), ("B", B))}
         unit = btm.get(i)
+        # behind-the-meter generation sits behind customers' meters: a bus without customer load
+        # (slack or generator bus) has none, and its equation needs no disturbance class
+        served = nominal[i] > 0
         desc = (f"{case} bus {i}: metered real power = power flow + "
                 f"{'behind-the-meter ' + unit['kind'] if unit else 'no behind-the-meter'} generation; "
-                "class Convex() in v_i")
+                + ("class Convex() in v_i" if served else "no customer load: no disturbance class"))
         problems.append(Dataset(
             name="power_grid", x=v_m[:, i].copy(), y=p_m[:, i].copy(), basis=Basis.from_matrix(F, names),
-            disturbance=Convex(), theta_true=theta, physics=physics, disturbance_true=g_t[:, i].copy(),
-            noise=noise, snr_db=snr_db, description=desc, targets=tuple(names), identified="set",
+            disturbance=Convex() if served else Orthogonal(), theta_true=theta, physics=physics,
+            disturbance_true=g_t[:, i].copy(), noise=noise, snr_db=snr_db, description=desc,
+            targets=tuple(names), identified="set" if served else "point",
             extras={"bus": i, "btm": unit, "lines": [k for k in others if adj[i, k]]}))
     mi = list(measured)
     desc = (f"power_grid: {CASES[case][1]} ({case}), {snapshots} snapshots of 15 min, {len(measured)} of {nb} "

@@ -112,3 +112,30 @@ def test_truth_and_arrays_are_writable(exact_grid, tmp_path):
     arrays = exact_grid.arrays()
     np.savez(tmp_path / "g.npz", **arrays)
     assert arrays["v"].shape == (40, len(exact_grid.measured))
+
+
+def test_newton_flow_agrees_with_pandapower_and_the_check_can_fail():
+    """The fast flow is checked against pandapower.runpp; a wrong solution is caught."""
+    from odnn_sep.signals.grid_flow import Schedule, check_with_pandapower, load_case, run_snapshots
+    from odnn_sep.signals.grid_profiles import draw_btm
+
+    rng = np.random.default_rng(0)
+    net = load_case("case33bw")
+    n = 3
+    btm = {4: draw_btm("boost", 0.01, rng), 7: draw_btm("exponential", 0.01, rng)}
+    mult, q = 0.5 + rng.random((n, len(net.load))), 0.1 * rng.standard_normal((n, len(net.load)))
+    vs = np.array([1.0, 1.00625, 0.99375])
+    v, d, p, g = run_snapshots(net, mult, vs, btm, q)  # checks snapshots 0 and 2 itself
+    assert np.all(g[:, 4] > 0) and np.all(g[:, 7] > 0) and np.all(g[:, 5] == 0)
+    sched = Schedule(load_case("case33bw"), mult, vs, q, None, None)  # nominal loads (the check edits net)
+    check_with_pandapower(net, sched, 1, btm, g[1], v[1], d[1])
+    with pytest.raises(RuntimeError, match="disagrees with pandapower"):
+        check_with_pandapower(net, sched, 1, btm, g[1], v[1] + 1e-5, d[1])
+
+
+def test_bus_without_customer_load_has_no_disturbance_class(exact_grid):
+    from odnn_sep.core import Convex, Orthogonal
+
+    by_bus = {pr.extras["bus"]: pr for pr in exact_grid.problems}
+    assert isinstance(by_bus[0].disturbance, Orthogonal) and by_bus[0].identified == "point"  # slack, no load
+    assert all(isinstance(pr.disturbance, Convex) for b, pr in by_bus.items() if b != 0)
