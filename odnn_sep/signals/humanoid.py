@@ -160,6 +160,41 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     -------
     HumanoidDataset
     """
+    policies, episodes, steps = check_sizes(disturbance, policies, episodes, steps)
+    snr_db = check_snr(snr_db)
+    check_theta(theta, ["up", "ctrl"])
+    rng = rng_from(random_state)
+    fs = int(frame_skip) if frame_skip is not None else int(rng.integers(3, 8))
+    if not 1 <= fs <= 20:
+        raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
+    dt = fs * TIMESTEP
+    th = {"up": pick(rng, theta, "up", 0.5 / dt, 1.5 / dt), "ctrl": pick(rng, theta, "ctrl", -0.2, -0.05)}
+    env = make_env(fs)
+    pols = default_policies(policies, rng)
+    zb, za, cs, pid, eid = collect(env, pols, episodes, steps, rng)
+    n = zb.size
+    step = np.arange(n)
+    F = np.c_[za - zb, cs]
+    physics = F @ np.array([th["up"], th["ctrl"]])
+    corr = draw_corruption(disturbance, n, rng)
+    g = corr(za, step)
+    noise = add_noise(physics, snr_db, rng)
+    desc = (f"humanoid ({disturbance}): HumanoidStandup-v5, {policies} policies x {episodes} episodes x {steps} "
+            f"steps, frame time {dt:.3f} s; reward = up*(z_after-z_before) + ctrl*|a|^2 + disturbance; "
+            "class Subspace (smooth functions of height / time, calibration phase); point-identified")
+    basis = Basis.from_matrix(F, ["up", "ctrl"])
+    dist = Subspace(disturbance_columns(disturbance, za, step))
+    prob = Dataset(name="humanoid", x=step.astype(float), y=physics + g + noise, basis=basis, disturbance=dist,
+                   theta_true=th, physics=physics, disturbance_true=g, noise=noise, snr_db=snr_db,
+                   description=desc, targets=("up", "ctrl"))
+    return HumanoidDataset(name="humanoid", problem=prob, kind=disturbance, dt=dt,
+                           policy_names=tuple(nm for nm, _ in pols), policy_id=pid,
+                           episode_id=eid, z_before=zb, z_after=za, ctrl_sq=cs, corruption=corr,
+                           snr_db=snr_db, description=desc, extras={"policies": pols, "frame_skip": fs})
+
+
+def check_sizes(disturbance: str, policies, episodes, steps) -> tuple[int, int, int]:
+    """Validate the disturbance kind and the collection sizes of :func:`humanoid`."""
     if disturbance not in KINDS:
         raise InputError(f"disturbance must be one of {', '.join(KINDS)}; got {disturbance!r}")
     policies = check_n(policies, 2, "policies")
@@ -176,17 +211,12 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     if n < 2 * need:
         raise InputError(f"too few transitions: {n} for 2 reward coefficients and up to {need - 2} disturbance "
                          f"columns; need at least {2 * need} (more episodes or steps)")
-    snr_db = check_snr(snr_db)
-    check_theta(theta, ["up", "ctrl"])
-    rng = rng_from(random_state)
-    fs = int(frame_skip) if frame_skip is not None else int(rng.integers(3, 8))
-    if not 1 <= fs <= 20:
-        raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
-    dt = fs * TIMESTEP
-    th = {"up": pick(rng, theta, "up", 0.5 / dt, 1.5 / dt), "ctrl": pick(rng, theta, "ctrl", -0.2, -0.05)}
-    env = make_env(fs)
+    return policies, episodes, steps
+
+
+def collect(env, pols, episodes: int, steps: int, rng):
+    """Roll out every policy ``episodes`` times; heights before/after, action energy, policy and episode ids."""
     recs, pid, eid = [], [], []
-    pols = default_policies(policies, rng)
     for j, (_name, pol) in enumerate(pols):
         for e in range(episodes):
             recs.append(rollout(env, pol, steps, seed=int(rng.integers(2**31)), rng=rng))
@@ -196,24 +226,12 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     zb = np.concatenate([r["z_before"] for r in recs])
     za = np.concatenate([r["z_after"] for r in recs])
     cs = np.concatenate([r["ctrl_sq"] for r in recs])
-    step = np.arange(n)
-    F = np.c_[za - zb, cs]
-    physics = F @ np.array([th["up"], th["ctrl"]])
-    corr = Corruption(kind=disturbance, horizon=n,
+    return zb, za, cs, np.concatenate(pid), np.concatenate(eid)
+
+
+def draw_corruption(disturbance: str, n: int, rng) -> Corruption:
+    """Random amplitudes of the corruption ``disturbance`` over ``n`` transitions (unused parts zero)."""
+    return Corruption(kind=disturbance, horizon=n,
                       amp_sin=float(rng.uniform(0.5, 2.0)) if disturbance in ("sin", "all") else 0.0,
                       drift=tuple(rng.uniform(-0.5, 0.5, 4)) if disturbance in ("drift", "all") else (0.0,) * 4,
                       amp_cal=float(rng.uniform(0.2, 0.5)) if disturbance in ("calibration", "all") else 0.0)
-    g = corr(za, step)
-    noise = add_noise(physics, snr_db, rng)
-    desc = (f"humanoid ({disturbance}): HumanoidStandup-v5, {policies} policies x {episodes} episodes x {steps} "
-            f"steps, frame time {dt:.3f} s; reward = up*(z_after-z_before) + ctrl*|a|^2 + disturbance; "
-            "class Subspace (smooth functions of height / time, calibration phase); point-identified")
-    basis = Basis.from_matrix(F, ["up", "ctrl"])
-    dist = Subspace(disturbance_columns(disturbance, za, step))
-    prob = Dataset(name="humanoid", x=step.astype(float), y=physics + g + noise, basis=basis, disturbance=dist,
-                   theta_true=th, physics=physics, disturbance_true=g, noise=noise, snr_db=snr_db,
-                   description=desc, targets=("up", "ctrl"))
-    return HumanoidDataset(name="humanoid", problem=prob, kind=disturbance, dt=dt,
-                           policy_names=tuple(nm for nm, _ in pols), policy_id=np.concatenate(pid),
-                           episode_id=np.concatenate(eid), z_before=zb, z_after=za, ctrl_sq=cs, corruption=corr,
-                           snr_db=snr_db, description=desc, extras={"policies": pols, "frame_skip": fs})
