@@ -31,7 +31,7 @@ def system_row(name: str, *, quick: bool, snr_db: float) -> list:
         import power_grid as pg
 
         # the grid keeps its own meter-grade noise (60 dB); 30 dB leaves every line set-identified
-        r = pg.run_case("case14", [100] if quick else [100, 101, 102], snapshots=40 if quick else 288,
+        r = pg.run_case("case14", [100] if quick else [100, 101, 102], snapshots=40 if quick else pg.SNAPSHOTS,
                         snr_db=60.0, epochs=30 if quick else 400, progress=lambda s: None)
         ours = [x for x in r["point"] if np.isfinite(x)]
         target = (f"{'met' if ours and np.mean(ours) <= half else 'not met'} "

@@ -139,3 +139,30 @@ def test_bus_without_customer_load_has_no_disturbance_class(exact_grid):
     by_bus = {pr.extras["bus"]: pr for pr in exact_grid.problems}
     assert isinstance(by_bus[0].disturbance, Orthogonal) and by_bus[0].identified == "point"  # slack, no load
     assert all(isinstance(pr.disturbance, Convex) for b, pr in by_bus.items() if b != 0)
+
+
+def test_combine_weights_by_inverse_variance_and_widens_on_disagreement():
+    from odnn_sep.signals.grid_identify import combine, line_key
+
+    z = 1.959963984540054
+    # two ends of line (1, 2): standard errors 1 and 2, agreeing within their widths
+    rows = [("B[1,2]", 1, 2, 5.0, 5.0, 5.0 - z, 5.0 + z, True, False),
+            ("B[2,1]", 2, 1, 5.0, 6.0, 6.0 - 2 * z, 6.0 + 2 * z, True, False)]
+    (name, i, k, _t, est, lo, hi, _p, _pt), = combine(rows, line_key)
+    assert (name, i, k) == ("B[1-2]", 1, 2)
+    assert est == pytest.approx((5.0 + 6.0 / 4) / 1.25)
+    assert hi - lo == pytest.approx(2 * z / np.sqrt(1.25))
+    # the same estimates with ten times narrower intervals disagree: the interval widens by the Birge ratio
+    tight = [(*r[:5], r[4] - (r[4] - r[5]) / 10, r[4] + (r[6] - r[4]) / 10, *r[7:]) for r in rows]
+    (*_, lo2, hi2, _p2, _pt2), = combine(tight, line_key)
+    chi2 = ((5.0 - est) / 0.1) ** 2 + ((6.0 - est) / 0.2) ** 2
+    assert hi2 - lo2 == pytest.approx((hi - lo) / 10 * np.sqrt(chi2))
+    # an unbounded piece is left to the bounded ones, and the quantity is then not point-identified
+    (*_, est3, lo3, hi3, _p3, pt3), = combine([rows[0], ("B[2,1]", 2, 1, 5.0, 9.0, -np.inf, np.inf, True, False)],
+                                                line_key)
+    assert (est3, lo3, hi3, pt3) == (pytest.approx(5.0), pytest.approx(5 - z), pytest.approx(5 + z), False)
+
+
+def test_chunk_option_is_checked(exact_grid):
+    with pytest.raises(InputError, match="chunk"):
+        identify_grid(exact_grid, chunk=1)
