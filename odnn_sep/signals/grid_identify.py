@@ -17,7 +17,7 @@ narrower than ``POINT_WIDTH`` of its value and every piece bounded it; the rest 
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -43,6 +43,7 @@ class GridFit:
     table: tuple
     seconds: float
     per_row: tuple = ()
+    bias: dict = field(default_factory=dict)
 
     def lines_found(self) -> set:
         """Candidate pairs (i, k) whose G or B interval, at a family-wise 5 % level, excludes zero.
@@ -99,7 +100,7 @@ class GridFit:
 CHUNK = 288
 
 
-def combine(rows, key) -> tuple:
+def combine(rows, key, bias: dict | None = None) -> tuple:
     """Combine estimates of the same quantity (pieces of the record, ends of a line) by inverse variance.
 
     Parameters
@@ -109,6 +110,9 @@ def combine(rows, key) -> tuple:
         identified half-width to the noise-only half-width, see :func:`noise_only_stderr`).
     key : callable
         Row -> (name, i, k) of the combined quantity.
+    bias : dict, optional
+        Single-fit name -> first-order bias from voltage noise (:mod:`odnn_sep.signals.grid_eiv`):
+        every estimate is shifted by it, and the combined interval widened by the weighted |bias|.
 
     Returns
     -------
@@ -116,8 +120,10 @@ def combine(rows, key) -> tuple:
     Standard errors are the half-widths / 1.96; the combined standard error is multiplied by
     ``max(1, sqrt(chi2 / (m - 1)))`` (Birge ratio) of the m estimates. An unbounded piece leaves the
     quantity to the bounded ones; with none bounded the quantity is unbounded. Point-identified: every
-    piece bounded, every piece's noise ratio at most ``NOISE_RATIO``, combined width below ``POINT_WIDTH``.
+    piece bounded, every piece's noise ratio at most ``NOISE_RATIO``, the bias from voltage noise
+    smaller than the noise half-width, combined width below ``POINT_WIDTH``.
     """
+    bias = bias or {}
     groups = {}
     for r in rows:
         groups.setdefault(key(r), []).append(r)
@@ -128,11 +134,15 @@ def combine(rows, key) -> tuple:
         if not fin:
             out.append((name, i, k, t, float(np.mean([r[4] for r in grp])), -np.inf, np.inf, present, False))
             continue
-        est, se = _inverse_variance([r[4] for r in fin], [(r[6] - r[5]) / (2 * Z95) for r in fin])
+        b = np.array([bias.get(r[0], 0.0) for r in fin])
+        se_each = np.array([(r[6] - r[5]) / (2 * Z95) for r in fin])
+        est, se = _inverse_variance(np.array([r[4] for r in fin]) - b, se_each)
+        w = 1.0 / np.maximum(se_each, 1e-300) ** 2
+        widen = float(np.sum(w * np.abs(b)) / np.sum(w))
         (lo, hi), = intervals([est], [se])
-        point = (len(fin) == len(grp) and all(r[8] <= NOISE_RATIO for r in grp)
-                 and (hi - lo) <= POINT_WIDTH * abs(est))
-        out.append((name, i, k, t, est, float(lo), float(hi), present, bool(point)))
+        point = (len(fin) == len(grp) and all(r[8] <= NOISE_RATIO for r in grp) and widen <= 0.5 * (hi - lo)
+                 and (hi - lo + 2 * widen) <= POINT_WIDTH * abs(est))
+        out.append((name, i, k, t, est, float(lo - widen), float(hi + widen), present, bool(point)))
     return tuple(out)
 
 
@@ -212,5 +222,27 @@ def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state
                 i, k = parse_name(name)
                 rows.append((name, i, k, float(pr.theta_true[name]), float(est), float(lo), float(hi),
                              k in lines, float(q)))
-    return GridFit(table=combine(rows, line_key), seconds=time.perf_counter() - t0,
-                   per_row=combine(rows, equation_key))
+    bias = voltage_noise_bias(ds, rows)
+    return GridFit(table=combine(rows, line_key, bias), seconds=time.perf_counter() - t0,
+                   per_row=combine(rows, equation_key, bias), bias=bias)
+
+
+def voltage_noise_bias(ds, rows) -> dict:
+    """Single-fit name -> first-order bias from the voltage noise, at each equation's combined estimate."""
+    from odnn_sep.signals.grid_eiv import column_jacobian, regressor_noise_bias
+
+    if ds.sigma_v == 0 and ds.sigma_delta == 0:
+        return {}
+    est = {r[0]: r[4] for r in combine(rows, equation_key)}
+    nb = ds.G.shape[0]
+    v, delta = np.zeros((ds.v.shape[0], nb)), np.zeros((ds.v.shape[0], nb))
+    v[:, list(ds.measured)], delta[:, list(ds.measured)] = ds.v, ds.delta
+    out = {}
+    for pr in ds.problems:
+        i, names = pr.extras["bus"], pr.basis.names
+        others = [parse_name(nm)[1] for nm in names[::2]]
+        b = regressor_noise_bias(pr.design(), pr.x, column_jacobian(v, delta, i, others), ds.sigma_v,
+                                 ds.sigma_delta, np.array([est[nm] for nm in names]),
+                                 free_part=pr.identified == "set")
+        out.update(zip(names, b.tolist()))
+    return out

@@ -166,3 +166,32 @@ def test_combine_weights_by_inverse_variance_and_widens_on_disagreement():
 def test_chunk_option_is_checked(exact_grid):
     with pytest.raises(InputError, match="chunk"):
         identify_grid(exact_grid, chunk=1)
+
+
+def test_regressor_noise_bias_removes_the_attenuation_of_least_squares():
+    """y = 2 u with u measured as u + e (known sigma): least squares shrinks 2 towards 0; the bias
+    estimate restores it (corrected normal equations), and the first-order fallback has the right sign."""
+    from odnn_sep.core.linalg import solve
+    from odnn_sep.signals.grid_eiv import corrected_normal_equations, regressor_noise_bias
+
+    rng = np.random.default_rng(1)
+    n, sigma = 20000, 0.5
+    u = rng.standard_normal(n)
+    um = u + sigma * rng.standard_normal(n)
+    theta_hat = solve(um[:, None], 2 * u)
+    assert theta_hat[0] == pytest.approx(2 / 1.25, rel=0.03)  # attenuation 1 / (1 + sigma^2)
+    J = np.zeros((n, 1, 2))
+    J[:, 0, 0] = 1.0  # d(column)/d(measured quantity); the second quantity does not enter
+    b = regressor_noise_bias(um[:, None], um, J, sigma, 0.0, theta_hat, free_part=False)
+    assert theta_hat[0] - b[0] == pytest.approx(2.0, rel=0.03)
+    gram = np.array([[1.0]])
+    assert corrected_normal_equations(gram, np.array([[0.9]]), np.array([1.0])) is None  # noise dominates
+
+
+def test_identify_grid_shifts_by_the_voltage_noise_bias(exact_grid):
+    """Without voltage noise there is no bias; with it, every equation's coefficients get one."""
+    fit = identify_grid(exact_grid)
+    assert fit.bias == {}
+    noisy = make_dataset("power_grid", case="case14", snapshots=40, sigma_v=1e-4, sigma_delta=1e-4, random_state=3)
+    names = {nm for pr in noisy.problems for nm in pr.basis.names}
+    assert set(identify_grid(noisy).bias) == names
