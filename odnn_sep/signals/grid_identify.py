@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.core.linalg import Z95, intervals, noise_variance, solve, stderr_from_cov
-from odnn_sep.signals._base import check_n
+from odnn_sep.errors import InputError
 
 #: Relative interval width (of |estimate|) above which a coefficient is never called point-identified.
 POINT_WIDTH = 0.05
@@ -207,7 +207,8 @@ def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state
 
     from odnn_sep.core import Basis, Separator
 
-    chunk = check_n(chunk, 2, "chunk")
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 2:
+        raise InputError(f"chunk must be an integer number of snapshots >= 2; got {chunk!r}")
     t0 = time.perf_counter()
     rows = []
     for pr in ds.problems:

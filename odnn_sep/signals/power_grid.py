@@ -12,7 +12,9 @@ candidate pair (G_ik, B_ik) for every measured bus k within two branches of i in
 ``g_i`` is behind-the-meter generation that the meter does not see, a convex increasing function of
 v_i (boost converter ``c v^2 / (1 - D)^2``, a power-law or an exponential source; see
 :mod:`odnn_sep.signals.grid_profiles`). Each row is one separation problem with ``x = v_i`` and the
-class ``Convex()`` (the user does not know which buses carry such generation).
+class ``Convex()`` (the user does not know which buses carry such generation), except at a bus
+without customer load (slack or generator bus), which has no behind-the-meter generation and no
+disturbance class.
 
 Identifiability: a convex function of v_i can only imitate the part of a column that is a function
 of v_i; the cos/sin columns depend on the neighbours' voltages and the angles, which vary with the
@@ -25,8 +27,8 @@ Noise convention: the metered power has white Gaussian noise at ``snr_db`` relat
 physics power (as every dataset here); voltage magnitudes and angles carry phasor-measurement noise of
 ``sigma_v`` p.u. and ``sigma_delta`` rad. Defaults: 0.1 % metering (60 dB) and 1e-6 p.u. / 1e-6 rad,
 i.e. one-minute averages of PMU phasors. The equations are errors-in-variables: on the distribution
-feeder adjacent voltages differ by ~1e-3 p.u., and voltage noise of 1e-6 already biases the estimates
-by tens of percent (see BENCHMARKS.md).
+feeder adjacent voltages differ by ~1e-3 p.u., and voltage noise of 1e-6 biases least squares by tens
+of percent; :mod:`odnn_sep.signals.grid_eiv` estimates that bias (see BENCHMARKS.md).
 """
 from __future__ import annotations
 
