@@ -13,7 +13,7 @@ import numpy as np
 
 from odnn_sep.errors import InputError
 from odnn_sep.signals._optional import require
-from odnn_sep.signals.grid_profiles import btm_power
+from odnn_sep.signals.grid_newton import bus_types, solve_flow
 
 log = logging.getLogger(__name__)
 
@@ -23,8 +23,6 @@ CASES = {
     "case33bw": ("case33bw", "Baran-Wu 33-bus radial distribution feeder",
                  (*range(10), 18, 22, 25)),
 }
-#: Fixed-point tolerance (p.u. voltage; the recorded generation is the one the flow used) for the voltage-dependent behind-the-meter injections.
-BTM_TOL = 1e-8
 
 
 def _pandapower():
@@ -84,10 +82,14 @@ def run_snapshots(net, load_mult: np.ndarray, vm_slack: np.ndarray, btm: dict, q
                   gen_vm: np.ndarray | None = None, gen_mult: np.ndarray | None = None):
     """Solve the AC power flow for every snapshot.
 
+    The flows are solved by :func:`odnn_sep.signals.grid_newton.solve_flow` on pandapower's admittance
+    matrix; the first and the last snapshot are solved again by ``pandapower.runpp`` (behind-the-meter
+    units as static generators at the settled output) and must agree to ``CHECK_TOL``.
+
     Parameters
     ----------
     net : pandapowerNet
-        From :func:`load_case` (modified in place: loads, slack voltage and the BTM static generators).
+        From :func:`load_case` (modified in place by the check: loads, set-points, the BTM static generators).
     load_mult : (n, n_loads) array
         Multiplier of each load's nominal P (and Q).
     vm_slack : (n,) array
@@ -106,47 +108,83 @@ def run_snapshots(net, load_mult: np.ndarray, vm_slack: np.ndarray, btm: dict, q
         Voltage magnitude (p.u.), angle (rad), metered real power in load convention (p.u.; the
         behind-the-meter generation is *not* in it) and the behind-the-meter generation (p.u.).
     """
-    pp, _ = _pandapower()
     n, nb = load_mult.shape[0], len(net.bus)
-    sn = float(net.sn_mva)
-    p0, q0 = net.load.p_mw.values.copy(), net.load.q_mvar.values.copy()
-    pg0 = net.gen.p_mw.values.copy()
-    btm_buses = sorted(btm)
-    sgen_idx = [pp.create_sgen(net, net.bus.index[b], p_mw=0.0, name=f"btm{b}") for b in btm_buses]
-    v = np.empty((n, nb))
-    delta = np.empty((n, nb))
-    p_load = np.empty((n, nb))
-    g = np.zeros((n, nb))
-    v_guess = np.ones(nb)
+    G, B = admittance(net)
+    Y = G + 1j * B
+    sched = Schedule(net, load_mult, vm_slack, q_jitter, gen_vm, gen_mult)
+    types = bus_types(nb, sched.slack, sched.gen_bus)
+    v, delta, p_load, g = (np.empty((n, nb)) for _ in range(4))
+    V = np.ones(nb, dtype=complex)
     for t in range(n):
-        net.load["p_mw"] = p0 * load_mult[t]
-        net.load["q_mvar"] = q0 * load_mult[t] * (1 + q_jitter[t])
-        net.ext_grid["vm_pu"] = vm_slack[t]
-        if gen_vm is not None and len(net.gen):
-            net.gen["vm_pu"] = gen_vm[t]
-            net.gen["p_mw"] = pg0 * gen_mult[t]
-        for it in range(50):
-            gen = np.array([btm_power(btm[b], v_guess[b]) for b in btm_buses])
-            if sgen_idx:
-                net.sgen.loc[sgen_idx, "p_mw"] = gen * sn
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    pp.runpp(net, init="results" if t or it else "auto", tolerance_mva=1e-10, numba=False)
-            except Exception as exc:  # pandapower raises its own LoadflowNotConverged
-                raise InputError(f"the AC power flow did not converge at snapshot {t} ({exc}); "
-                                 "reduce the load scale or the behind-the-meter share") from None
-            vm = net.res_bus.vm_pu.values
-            if not btm_buses or np.max(np.abs(vm - v_guess)) < BTM_TOL:
-                break
-            v_guess = vm.copy()
-        else:
-            raise InputError(f"the behind-the-meter injections did not settle at snapshot {t}; "
-                             "reduce their share of the load")
-        v_guess = vm.copy()
-        v[t] = vm
-        delta[t] = np.deg2rad(net.res_bus.va_degree.values)
-        g[t, btm_buses] = gen
-        # res_bus counts the BTM sgen as negative consumption; the meter does not see it.
-        p_load[t] = net.res_bus.p_mw.values / sn + g[t]
+        s_spec, vm_set = sched.injection(t)
+        V, g[t] = solve_flow(Y, s_spec, vm_set, sched.va_slack, types, btm, V)
+        v[t], delta[t] = np.abs(V), np.angle(V)
+        # consumption minus generation, without the behind-the-meter units the meter does not see
+        p_load[t] = -(V * np.conj(Y @ V)).real + g[t]
+    for t in sorted({0, n - 1}):
+        check_with_pandapower(net, sched, t, btm, g[t], v[t], delta[t])
     return v, delta, p_load, g
+
+
+class Schedule:
+    """Per-snapshot loads, generator dispatch and voltage set-points of ``net`` in bus positions (p.u.)."""
+
+    def __init__(self, net, load_mult, vm_slack, q_jitter, gen_vm, gen_mult):
+        pos = {b: i for i, b in enumerate(net.bus.index)}
+        self.sn = float(net.sn_mva)
+        self.nb = len(net.bus)
+        self.load_bus = np.array([pos[b] for b in net.load.bus.values], dtype=int)
+        self.p0, self.q0 = net.load.p_mw.values / self.sn, net.load.q_mvar.values / self.sn
+        self.gen_bus = np.array([pos[b] for b in net.gen.bus.values], dtype=int)
+        self.pg0 = net.gen.p_mw.values / self.sn
+        self.vg0 = net.gen.vm_pu.values.astype(float)
+        self.slack = pos[net.ext_grid.bus.values[0]]
+        self.va_slack = float(np.deg2rad(net.ext_grid.va_degree.values[0]))
+        self.load_mult, self.vm_slack, self.q_jitter = load_mult, vm_slack, q_jitter
+        self.gen_vm, self.gen_mult = gen_vm, gen_mult
+
+    def gen_setting(self, t: int) -> tuple[np.ndarray, np.ndarray]:
+        """Real power (p.u.) and voltage set-point of each generator at snapshot t."""
+        if self.gen_vm is None or not len(self.gen_bus):
+            return self.pg0, self.vg0
+        return self.pg0 * self.gen_mult[t], self.gen_vm[t]
+
+    def injection(self, t: int) -> tuple[np.ndarray, np.ndarray]:
+        """Specified complex injection (generation convention) and voltage set-points at snapshot t."""
+        s = np.zeros(self.nb, dtype=complex)
+        m = self.load_mult[t]
+        np.add.at(s, self.load_bus, -(self.p0 * m + 1j * self.q0 * m * (1 + self.q_jitter[t])))
+        pg, vg = self.gen_setting(t)
+        np.add.at(s, self.gen_bus, pg)
+        vm_set = np.ones(self.nb)
+        vm_set[self.gen_bus] = vg
+        vm_set[self.slack] = self.vm_slack[t]
+        return s, vm_set
+
+
+#: Largest disagreement with ``pandapower.runpp`` (p.u. voltage, rad) accepted by the check.
+CHECK_TOL = 1e-7
+
+
+def check_with_pandapower(net, sched: Schedule, t: int, btm: dict, g: np.ndarray, v: np.ndarray,
+                          delta: np.ndarray) -> None:
+    """Solve snapshot t with ``pandapower.runpp`` and compare; a disagreement is a bug, not bad input."""
+    pp, _ = _pandapower()
+    m = sched.load_mult[t]
+    net.load["p_mw"] = sched.p0 * sched.sn * m
+    net.load["q_mvar"] = sched.q0 * sched.sn * m * (1 + sched.q_jitter[t])
+    net.ext_grid["vm_pu"] = sched.vm_slack[t]
+    if len(net.gen):
+        pg, vg = sched.gen_setting(t)
+        net.gen["p_mw"], net.gen["vm_pu"] = pg * sched.sn, vg
+    net.sgen.drop(net.sgen.index[net.sgen.name.astype(str).str.startswith("btm")], inplace=True)
+    for b in sorted(btm):
+        pp.create_sgen(net, net.bus.index[b], p_mw=float(g[b]) * sched.sn, name=f"btm{b}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # pandapower's deprecation chatter
+        pp.runpp(net, tolerance_mva=1e-10, numba=False)
+    dv = np.max(np.abs(net.res_bus.vm_pu.values - v))
+    dd = np.max(np.abs(np.deg2rad(net.res_bus.va_degree.values) - delta))
+    if max(dv, dd) > CHECK_TOL:
+        raise RuntimeError(f"power flow of snapshot {t} disagrees with pandapower.runpp by {dv:.2g} p.u., "
+                           f"{dd:.2g} rad")

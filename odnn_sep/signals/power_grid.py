@@ -12,7 +12,9 @@ candidate pair (G_ik, B_ik) for every measured bus k within two branches of i in
 ``g_i`` is behind-the-meter generation that the meter does not see, a convex increasing function of
 v_i (boost converter ``c v^2 / (1 - D)^2``, a power-law or an exponential source; see
 :mod:`odnn_sep.signals.grid_profiles`). Each row is one separation problem with ``x = v_i`` and the
-class ``Convex()`` (the user does not know which buses carry such generation).
+class ``Convex()`` (the user does not know which buses carry such generation), except at a bus
+without customer load (slack or generator bus), which has no behind-the-meter generation and no
+disturbance class.
 
 Identifiability: a convex function of v_i can only imitate the part of a column that is a function
 of v_i; the cos/sin columns depend on the neighbours' voltages and the angles, which vary with the
@@ -25,8 +27,8 @@ Noise convention: the metered power has white Gaussian noise at ``snr_db`` relat
 physics power (as every dataset here); voltage magnitudes and angles carry phasor-measurement noise of
 ``sigma_v`` p.u. and ``sigma_delta`` rad. Defaults: 0.1 % metering (60 dB) and 1e-6 p.u. / 1e-6 rad,
 i.e. one-minute averages of PMU phasors. The equations are errors-in-variables: on the distribution
-feeder adjacent voltages differ by ~1e-3 p.u., and voltage noise of 1e-6 already biases the estimates
-by tens of percent (see BENCHMARKS.md).
+feeder adjacent voltages differ by ~1e-3 p.u., and voltage noise of 1e-6 biases least squares by tens
+of percent; :mod:`odnn_sep.signals.grid_eiv` estimates that bias (see BENCHMARKS.md).
 """
 from __future__ import annotations
 
@@ -34,7 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.core import Basis, Convex
+from odnn_sep.core import Basis, Convex, Orthogonal
 from odnn_sep.errors import InputError
 from odnn_sep.signals._base import Dataset, add_noise, check_n, check_snr, rng_from
 from odnn_sep.signals.grid_flow import CASES, adjacency, admittance, candidate_graph, load_case, run_snapshots
@@ -191,6 +193,37 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
     >>> ds.problems[0].basis.names[:2]                          # doctest: +SKIP
     ('G[0,1]', 'B[0,1]')
     """
+    snapshots, snr_db = check_options(snapshots, snr_db, sigma_v, sigma_delta, btm_share)
+    rng = rng_from(random_state)
+    net = load_case(case)
+    nb = len(net.bus)
+    measured = _check_measured(CASES[case][2] if measured is None else measured, nb, case)
+    G, B = admittance(net)
+    adj = adjacency(G, B)
+    cand = candidate_graph(net, G, B)
+    check_snapshots(snapshots, cand, measured)
+    nominal, btm, flows = simulate(net, snapshots, btm_share, rng)
+    _v, _d, p_t, g_t = flows
+    rows, excluded = _usable_rows(measured, adj, p_t - g_t, nb)
+    v_m, d_m, noise_p = measurement_noise(flows, measured, snr_db, sigma_v, sigma_delta, rng)
+    p_m = p_t + noise_p
+    truth = GridTruth(G=G, B=B, adj=adj, p=p_t, g=g_t, btm=btm, nominal=nominal)
+    problems = []
+    for i in rows:
+        others = [k for k in measured if cand[i, k]]
+        problems.append(bus_problem(case, i, others, (v_m, d_m, p_m, noise_p), truth, snr_db))
+    mi = list(measured)
+    desc = (f"power_grid: {CASES[case][1]} ({case}), {snapshots} snapshots of 15 min, {len(measured)} of {nb} "
+            f"buses measured, {len(rows)} complete bus equations, behind-the-meter generation at buses "
+            f"{sorted(btm)}; unknown G_ik, B_ik for every measured pair; class Convex() in v_i per bus")
+    return GridDataset(
+        name="power_grid", case=case, G=G, B=B, measured=measured, rows=rows, excluded=excluded,
+        v=v_m[:, mi], delta=d_m[:, mi], p=p_m[:, mi], g=g_t[:, mi], btm=btm, problems=tuple(problems),
+        snr_db=snr_db, sigma_v=float(sigma_v), sigma_delta=float(sigma_delta), description=desc)
+
+
+def check_options(snapshots, snr_db, sigma_v, sigma_delta, btm_share) -> tuple[int, float]:
+    """Validate the scalar options of :func:`power_grid`; returns the checked snapshot count and SNR."""
     snapshots = check_n(snapshots, 2, "snapshots")
     if snapshots > MAX_SNAPSHOTS:
         raise InputError(f"snapshots={snapshots} is above the limit {MAX_SNAPSHOTS}; use fewer")
@@ -200,17 +233,24 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
             raise InputError(f"{nm} must be in [0, 0.01); got {val!r}")
     if not 0 <= btm_share <= 1:
         raise InputError(f"btm_share must be in [0, 1]; got {btm_share!r}")
-    rng = rng_from(random_state)
-    net = load_case(case)
-    nb = len(net.bus)
-    measured = _check_measured(CASES[case][2] if measured is None else measured, nb, case)
-    G, B = admittance(net)
-    adj = adjacency(G, B)
-    cand = candidate_graph(net, G, B)
+    return snapshots, snr_db
+
+
+def check_snapshots(snapshots: int, cand: np.ndarray, measured) -> None:
+    """Enough snapshots for the largest bus equation (two per unknown)."""
     n_unknowns = max(2 * sum(cand[i, k] for k in measured) for i in measured)
     if snapshots < 2 * n_unknowns:
         raise InputError(f"too few snapshots: {snapshots} for {n_unknowns} unknowns per bus equation "
                          f"({len(measured)} measured buses); need at least {2 * n_unknowns}")
+
+
+def simulate(net, snapshots: int, btm_share: float, rng) -> tuple[np.ndarray, dict, tuple]:
+    """Behind-the-meter units, load and generator schedules, and the power flows of every snapshot.
+
+    Returns the nominal load per bus (p.u.), the units (bus -> parameters) and the true
+    ``(v, delta, p, g)`` arrays of :func:`grid_flow.run_snapshots`.
+    """
+    nb = len(net.bus)
     pos = {b: i for i, b in enumerate(net.bus.index)}
     load_bus = np.array([pos[b] for b in net.load.bus.values])
     nominal = np.zeros(nb)
@@ -221,36 +261,52 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
     mult = load_profiles(snapshots, len(net.load), 0.25, rng)
     q_jit = 0.1 * rng.standard_normal((snapshots, len(net.load)))
     gen_vm, gen_mult = generator_schedule(snapshots, len(net.gen), 0.25, rng)
-    v_t, d_t, p_t, g_t = run_snapshots(net, mult, substation_voltage(snapshots, 0.25, rng), btm, q_jit,
-                                       gen_vm, gen_mult)
-    rows, excluded = _usable_rows(measured, adj, p_t - g_t, nb)
+    flows = run_snapshots(net, mult, substation_voltage(snapshots, 0.25, rng), btm, q_jit, gen_vm, gen_mult)
+    return nominal, btm, flows
+
+
+def measurement_noise(flows, measured, snr_db: float, sigma_v: float, sigma_delta: float, rng):
+    """Measured voltages and angles, and the metering noise of the real power (zero at unmetered buses)."""
+    v_t, d_t, p_t, g_t = flows
     v_m = v_t + sigma_v * rng.standard_normal(v_t.shape)
     d_m = d_t + sigma_delta * rng.standard_normal(d_t.shape)
     noise_p = np.zeros_like(p_t)
     for i in measured:  # meter noise relative to each bus's own physics power
         noise_p[:, i] = add_noise(p_t[:, i] - g_t[:, i], snr_db, rng)
-    p_m = p_t + noise_p
-    problems = []
-    for i in rows:
-        others = [k for k in measured if cand[i, k]]
-        F, names = row_columns(v_m, d_m, i, others)
-        physics = p_t[:, i] - g_t[:, i]
-        noise = noise_p[:, i]
-        theta = {f"{s}[{i},{k}]": float(M[i, k]) for k in others for s, M in (("G", G), ("B", B))}
-        unit = btm.get(i)
-        desc = (f"{case} bus {i}: metered real power = power flow + "
-                f"{'behind-the-meter ' + unit['kind'] if unit else 'no behind-the-meter'} generation; "
-                "class Convex() in v_i")
-        problems.append(Dataset(
-            name="power_grid", x=v_m[:, i].copy(), y=p_m[:, i].copy(), basis=Basis.from_matrix(F, names),
-            disturbance=Convex(), theta_true=theta, physics=physics, disturbance_true=g_t[:, i].copy(),
-            noise=noise, snr_db=snr_db, description=desc, targets=tuple(names), identified="set",
-            extras={"bus": i, "btm": unit, "lines": [k for k in others if adj[i, k]]}))
-    mi = list(measured)
-    desc = (f"power_grid: {CASES[case][1]} ({case}), {snapshots} snapshots of 15 min, {len(measured)} of {nb} "
-            f"buses measured, {len(rows)} complete bus equations, behind-the-meter generation at buses "
-            f"{sorted(btm)}; unknown G_ik, B_ik for every measured pair; class Convex() in v_i per bus")
-    return GridDataset(
-        name="power_grid", case=case, G=G, B=B, measured=measured, rows=rows, excluded=excluded,
-        v=v_m[:, mi], delta=d_m[:, mi], p=p_m[:, mi], g=g_t[:, mi], btm=btm, problems=tuple(problems),
-        snr_db=snr_db, sigma_v=float(sigma_v), sigma_delta=float(sigma_delta), description=desc)
+    return v_m, d_m, noise_p
+
+
+@dataclass(frozen=True)
+class GridTruth:
+    """What the simulation knows and a bus problem needs: line parameters, adjacency, the true
+    metered power ``p`` and behind-the-meter generation ``g`` (n, nb), the units, the nominal loads."""
+
+    G: np.ndarray
+    B: np.ndarray
+    adj: np.ndarray
+    p: np.ndarray
+    g: np.ndarray
+    btm: dict
+    nominal: np.ndarray
+
+
+def bus_problem(case: str, i: int, others, measured_arrays, truth: GridTruth, snr_db: float) -> Dataset:
+    """The separation problem of bus i's complete equation (candidates ``others``).
+
+    ``measured_arrays`` = (v, delta, p, metering noise) as measured. Behind-the-meter generation sits
+    behind customers' meters: a bus without customer load (slack or generator bus) has none, and its
+    equation needs no disturbance class.
+    """
+    v_m, d_m, p_m, noise_p = measured_arrays
+    G, B, unit, served = truth.G, truth.B, truth.btm.get(i), truth.nominal[i] > 0
+    F, names = row_columns(v_m, d_m, i, others)
+    theta = {f"{s}[{i},{k}]": float(M[i, k]) for k in others for s, M in (("G", G), ("B", B))}
+    desc = (f"{case} bus {i}: metered real power = power flow + "
+            f"{'behind-the-meter ' + unit['kind'] if unit else 'no behind-the-meter'} generation; "
+            + ("class Convex() in v_i" if served else "no customer load: no disturbance class"))
+    return Dataset(
+        name="power_grid", x=v_m[:, i].copy(), y=p_m[:, i].copy(), basis=Basis.from_matrix(F, names),
+        disturbance=Convex() if served else Orthogonal(), theta_true=theta,
+        physics=truth.p[:, i] - truth.g[:, i], disturbance_true=truth.g[:, i].copy(), noise=noise_p[:, i],
+        snr_db=snr_db, description=desc, targets=tuple(names), identified="set" if served else "point",
+        extras={"bus": i, "btm": unit, "lines": [k for k in others if truth.adj[i, k]]})

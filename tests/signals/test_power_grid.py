@@ -112,3 +112,86 @@ def test_truth_and_arrays_are_writable(exact_grid, tmp_path):
     arrays = exact_grid.arrays()
     np.savez(tmp_path / "g.npz", **arrays)
     assert arrays["v"].shape == (40, len(exact_grid.measured))
+
+
+def test_newton_flow_agrees_with_pandapower_and_the_check_can_fail():
+    """The fast flow is checked against pandapower.runpp; a wrong solution is caught."""
+    from odnn_sep.signals.grid_flow import Schedule, check_with_pandapower, load_case, run_snapshots
+    from odnn_sep.signals.grid_profiles import draw_btm
+
+    rng = np.random.default_rng(0)
+    net = load_case("case33bw")
+    n = 3
+    btm = {4: draw_btm("boost", 0.01, rng), 7: draw_btm("exponential", 0.01, rng)}
+    mult, q = 0.5 + rng.random((n, len(net.load))), 0.1 * rng.standard_normal((n, len(net.load)))
+    vs = np.array([1.0, 1.00625, 0.99375])
+    v, d, p, g = run_snapshots(net, mult, vs, btm, q)  # checks snapshots 0 and 2 itself
+    assert np.all(g[:, 4] > 0) and np.all(g[:, 7] > 0) and np.all(g[:, 5] == 0)
+    sched = Schedule(load_case("case33bw"), mult, vs, q, None, None)  # nominal loads (the check edits net)
+    check_with_pandapower(net, sched, 1, btm, g[1], v[1], d[1])
+    with pytest.raises(RuntimeError, match="disagrees with pandapower"):
+        check_with_pandapower(net, sched, 1, btm, g[1], v[1] + 1e-5, d[1])
+
+
+def test_bus_without_customer_load_has_no_disturbance_class(exact_grid):
+    from odnn_sep.core import Convex, Orthogonal
+
+    by_bus = {pr.extras["bus"]: pr for pr in exact_grid.problems}
+    assert isinstance(by_bus[0].disturbance, Orthogonal) and by_bus[0].identified == "point"  # slack, no load
+    assert all(isinstance(pr.disturbance, Convex) for b, pr in by_bus.items() if b != 0)
+
+
+def test_combine_weights_by_inverse_variance_and_widens_on_disagreement():
+    from odnn_sep.signals.grid_identify import combine, line_key
+
+    z = 1.959963984540054
+    # two ends of line (1, 2): standard errors 1 and 2, agreeing within their widths
+    rows = [("B[1,2]", 1, 2, 5.0, 5.0, 5.0 - z, 5.0 + z, True, False),
+            ("B[2,1]", 2, 1, 5.0, 6.0, 6.0 - 2 * z, 6.0 + 2 * z, True, False)]
+    (name, i, k, _t, est, lo, hi, _p, _pt), = combine(rows, line_key)
+    assert (name, i, k) == ("B[1-2]", 1, 2)
+    assert est == pytest.approx((5.0 + 6.0 / 4) / 1.25)
+    assert hi - lo == pytest.approx(2 * z / np.sqrt(1.25))
+    # the same estimates with ten times narrower intervals disagree: the interval widens by the Birge ratio
+    tight = [(*r[:5], r[4] - (r[4] - r[5]) / 10, r[4] + (r[6] - r[4]) / 10, *r[7:]) for r in rows]
+    (*_, lo2, hi2, _p2, _pt2), = combine(tight, line_key)
+    chi2 = ((5.0 - est) / 0.1) ** 2 + ((6.0 - est) / 0.2) ** 2
+    assert hi2 - lo2 == pytest.approx((hi - lo) / 10 * np.sqrt(chi2))
+    # an unbounded piece is left to the bounded ones, and the quantity is then not point-identified
+    (*_, est3, lo3, hi3, _p3, pt3), = combine([rows[0], ("B[2,1]", 2, 1, 5.0, 9.0, -np.inf, np.inf, True, False)],
+                                                line_key)
+    assert (est3, lo3, hi3, pt3) == (pytest.approx(5.0), pytest.approx(5 - z), pytest.approx(5 + z), False)
+
+
+def test_chunk_option_is_checked(exact_grid):
+    with pytest.raises(InputError, match="chunk"):
+        identify_grid(exact_grid, chunk=1)
+
+
+def test_regressor_noise_bias_removes_the_attenuation_of_least_squares():
+    """y = 2 u with u measured as u + e (known sigma): least squares shrinks 2 towards 0; the bias
+    estimate restores it (corrected normal equations), and the first-order fallback has the right sign."""
+    from odnn_sep.core.linalg import solve
+    from odnn_sep.signals.grid_eiv import corrected_normal_equations, regressor_noise_bias
+
+    rng = np.random.default_rng(1)
+    n, sigma = 20000, 0.5
+    u = rng.standard_normal(n)
+    um = u + sigma * rng.standard_normal(n)
+    theta_hat = solve(um[:, None], 2 * u)
+    assert theta_hat[0] == pytest.approx(2 / 1.25, rel=0.03)  # attenuation 1 / (1 + sigma^2)
+    J = np.zeros((n, 1, 2))
+    J[:, 0, 0] = 1.0  # d(column)/d(measured quantity); the second quantity does not enter
+    b = regressor_noise_bias(um[:, None], um, J, sigma, 0.0, theta_hat, free_part=False)
+    assert theta_hat[0] - b[0] == pytest.approx(2.0, rel=0.03)
+    gram = np.array([[1.0]])
+    assert corrected_normal_equations(gram, np.array([[0.9]]), np.array([1.0])) is None  # noise dominates
+
+
+def test_identify_grid_shifts_by_the_voltage_noise_bias(exact_grid):
+    """Without voltage noise there is no bias; with it, every equation's coefficients get one."""
+    fit = identify_grid(exact_grid)
+    assert fit.bias == {}
+    noisy = make_dataset("power_grid", case="case14", snapshots=40, sigma_v=1e-4, sigma_delta=1e-4, random_state=3)
+    names = {nm for pr in noisy.problems for nm in pr.basis.names}
+    assert set(identify_grid(noisy).bias) == names
