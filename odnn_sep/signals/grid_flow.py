@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 
 from odnn_sep.errors import InputError
-from odnn_sep.signals._optional import require
+from odnn_sep.signals.optional import require
 from odnn_sep.signals.grid_newton import bus_types, solve_flow
 
 log = logging.getLogger(__name__)

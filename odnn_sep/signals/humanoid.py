@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.core import Basis, Subspace
-from odnn_sep.errors import InputError
-from odnn_sep.signals._base import Dataset, add_noise, check_n, check_snr, check_theta, pick, rng_from
+from odnn_sep.errors import InputError, check_option
+from odnn_sep.signals.dataset import Dataset, check_n, check_snr, check_theta, make, pick, rng_from
 from odnn_sep.signals.humanoid_policies import (
     MAX_STEPS,
     LinearGait,
@@ -61,7 +61,14 @@ def _to_unit(v: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Corruption:
-    """The disturbance added to the recorded reward; callable on new transitions for policy search."""
+    """The disturbance added to the recorded reward; callable on new transitions for policy search.
+
+    Examples
+    --------
+    >>> c = Corruption(kind="sin", amp_sin=2.0, horizon=10)
+    >>> round(float(c(np.array([np.pi / 2]), np.array([0]))[0]), 6)
+    2.0
+    """
 
     kind: str
     amp_sin: float = 0.0
@@ -78,7 +85,13 @@ class Corruption:
 
 
 def disturbance_columns(kind: str, z_after: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """Columns spanning the disturbance class of ``kind`` on these transitions."""
+    """Columns spanning the disturbance class of ``kind`` on these transitions.
+
+    Examples
+    --------
+    >>> disturbance_columns("sin", np.linspace(0.5, 1.5, 50), np.arange(50)).shape   # constant + degrees 0-9
+    (50, 11)
+    """
     cols = [np.ones((z_after.size, 1))]
     if kind in ("sin", "all"):
         cols.append(_legendre(_to_unit(z_after), 9))
@@ -91,7 +104,14 @@ def disturbance_columns(kind: str, z_after: np.ndarray, step: np.ndarray) -> np.
 
 @dataclass(frozen=True)
 class HumanoidDataset:
-    """Transitions, true and corrupted rewards, and the separation problem."""
+    """Transitions, true and corrupted rewards, and the separation problem; :func:`humanoid` builds it.
+
+    Examples
+    --------
+    >>> ds = humanoid(policies=2, episodes=1, steps=70, random_state=1)
+    >>> ds.problem.x.shape, ds.z_after.shape == ds.ctrl_sq.shape
+    ((140,), True)
+    """
 
     name: str
     problem: Dataset
@@ -128,11 +148,99 @@ class HumanoidDataset:
 
 
 def default_policies(n: int, rng) -> list:
-    """``n`` policies: zero, random, then linear gaits with weights of increasing scale."""
+    """``n`` policies: zero, random, then linear gaits with weights of increasing scale.
+
+    Examples
+    --------
+    >>> [name for name, _ in default_policies(4, np.random.default_rng(0))]
+    ['zero', 'random', 'gait0', 'gait1']
+    """
     pols = [("zero", zero_policy), ("random", random_policy)]
     for j, scale in enumerate(np.linspace(0.3, 2.0, max(n - 2, 0))):
         pols.append((f"gait{j}", LinearGait(scale * rng.standard_normal(68))))
     return pols[:n]
+
+
+def draw_corruption(kind: str, horizon: int, rng) -> Corruption:
+    """The reward corruption of ``kind`` with its amplitudes drawn (zero for the parts it lacks).
+
+    Examples
+    --------
+    >>> c = draw_corruption("sin", 100, np.random.default_rng(0))
+    >>> c.amp_sin > 0, c.amp_cal, c.drift
+    (True, 0.0, (0.0, 0.0, 0.0, 0.0))
+    """
+    return Corruption(kind=kind, horizon=horizon,
+                      amp_sin=float(rng.uniform(0.5, 2.0)) if kind in ("sin", "all") else 0.0,
+                      drift=tuple(rng.uniform(-0.5, 0.5, 4)) if kind in ("drift", "all") else (0.0,) * 4,
+                      amp_cal=float(rng.uniform(0.2, 0.5)) if kind in ("calibration", "all") else 0.0)
+
+
+def draw_frame_skip(frame_skip, rng) -> int:
+    """``frame_skip`` as an int in 1..20, or one drawn from 3..7 when None.
+
+    Examples
+    --------
+    >>> draw_frame_skip(5, None), 3 <= draw_frame_skip(None, np.random.default_rng(0)) <= 7
+    (5, True)
+    """
+    fs = int(frame_skip) if frame_skip is not None else int(rng.integers(3, 8))
+    if not 1 <= fs <= 20:
+        raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
+    return fs
+
+
+def check_sizes(policies, episodes, steps) -> tuple[int, int, int]:
+    """``(policies, episodes, steps)`` as ints within their limits, or InputError.
+
+    Examples
+    --------
+    >>> check_sizes(6, 2, 100)
+    (6, 2, 100)
+    >>> check_sizes(2, 1, 20)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: too few transitions: 40 for 2 reward coefficients and up to 67 disturbance columns; need at least 138 (more episodes or steps)
+    """
+    policies = check_n(policies, 2, "policies")
+    if policies > 50:
+        raise InputError(f"policies={policies} is above the limit 50")
+    episodes = check_n(episodes, 1, "episodes")
+    steps = check_n(steps, 2, "steps")
+    if steps > MAX_STEPS:
+        raise InputError(f"steps={steps} is above the episode limit {MAX_STEPS}")
+    n = policies * episodes * steps
+    if n > MAX_TRANSITIONS:
+        raise InputError(f"{n} transitions is above the limit {MAX_TRANSITIONS}; use fewer policies/episodes/steps")
+    need = 2 + 1 + 10 + 6 + CALIBRATION_PERIOD
+    if n < 2 * need:
+        raise InputError(f"too few transitions: {n} for 2 reward coefficients and up to {need - 2} disturbance "
+                         f"columns; need at least {2 * need} (more episodes or steps)")
+    return policies, episodes, steps
+
+
+def collect(frame_skip: int, policies, episodes: int, steps: int, rng) -> tuple[list, list, list]:
+    """Roll out every ``(name, policy)`` for ``episodes`` episodes of ``steps`` steps in one environment:
+    the per-episode records, policy ids and episode ids (needs gymnasium[mujoco]).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> recs, pid, eid = collect(5, default_policies(2, rng), 1, 10, rng)
+    >>> len(recs), recs[0]["z_after"].shape, [int(e[0]) for e in eid]
+    (2, (10,), [0, 1])
+    """
+    env = make_env(frame_skip)
+    recs, pid, eid = [], [], []
+    try:
+        for j, (_name, pol) in enumerate(policies):
+            for e in range(episodes):
+                recs.append(rollout(env, pol, steps, seed=int(rng.integers(2**31)), rng=rng))
+                pid.append(np.full(steps, j))
+                eid.append(np.full(steps, j * episodes + e))
+    finally:
+        env.close()
+    return recs, pid, eid
 
 
 def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, steps: int = 100,
@@ -159,79 +267,39 @@ def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, 
     Returns
     -------
     HumanoidDataset
+
+    Examples
+    --------
+    >>> from odnn_sep.core import Separator
+    >>> ds = humanoid(policies=2, episodes=1, steps=70, random_state=0); p = ds.problem
+    >>> theta = Separator(p.basis, disturbance=p.disturbance).fit(p.x, p.y).result_.theta_dict()
+    >>> ds.policy_names, all(abs(theta[k] / p.theta_true[k] - 1) < 0.05 for k in ("up", "ctrl"))
+    (('zero', 'random'), True)
     """
-    policies, episodes, steps = check_sizes(disturbance, policies, episodes, steps)
+    check_option("disturbance", disturbance, KINDS)
+    policies, episodes, steps = check_sizes(policies, episodes, steps)
+    n = policies * episodes * steps
     snr_db = check_snr(snr_db)
     check_theta(theta, ["up", "ctrl"])
     rng = rng_from(random_state)
-    fs = int(frame_skip) if frame_skip is not None else int(rng.integers(3, 8))
-    if not 1 <= fs <= 20:
-        raise InputError(f"frame_skip must be in 1..20; got {frame_skip!r}")
+    fs = draw_frame_skip(frame_skip, rng)
     dt = fs * TIMESTEP
     th = {"up": pick(rng, theta, "up", 0.5 / dt, 1.5 / dt), "ctrl": pick(rng, theta, "ctrl", -0.2, -0.05)}
-    env = make_env(fs)
     pols = default_policies(policies, rng)
-    zb, za, cs, pid, eid = collect(env, pols, episodes, steps, rng)
-    n = zb.size
+    recs, pid, eid = collect(fs, pols, episodes, steps, rng)
+    zb, za, cs = (np.concatenate([r[k] for r in recs]) for k in ("z_before", "z_after", "ctrl_sq"))
     step = np.arange(n)
     F = np.c_[za - zb, cs]
     physics = F @ np.array([th["up"], th["ctrl"]])
     corr = draw_corruption(disturbance, n, rng)
     g = corr(za, step)
-    noise = add_noise(physics, snr_db, rng)
     desc = (f"humanoid ({disturbance}): HumanoidStandup-v5, {policies} policies x {episodes} episodes x {steps} "
             f"steps, frame time {dt:.3f} s; reward = up*(z_after-z_before) + ctrl*|a|^2 + disturbance; "
             "class Subspace (smooth functions of height / time, calibration phase); point-identified")
-    basis = Basis.from_matrix(F, ["up", "ctrl"])
     dist = Subspace(disturbance_columns(disturbance, za, step))
-    prob = Dataset(name="humanoid", x=step.astype(float), y=physics + g + noise, basis=basis, disturbance=dist,
-                   theta_true=th, physics=physics, disturbance_true=g, noise=noise, snr_db=snr_db,
-                   description=desc, targets=("up", "ctrl"))
+    prob = make("humanoid", step.astype(float), Basis.from_matrix(F, ["up", "ctrl"]), dist, th, physics, g, snr_db,
+                rng, desc, targets=("up", "ctrl"))   # make draws the noise
     return HumanoidDataset(name="humanoid", problem=prob, kind=disturbance, dt=dt,
-                           policy_names=tuple(nm for nm, _ in pols), policy_id=pid,
-                           episode_id=eid, z_before=zb, z_after=za, ctrl_sq=cs, corruption=corr,
+                           policy_names=tuple(nm for nm, _ in pols), policy_id=np.concatenate(pid),
+                           episode_id=np.concatenate(eid), z_before=zb, z_after=za, ctrl_sq=cs, corruption=corr,
                            snr_db=snr_db, description=desc, extras={"policies": pols, "frame_skip": fs})
-
-
-def check_sizes(disturbance: str, policies, episodes, steps) -> tuple[int, int, int]:
-    """Validate the disturbance kind and the collection sizes of :func:`humanoid`."""
-    if disturbance not in KINDS:
-        raise InputError(f"disturbance must be one of {', '.join(KINDS)}; got {disturbance!r}")
-    policies = check_n(policies, 2, "policies")
-    if policies > 50:
-        raise InputError(f"policies={policies} is above the limit 50")
-    episodes = check_n(episodes, 1, "episodes")
-    steps = check_n(steps, 2, "steps")
-    if steps > MAX_STEPS:
-        raise InputError(f"steps={steps} is above the episode limit {MAX_STEPS}")
-    n = policies * episodes * steps
-    if n > MAX_TRANSITIONS:
-        raise InputError(f"{n} transitions is above the limit {MAX_TRANSITIONS}; use fewer policies/episodes/steps")
-    need = 2 + 1 + 10 + 6 + CALIBRATION_PERIOD
-    if n < 2 * need:
-        raise InputError(f"too few transitions: {n} for 2 reward coefficients and up to {need - 2} disturbance "
-                         f"columns; need at least {2 * need} (more episodes or steps)")
-    return policies, episodes, steps
-
-
-def collect(env, pols, episodes: int, steps: int, rng):
-    """Roll out every policy ``episodes`` times; heights before/after, action energy, policy and episode ids."""
-    recs, pid, eid = [], [], []
-    for j, (_name, pol) in enumerate(pols):
-        for e in range(episodes):
-            recs.append(rollout(env, pol, steps, seed=int(rng.integers(2**31)), rng=rng))
-            pid.append(np.full(steps, j))
-            eid.append(np.full(steps, j * episodes + e))
-    env.close()
-    zb = np.concatenate([r["z_before"] for r in recs])
-    za = np.concatenate([r["z_after"] for r in recs])
-    cs = np.concatenate([r["ctrl_sq"] for r in recs])
-    return zb, za, cs, np.concatenate(pid), np.concatenate(eid)
-
-
-def draw_corruption(disturbance: str, n: int, rng) -> Corruption:
-    """Random amplitudes of the corruption ``disturbance`` over ``n`` transitions (unused parts zero)."""
-    return Corruption(kind=disturbance, horizon=n,
-                      amp_sin=float(rng.uniform(0.5, 2.0)) if disturbance in ("sin", "all") else 0.0,
-                      drift=tuple(rng.uniform(-0.5, 0.5, 4)) if disturbance in ("drift", "all") else (0.0,) * 4,
-                      amp_cal=float(rng.uniform(0.2, 0.5)) if disturbance in ("calibration", "all") else 0.0)

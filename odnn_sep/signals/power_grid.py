@@ -38,7 +38,7 @@ import numpy as np
 
 from odnn_sep.core import Basis, Convex, Orthogonal
 from odnn_sep.errors import InputError
-from odnn_sep.signals._base import Dataset, add_noise, check_n, check_snr, rng_from
+from odnn_sep.signals.dataset import Dataset, add_noise, check_n, check_snr, rng_from
 from odnn_sep.signals.grid_flow import CASES, adjacency, admittance, candidate_graph, load_case, run_snapshots
 from odnn_sep.signals.grid_profiles import (
     BTM_KINDS,

@@ -9,7 +9,7 @@ pytest.importorskip("pandapower", reason="the power_grid dataset needs pandapowe
 
 from odnn_sep.errors import InputError  # noqa: E402
 from odnn_sep.signals import make_dataset  # noqa: E402
-from odnn_sep.signals._optional import MissingDependencyError  # noqa: E402
+from odnn_sep.errors import MissingDependencyError  # noqa: E402
 from odnn_sep.signals.grid_identify import identify_grid  # noqa: E402
 
 
