@@ -12,8 +12,8 @@ import warnings
 import numpy as np
 
 from odnn_sep.errors import InputError
-from odnn_sep.signals.optional import require
 from odnn_sep.signals.grid_newton import bus_types, solve_flow
+from odnn_sep.signals.optional import require
 
 log = logging.getLogger(__name__)
 

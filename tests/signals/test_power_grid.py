@@ -7,9 +7,8 @@ import pytest
 
 pytest.importorskip("pandapower", reason="the power_grid dataset needs pandapower (extra 'grid')")
 
-from odnn_sep.errors import InputError  # noqa: E402
+from odnn_sep.errors import InputError, MissingDependencyError  # noqa: E402
 from odnn_sep.signals import make_dataset  # noqa: E402
-from odnn_sep.errors import MissingDependencyError  # noqa: E402
 from odnn_sep.signals.grid_identify import identify_grid  # noqa: E402
 
 
