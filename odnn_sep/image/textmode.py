@@ -39,10 +39,8 @@ MIN_ON_RENDERING = 0.6
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
     """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view).
 
-    ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes)."""
-    from odnn_sep.image.detect import detection_score
-    from odnn_sep.image.locate import Match, repeats
-    from odnn_sep.image.register import refine, render_at
+    ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes).
+    Why long (9 parameters): ``unwatermark``'s text-mode options, passed on."""
     from odnn_sep.image.render import default_fonts, resolve_font
 
     H, W = y.shape[:2]
@@ -53,26 +51,41 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     if best is None or score < min_score:
         raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
                          f"{min_score:g}); check --text/--font or give --mask")
-    # repeats of a faint mark are as faint: they pass the bar the first copy had to pass
     placed = [best]
     if max_marks > 1:
-        ref = Match(best.font, best.size, best.angle, (best.center[0] - off[0], best.center[1] - off[1]),
-                    best_nc.score)
-        for r in repeats(ys, text, ref, max_marks=max_marks)[1:]:
-            rc = (r.center[0] + off[0], r.center[1] + off[1])
-            m, box = render_at(text, best.font, best.size, best.angle, rc, (H, W))
-            if m.size == 0:
-                continue
-            try:
-                if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
-                    continue
-                p = refine(y, text, best.font, best.size, best.angle, rc, iterations=30, whole_sizes=not reduced,
-                           random_state=random_state)
-            except NotIdentifiableError:
-                continue
-            if placement_score(y, p, from_data=font is None, random_state=random_state) >= min_score:
-                placed.append(p)
+        placed += _copies(y, ys, text, best, best_nc, off, max_marks, min_score,
+                          dict(from_data=font is None, reduced=reduced, random_state=random_state))
     return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
+
+
+def _copies(y, ys, text, best, best_nc, off, max_marks, min_score, how) -> list:
+    """Registered repeats of the found mark ``best`` (tiled or repeated watermarks).
+
+    Repeats of a faint mark are as faint: they pass the bar the first copy had to pass. ``how``:
+    ``from_data`` (``placement_score``), ``reduced`` and ``random_state``.
+    Why long (9 parameters): the search's view and offset travel with the mark found there."""
+    from odnn_sep.image.detect import detection_score
+    from odnn_sep.image.locate import Match, repeats
+    from odnn_sep.image.register import refine, render_at
+
+    H, W = y.shape[:2]
+    ref = Match(best.font, best.size, best.angle, (best.center[0] - off[0], best.center[1] - off[1]), best_nc.score)
+    out = []
+    for r in repeats(ys, text, ref, max_marks=max_marks)[1:]:
+        rc = (r.center[0] + off[0], r.center[1] + off[1])
+        m, box = render_at(text, best.font, best.size, best.angle, rc, (H, W))
+        if m.size == 0:
+            continue
+        try:
+            if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
+                continue
+            p = refine(y, text, best.font, best.size, best.angle, rc, iterations=30, whole_sizes=not how["reduced"],
+                       random_state=how["random_state"])
+        except NotIdentifiableError:
+            continue
+        if placement_score(y, p, from_data=how["from_data"], random_state=how["random_state"]) >= min_score:
+            out.append(p)
+    return out
 
 
 def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=False):
@@ -113,9 +126,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
 
     ``coarse``: ``coarse_font`` and ``coarse_height`` of the search's coarse grid (``locate.search``)."""
     from odnn_sep.image.choose import most_likely
-    from odnn_sep.image.estimate import fit_blend
-    from odnn_sep.image.locate import same_place, search
-    from odnn_sep.image.register import refine, render_at
+    from odnn_sep.image.locate import search
+    from odnn_sep.image.register import refine
 
     H, W = y.shape[:2]
     off = (0, 0)
@@ -126,33 +138,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
     cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2, **coarse)
-    # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
-    # then refine the best three: correlation alone ranks small spurious templates too high
-    screened = []
-    for c in cands:
-        m, box = render_at(text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]), (H, W))
-        if m.size == 0:
-            continue
-        try:
-            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0, xatol=2e-3,
-                          random_state=random_state)
-        except NotIdentifiableError:
-            continue
-        screened.append((f.explained, c))
-    # Refine the three that screen best and the two that correlate best: the screening fit needs
-    # the placement to about a pixel, which the correlation grid does not always give (a faint mark
-    # then screens below a chance alignment while still leading the correlation).
-    by_corr = sorted(screened, key=lambda t: -t[1].score)[:2]
-    screened.sort(key=lambda t: -t[0])
-    order = screened[:3] + [t for t in by_corr if all(t[1] is not u[1] for u in screened[:3])]
-    # and the best of every other font at the place that screens best: the font is chosen below by
-    # the likelihood of the registered renderings, which the quick screening fit cannot stand in for
-    rivals = []
-    for t in screened[1:]:
-        if screened and t[1].font != screened[0][1].font and same_place(t[1], screened[0][1]) and all(
-                t[1].font != u[1].font for u in rivals):
-            rivals.append(t)
-    order += [t for t in rivals if all(t[1] is not u[1] for u in order)]
+    screened = _screen(y, text, cands, off, random_state)
+    order, rivals = _refine_order(screened)
     best, best_nc = None, None
     refined = []
     for sc0, c in order:
@@ -183,6 +170,49 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         best, best_nc = rivals[most_likely(y, [p for p, _ in rivals], random_state=random_state)]
         score = scores[id(best)]
     return best, best_nc, score, off, ys
+
+
+def _screen(y, text, cands, off, random_state) -> list[tuple]:
+    """(share of edge variance explained, match) of every search hypothesis, by a quick blend fit."""
+    from odnn_sep.image.estimate import fit_blend
+    from odnn_sep.image.register import render_at
+
+    H, W = y.shape[:2]
+    screened = []
+    for c in cands:
+        m, box = render_at(text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]), (H, W))
+        if m.size == 0:
+            continue
+        try:
+            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0, xatol=2e-3,
+                          random_state=random_state)
+        except NotIdentifiableError:
+            continue
+        screened.append((f.explained, c))
+    return screened
+
+
+def _refine_order(screened) -> tuple[list, list]:
+    """(hypotheses to register in turn, the other fonts' rivals among them); sorts ``screened``.
+
+    Screening ranks better than correlation alone (which ranks small spurious templates too high):
+    the three that screen best, and the two that correlate best (the screening fit needs the
+    placement to about a pixel, which the correlation grid does not always give: a faint mark then
+    screens below a chance alignment while still leading the correlation); and the best of every
+    other font at the place that screens best: the font is chosen by the likelihood of the
+    registered renderings, which the quick screening fit cannot stand in for."""
+    from odnn_sep.image.locate import same_place
+
+    by_corr = sorted(screened, key=lambda t: -t[1].score)[:2]
+    screened.sort(key=lambda t: -t[0])
+    order = screened[:3] + [t for t in by_corr if all(t[1] is not u[1] for u in screened[:3])]
+    rivals: list = []
+    for t in screened[1:]:
+        if screened and t[1].font != screened[0][1].font and same_place(t[1], screened[0][1]) and all(
+                t[1].font != u[1].font for u in rivals):
+            rivals.append(t)
+    order += [t for t in rivals if all(t[1] is not u[1] for u in order)]
+    return order, rivals
 
 
 def placement_score(y, p, *, from_data: bool, random_state=0) -> float:
