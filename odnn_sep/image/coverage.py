@@ -198,46 +198,6 @@ def band_around(prior: np.ndarray) -> tuple[np.ndarray, float]:
     return band, s
 
 
-def quick_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color) -> np.ndarray:
-    """The coverage seen in the data around a rendering, in one step (no refits): the photo predicted
-    from outside the band, ``a M`` per pixel, the opacity from the glyph interiors.
-
-    Used to judge a placement when the font is not known: a rendering in another font leaves the true
-    glyph edges unexplained, so the held-out detection score of the rendering itself stays near zero
-    even where the mark is plain; the data's coverage follows the true glyphs.
-
-    Parameters
-    ----------
-    y : (h, w, C) float array in [0, 1], a crop holding the rendering with a margin of two stroke widths
-    prior : (h, w) registered rendering
-    alpha, color : opacity and colour fitted with the rendering
-
-    Returns
-    -------
-    (h, w) coverage in [0, 1], zero outside the band (the rendering itself when the opacity cannot be read)
-    """
-    y = np.asarray(y, dtype=np.float64)
-    if y.ndim == 2:
-        y = y[:, :, None]
-    prior = np.asarray(prior, dtype=np.float64)
-    band, s = band_around(prior)
-    wide = max(1.5, float(np.ceil(max(2.0, BAND_STROKES * s))))
-    _, Q, _ = coverage_step(y, prior, prior, band, alpha, color, wide, first=True)
-    a = interior_opacity(Q)
-    if a is None:
-        return prior
-    M, _, _ = coverage_step(y, prior, prior, band, float(np.clip(a, 1e-3, 0.995)), color, wide, first=True)
-    return M
-
-
-def on_rendering(M: np.ndarray, prior: np.ndarray) -> float:
-    """Share of the solid pixels of a coverage ``M`` (> 1/2) that are solid in the rendering ``prior``
-    too: high when ``M`` holds the same letters drawn in a similar font at the same place, low when
-    it spreads over the photo's own dark or light structures around the rendering."""
-    solid = M > 0.5
-    return float((solid & (prior > 0.5)).sum() / max(1, int(solid.sum())))
-
-
 def edges_left(y, M, alpha, color, prior) -> float:
     """Share of the mark's excess edge energy left after inverting with (M, alpha, color), in the
     band of the rendering and of ``M`` (the larger)."""
@@ -253,4 +213,4 @@ def edges_left(y, M, alpha, color, prior) -> float:
     return left
 
 
-__all__ = ["refine_coverage", "coverage_step", "predict_photo", "quick_coverage", "band_around", "on_rendering"]
+__all__ = ["refine_coverage", "coverage_step", "predict_photo", "band_around"]

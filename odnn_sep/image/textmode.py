@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.image.screening import placement_score, refine_order, screen_hypotheses
 
 log = logging.getLogger(__name__)
 
@@ -29,11 +30,6 @@ FINE_LOOK_HEIGHT = 14.0
 # out, and a rendering without spacing then matches one letter at best (development seeds: marks
 # spaced 0.1-0.25 em were found with this spacing and not without).
 LOOK_TRACKING = 0.18
-# The data's coverage of a placement counts for its detection score only when at least this share of
-# its solid pixels lie on the rendering's (``placement_score``). Development seed 1: marks in unseen
-# fonts found with the data's coverage 0.67-1.0; the one clean-photo search that the data's coverage
-# turned into a false alarm (score 0.64, the data's glyphs spread over a dark cornice) 0.49.
-MIN_ON_RENDERING = 0.6
 
 
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
@@ -54,7 +50,7 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     placed = [best]
     if max_marks > 1:
         placed += _copies(y, ys, text, best, best_nc, off, max_marks, min_score,
-                          dict(from_data=font is None, reduced=reduced, random_state=random_state))
+                          dict(reduced=reduced, random_state=random_state))
     return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
 
 
@@ -62,7 +58,7 @@ def _copies(y, ys, text, best, best_nc, off, max_marks, min_score, how) -> list:
     """Registered repeats of the found mark ``best`` (tiled or repeated watermarks).
 
     Repeats of a faint mark are as faint: they pass the bar the first copy had to pass. ``how``:
-    ``from_data`` (``placement_score``), ``reduced`` and ``random_state``.
+    ``reduced`` and ``random_state``.
     Why long (9 parameters): the search's view and offset travel with the mark found there."""
     from odnn_sep.image.detect import detection_score
     from odnn_sep.image.locate import Match, repeats
@@ -83,7 +79,7 @@ def _copies(y, ys, text, best, best_nc, off, max_marks, min_score, how) -> list:
                        random_state=how["random_state"])
         except NotIdentifiableError:
             continue
-        if placement_score(y, p, from_data=how["from_data"], random_state=how["random_state"]) >= min_score:
+        if placement_score(y, p, random_state=how["random_state"]) >= min_score:
             out.append(p)
     return out
 
@@ -138,8 +134,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
     cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2, **coarse)
-    screened = _screen(y, text, cands, off, random_state)
-    order, rivals = _refine_order(screened)
+    screened = screen_hypotheses(y, text, cands, off, random_state)
+    order, rivals = refine_order(screened)
     best, best_nc = None, None
     refined = []
     for sc0, c in order:
@@ -162,7 +158,7 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         # The place: the registered hypothesis with the best detection score. The in-sample share of
         # variance that ranked them so far is dominated by textured patches, where a chance
         # alignment can beat a faint real mark; the out-of-sample score is what decides detection.
-        scores = {id(p): placement_score(y, p, from_data=len(fonts) > 1, random_state=random_state)
+        scores = {id(p): placement_score(y, p, random_state=random_state)
                   for p, _ in refined}
         best, best_nc = max(refined, key=lambda t: scores[id(t[0])])
         # the font (and size) at the chosen place: by the likelihood on the same pixels
@@ -170,82 +166,6 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         best, best_nc = rivals[most_likely(y, [p for p, _ in rivals], random_state=random_state)]
         score = scores[id(best)]
     return best, best_nc, score, off, ys
-
-
-def _screen(y, text, cands, off, random_state) -> list[tuple]:
-    """(share of edge variance explained, match) of every search hypothesis, by a quick blend fit."""
-    from odnn_sep.image.estimate import fit_blend
-    from odnn_sep.image.register import render_at
-
-    H, W = y.shape[:2]
-    screened = []
-    for c in cands:
-        m, box = render_at(text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]), (H, W))
-        if m.size == 0:
-            continue
-        try:
-            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0, xatol=2e-3,
-                          random_state=random_state)
-        except NotIdentifiableError:
-            continue
-        screened.append((f.explained, c))
-    return screened
-
-
-def _refine_order(screened) -> tuple[list, list]:
-    """(hypotheses to register in turn, the other fonts' rivals among them); sorts ``screened``.
-
-    Screening ranks better than correlation alone (which ranks small spurious templates too high):
-    the three that screen best, and the two that correlate best (the screening fit needs the
-    placement to about a pixel, which the correlation grid does not always give: a faint mark then
-    screens below a chance alignment while still leading the correlation); and the best of every
-    other font at the place that screens best: the font is chosen by the likelihood of the
-    registered renderings, which the quick screening fit cannot stand in for."""
-    from odnn_sep.image.locate import same_place
-
-    by_corr = sorted(screened, key=lambda t: -t[1].score)[:2]
-    screened.sort(key=lambda t: -t[0])
-    order = screened[:3] + [t for t in by_corr if all(t[1] is not u[1] for u in screened[:3])]
-    rivals: list = []
-    for t in screened[1:]:
-        if screened and t[1].font != screened[0][1].font and same_place(t[1], screened[0][1]) and all(
-                t[1].font != u[1].font for u in rivals):
-            rivals.append(t)
-    order += [t for t in rivals if all(t[1] is not u[1] for u in order)]
-    return order, rivals
-
-
-def placement_score(y, p, *, from_data: bool, random_state=0) -> float:
-    """Detection score of a registered placement ``p``: of its rendering, and without a pinned font
-    also of the coverage the data show around it (``coverage.quick_coverage``), the larger.
-
-    A rendering in a font other than the mark's leaves the true glyph edges unexplained and scores
-    near zero even on a plain mark (development seed 1: marks whose true coverage scored 0.6-1.7
-    scored 0.00-0.15 with the best default font registered on them), while the data's coverage
-    around the rendering follows the true glyphs. On clean photos the data's coverage scored as
-    low as the rendering (at most 0.08 on development seed 1) except one (0.64, see below): the
-    held-out opacity and colour still
-    have to predict the other half of the mark. But where the data's coverage spreads beyond the
-    rendering's glyphs (``coverage.on_rendering`` below ``MIN_ON_RENDERING``) it follows the photo's
-    own structures, and the rendering's score stands."""
-    from odnn_sep.image.coverage import on_rendering, quick_coverage
-    from odnn_sep.image.detect import detection_score
-    from odnn_sep.image.estimate import stroke_width
-
-    x0, y0, x1, y1 = p.box
-    score = detection_score(y[y0:y1, x0:x1], p.coverage, random_state=random_state)
-    if not from_data:
-        return score
-    H, W = y.shape[:2]
-    pad = int(np.ceil(2 * stroke_width(p.coverage))) + 2
-    b = (max(0, x0 - pad), max(0, y0 - pad), min(W, x1 + pad), min(H, y1 + pad))
-    prior = np.zeros((b[3] - b[1], b[2] - b[0]))
-    prior[y0 - b[1]:y1 - b[1], x0 - b[0]:x1 - b[0]] = p.coverage
-    crop = np.asarray(y[b[1]:b[3], b[0]:b[2]], dtype=np.float64)
-    Md = quick_coverage(crop, prior, p.fit.alpha, p.fit.color)
-    if on_rendering(Md, prior) < MIN_ON_RENDERING:
-        return score
-    return max(score, detection_score(crop, Md, random_state=random_state))
 
 
 def _overlap(a, b) -> float:
@@ -349,7 +269,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
                        iterations=40 if k == 0 else 20, random_state=random_state)
         except NotIdentifiableError:
             continue
-        sc = placement_score(y, p, from_data=font is None, random_state=random_state)
+        sc = placement_score(y, p, random_state=random_state)
         if sc >= min_score:  # the bar the reduced copy's score had to pass
             placed.append(p)
             scores.append(sc)
