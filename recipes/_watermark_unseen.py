@@ -215,9 +215,9 @@ def run_unseen(trials: int, seed: int, metrics, inpaint, jpeg, quick=False):
     return rows
 
 
-def false_alarms(seed: int, per_photo: int = 1, n_photos: int = 4):
+def false_alarms(seed: int, per_photo: int = 1, n_photos: int | None = None):
     """Runs without --font on clean photos (random text, random post-processing): how many 'found'
-    (the first ``n_photos`` photos: a run that finds nothing costs every later look)."""
+    (every photo by default; a run that finds nothing costs every later look)."""
     rng = np.random.default_rng(seed + 7)
     n, found = 0, 0
     for _name, img in photos()[:n_photos]:

@@ -221,7 +221,7 @@ def factor_gram(G: ArrayLike) -> GramFactor:
     return GramFactor((c, low), d, float(rc ** 2))
 
 
-def solve_batched(G: ArrayLike, r: ArrayLike, *, max_cond: float = MAX_COND) -> np.ndarray:
+def solve_batched(G: ArrayLike, r: ArrayLike, *, max_cond: float = MAX_COND, check: bool = True) -> np.ndarray:
     """Solve ``G x = r`` for a Gram matrix or a stack of them, Cholesky with a per-system fallback.
 
     Parameters
@@ -235,6 +235,10 @@ def solve_batched(G: ArrayLike, r: ArrayLike, *, max_cond: float = MAX_COND) -> 
         Systems whose estimated condition number (see :class:`GramFactor`) exceeds this, or that
         are not positive definite, are solved one by one with :func:`numpy.linalg.lstsq` on the
         Gram matrix (minimum-norm: ``pinv(G) r``).
+    check : bool
+        False: the caller vouches that every system is well conditioned (e.g. the Gram matrices of
+        a fixed full-rank design under positive weights, regularised), and the stack is solved at
+        once with :func:`numpy.linalg.solve`, without the conditioning check (a hot loop's fast path).
 
     Returns
     -------
@@ -251,6 +255,8 @@ def solve_batched(G: ArrayLike, r: ArrayLike, *, max_cond: float = MAX_COND) -> 
     r = np.asarray(r)
     if G.ndim < 2 or G.shape[-1] != G.shape[-2]:
         raise InputError(f"G must be a (..., p, p) stack of square matrices; got shape {G.shape}")
+    if not check:
+        return np.linalg.solve(G, r[..., None])[..., 0] if r.ndim == 1 else np.linalg.solve(G, r)
     if G.ndim == 2:
         fac = factor_gram(G)
         if fac.rcond >= 1.0 / max_cond:

@@ -72,7 +72,8 @@ def _residual(out, inp, M, prior, b, random_state) -> dict:
     return measure(out, inp, *covs, random_state=random_state)
 
 
-def _color_report(color, planes) -> dict:
+def color_report(color, planes) -> dict:
+    """The report's ``color`` (and ``color_hex`` for colour images) of a fitted mark colour in [0, 1]."""
     col = np.asarray(color, dtype=float)
     out = {"color": [round(float(v), 5) for v in col]}
     if not planes.grey:
@@ -80,10 +81,54 @@ def _color_report(color, planes) -> dict:
     return out
 
 
+def _estimate(y, text, font, mask, mask_invert, min_score, angle_range, max_marks, random_state):
+    """(y, M, alpha, colour, report fields, registered rendering or None) of text or mask mode.
+
+    Why long (9 parameters): it forwards ``unwatermark``'s options to the mode that uses them."""
+    H, W = y.shape[:2]
+    region = prepared = prior = None
+    if mask is not None:
+        from odnn_sep.image.maskprep import prepare_mask
+
+        prepared = prepare_mask(mask, (H, W), invert=mask_invert)
+        region = prepared.region
+    if text:
+        if max(H, W) <= WORK_MAX_PX:
+            y = y.full()
+        M, alpha, color, info, prior = text_mode(y, str(text), font, region, min_score, angle_range,
+                                                  max_marks, random_state)
+    else:
+        from odnn_sep.image.maskmode import mask_mode
+
+        M, alpha, color, info = mask_mode(y, prepared, random_state)
+    return y, M, alpha, color, info, prior
+
+
+def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state):
+    """(restored image, lost pixels (H, W), residual-mark report) of the blend inverted in the mark's box
+    only (the rest is copied unchanged)."""
+    from odnn_sep.image.estimate import invert
+    from odnn_sep.image.io import paste
+
+    H, W = y.shape[:2]
+    lost = np.zeros((H, W), bool)
+    nz = np.nonzero(M > 0)
+    if not nz[0].size:
+        return paste(planes), lost, {"score": 0.0, "contrast_levels": 0.0, "edge_left": 0.0,
+                                     "threshold": MIN_SCORE, "visible": False}
+    b = (max(0, nz[1].min() - 4), max(0, nz[0].min() - 4), min(W, nz[1].max() + 5), min(H, nz[0].max() + 5))
+    o, lo = invert(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], alpha, color, levels=planes.levels,
+                   inpaint=inpaint_lost)
+    lost[b[1]:b[3], b[0]:b[2]] = lo
+    return paste(planes, o, b), lost, _residual(o, y[b[1]:b[3], b[0]:b[2]], M, prior, b, random_state)
+
+
 def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_score: float | None = None,
                 angle_range: float = 45.0, max_marks: int = 64, inpaint_lost: bool = True,
                 random_state=0, mask_invert: bool | None = None, reference=None) -> UnwatermarkResult:
     """Remove a visible (alpha-blended) text watermark.
+
+    Why long (11 parameters): the public keyword API, one option per command-line flag.
 
     Parameters
     ----------
@@ -114,8 +159,7 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     >>> abs(res.alpha - truth["alpha"]) < 0.02
     True
     """
-    from odnn_sep.image.estimate import invert
-    from odnn_sep.image.io import paste, split
+    from odnn_sep.image.io import split
 
     if reference is not None:
         from odnn_sep.image.refmode import reference_mode
@@ -131,43 +175,17 @@ def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_sco
     planes = split(image)
     y = planes.view  # float crops on demand: large images are never converted whole
     H, W = y.shape[:2]
-    region = prepared = prior = None
-    if mask is not None:
-        from odnn_sep.image.maskprep import prepare_mask
-
-        prepared = prepare_mask(mask, (H, W), invert=mask_invert)
-        region = prepared.region
     report: dict = {"mode": "text" if text else "mask", "image_size": [W, H], "channels": int(y.shape[2])
                     + (1 if planes.alpha is not None else 0), "bit_depth": int(planes.dtype.itemsize * 8)}
-    if text:
-        if max(H, W) <= WORK_MAX_PX:
-            y = y.full()
-        M, alpha, color, info, prior = text_mode(y, str(text), font, region, min_score, angle_range,
-                                                  max_marks, random_state)
-        report.update(info)
-    else:
-        from odnn_sep.image.maskmode import mask_mode
-
-        M, alpha, color, info = mask_mode(y, prepared, random_state)
-        report.update(info)
-    lost = np.zeros((H, W), bool)
-    nz = np.nonzero(M > 0)
-    restored = None
-    if nz[0].size:  # only the mark's box is inverted and written back; the rest is copied unchanged
-        b = (max(0, nz[1].min() - 4), max(0, nz[0].min() - 4), min(W, nz[1].max() + 5), min(H, nz[0].max() + 5))
-        o, lo = invert(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], alpha, color, levels=planes.levels,
-                       inpaint=inpaint_lost)
-        restored = paste(planes, o, b)
-        lost[b[1]:b[3], b[0]:b[2]] = lo
-        report["residual_mark"] = _residual(o, y[b[1]:b[3], b[0]:b[2]], M, prior, b, random_state)
-    if restored is None:
-        restored = paste(planes)
-        report["residual_mark"] = {"score": 0.0, "contrast_levels": 0.0, "edge_left": 0.0, "threshold": MIN_SCORE,
-                                   "visible": False}
-    report.update({"alpha": round(float(alpha), 5), **_color_report(color, planes),
+    y, M, alpha, color, info, prior = _estimate(y, text, font, mask, mask_invert, min_score, angle_range,
+                                                max_marks, random_state)
+    report.update(info)
+    restored, lost, report["residual_mark"] = _restore(planes, y, M, alpha, color, prior, inpaint_lost,
+                                                       random_state)
+    report.update({"alpha": round(float(alpha), 5), **color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})
     return UnwatermarkResult(restored, float(alpha), np.asarray(color), M, lost, report)
 
 
-__all__ = ["unwatermark", "UnwatermarkResult", "MIN_SCORE", "WORK_MAX_PX"]
+__all__ = ["unwatermark", "UnwatermarkResult", "color_report", "MIN_SCORE", "WORK_MAX_PX"]

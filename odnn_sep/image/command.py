@@ -71,28 +71,15 @@ def run(args) -> int:
 
     from odnn_sep.errors import InputError
     from odnn_sep.image.api import unwatermark
-    from odnn_sep.image.io import EXTENSIONS, read_image, read_image_meta, write_image
-    from odnn_sep.io_utils import check_input_path, check_output_path, write_json
+    from odnn_sep.image.io import read_image, read_image_meta, write_image
+    from odnn_sep.io_utils import write_json
 
     if not args.text and not args.mask and not args.reference:
         raise InputError("give the watermark's text (--text) or a mask of its area (--mask), or a logo image "
                          "(--reference); got none")
     if args.reference and (args.text or args.mask):
         raise InputError("--reference is used on its own; drop --text/--mask")
-    inp = check_input_path(args.input, what="input image")
-    if Path(args.output).suffix.lower() not in EXTENSIONS:
-        raise InputError(f"output {args.output!r} must end in one of {', '.join(EXTENSIONS)}")
-    check_output_path(args.output, inp, args.mask, args.reference)
-    outs = {"--output": Path(args.output)}
-    for flag, p in (("--report", args.report), ("--plot", args.plot)):
-        if p:
-            check_output_path(p, inp, args.mask)
-            for other_flag, other in outs.items():
-                if Path(p).resolve() == other.resolve():
-                    raise InputError(f"{flag} path {p!r} is the same as {other_flag}; choose different paths")
-            outs[flag] = Path(p)
-    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
-        raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
+    inp = _checked_paths(args)
     img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
     mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
     reference = read_image(args.reference) if args.reference else None
@@ -127,6 +114,31 @@ def run(args) -> int:
               f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
               f"{float(residual.get('score') or 0.0):.3f} -> {args.output}")
     return 0
+
+
+def _checked_paths(args):
+    """The input path, once the input, output, report and plot paths are checked (one-line errors)."""
+    from pathlib import Path
+
+    from odnn_sep.errors import InputError
+    from odnn_sep.image.io import EXTENSIONS
+    from odnn_sep.io_utils import check_input_path, check_output_path
+
+    inp = check_input_path(args.input, what="input image")
+    if Path(args.output).suffix.lower() not in EXTENSIONS:
+        raise InputError(f"output {args.output!r} must end in one of {', '.join(EXTENSIONS)}")
+    check_output_path(args.output, inp, args.mask, args.reference)
+    outs = {"--output": Path(args.output)}
+    for flag, p in (("--report", args.report), ("--plot", args.plot)):
+        if p:
+            check_output_path(p, inp, args.mask)
+            for other_flag, other in outs.items():
+                if Path(p).resolve() == other.resolve():
+                    raise InputError(f"{flag} path {p!r} is the same as {other_flag}; choose different paths")
+            outs[flag] = Path(p)
+    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
+        raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
+    return inp
 
 
 def _residual_text(residual: dict) -> str:

@@ -143,21 +143,15 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     (M (h, w), BlendFit or None): the coverage and the last fit; (``prior``, None) when the data agree
     with the rendering (or the fit failed): then ``alpha`` and ``color`` stand
     """
-    import cv2
-
-    from odnn_sep.image.estimate import fit_blend, stroke_width
+    from odnn_sep.image.estimate import fit_blend
 
     y = np.asarray(y, dtype=np.float64)
     if y.ndim == 2:
         y = y[:, :, None]
     prior = np.asarray(prior, dtype=np.float64)
-    s = stroke_width(prior)
-    # the band: where a glyph of a similar font drawn at the registered place can reach
-    r = int(np.ceil(max(2.0, BAND_STROKES * s)))
-    band = cv2.dilate((prior > 0.02).astype(np.uint8), cv2.getStructuringElement(
-        cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))).astype(bool)
+    band, s = band_around(prior)
     alpha0, color0 = alpha, color
-    wide = max(1.5, float(r))
+    wide = max(1.5, float(int(np.ceil(max(2.0, BAND_STROKES * s)))))
     # 1. the photo from outside the band only (it does not depend on the opacity or the coverage),
     #    so the per-pixel a M and the opacity of the glyph interiors follow in one step
     M, fit = prior, None
@@ -191,6 +185,19 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     return prior, None
 
 
+def band_around(prior: np.ndarray) -> tuple[np.ndarray, float]:
+    """(band, stroke width): where a glyph of a similar font drawn at the rendering's place can reach."""
+    import cv2
+
+    from odnn_sep.image.estimate import stroke_width
+
+    s = stroke_width(prior)
+    r = int(np.ceil(max(2.0, BAND_STROKES * s)))
+    band = cv2.dilate((prior > 0.02).astype(np.uint8), cv2.getStructuringElement(
+        cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))).astype(bool)
+    return band, s
+
+
 def edges_left(y, M, alpha, color, prior) -> float:
     """Share of the mark's excess edge energy left after inverting with (M, alpha, color), in the
     band of the rendering and of ``M`` (the larger)."""
@@ -206,4 +213,4 @@ def edges_left(y, M, alpha, color, prior) -> float:
     return left
 
 
-__all__ = ["refine_coverage", "coverage_step", "predict_photo"]
+__all__ = ["refine_coverage", "coverage_step", "predict_photo", "band_around"]

@@ -109,6 +109,8 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
               random_state=0) -> BlendFit:
     """Estimate opacity ``alpha`` and ``beta = alpha * colour`` of a mark of known coverage ``M``.
 
+    Why long (9 parameters): the data, then keyword options of the fit with defaults for the usual case.
+
     Parameters
     ----------
     y : (h, w, C) float array in [0, 1], the watermarked image (crop around the mark)
@@ -157,6 +159,11 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
         prof.w = 1.0 / (1.0 + (rss_p / (2.0 * s)) ** 2)
         alpha = float(minimize_scalar(prof, bounds=(max(1e-4, alpha - 0.08), min(a_hi, alpha + 0.08)),
                                       method="bounded", options={"xatol": xatol}).x)
+    return _summarise(prof, alpha, a_hi, patch)
+
+
+def _summarise(prof, alpha: float, a_hi: float, patch: int) -> BlendFit:
+    """The ``BlendFit`` of the photo-domain profile ``prof`` at its optimum ``alpha``."""
     beta, rss_p, _ = prof.parts(alpha)
     rss = float(np.sum(prof.w * rss_p))
     # standard error from the curvature of the negative log-likelihood
@@ -165,10 +172,10 @@ def fit_blend(y: np.ndarray, M: np.ndarray, *, patch: int | None = None, degree:
     se = float(1.0 / np.sqrt(curv)) if curv > 0 else float("inf")
     # share of the patches' photo-only residual (image domain) that the mark explains: ~0 for a
     # wrong template; it ranks the hypotheses of the search (``detect`` decides on detection)
-    rss0_p = plane_rss(Yp, prof.Q)
-    rss1_p = DataProfile(Yp, Mp, Phi).parts(alpha)[1]
+    rss0_p = plane_rss(prof.Yp, prof.Q)
+    rss1_p = DataProfile(prof.Yp, prof.Mp, prof.Phi).parts(alpha)[1]
     explained = max(0.0, 1.0 - float(np.sum(rss1_p)) / max(float(np.sum(rss0_p)), 1e-300))
-    return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(Mp),
+    return BlendFit(alpha=alpha, beta=np.asarray(beta), alpha_stderr=se, rss=rss, n_patches=len(prof.Mp),
                     patch=patch, explained=explained)
 
 

@@ -85,14 +85,31 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
            coarse_height: float = COARSE_H) -> list[Match]:
     """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first.
 
+    Why long (11 parameters): the image, text and fonts, then keyword options of the grids.
+
     ``coarse_factor`` x ``max_hypotheses`` coarse places get one step of the finer grid; the best
     ``max_hypotheses`` (per font kept, at most two) get the last step. The coarse grid uses the
     templates of ``coarse_font`` (default: the first font), with glyphs ``coarse_height`` px tall
     (a finer grid costs more and tells faint marks from texture better).
     """
-    H, W = img.shape[:2]
     pyr = Pyramid(img)
     f0 = str(coarse_font or fonts[0])
+    w100 = _ink(text, f0)[0]
+    cands = _coarse(pyr, img.shape[:2], text, f0, angle_range, min_height_px, peaks_per_map, coarse_height)
+    if not cands:
+        return []
+    # Many more coarse places than are finally kept: at the coarse level (glyphs ~10 px) a faint
+    # mark on a textured photo scores below dozens of chance matches (development photos: coarse
+    # rank up to ~40 of the distinct places), while one step of the finer grid ranks it first.
+    top = _select(sorted(cands, key=lambda c: -c[0]), w100, coarse_factor * max_hypotheses, per_size_bin)
+    return _finer(pyr, text, fonts, top, w100, max_hypotheses)
+
+
+def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coarse_height) -> list[tuple]:
+    """Coarse grid of ``search``: (score, size, angle, cx, cy) of the best places of every (size, angle).
+
+    Why long (8 parameters): ``search``'s options of the coarse grid, passed on."""
+    H, W = shape
     w100, h100 = _ink(text, f0)
     h100 = max(h100, 1.0)
     # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal; the
@@ -128,14 +145,11 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
                 found.append((v, s, float(a), *_centre(xx, yy, T, f)))
         return found
 
-    cands = [c for found in _map(one_size, sizes) for c in found]  # (score, size, angle, cx, cy)
-    if not cands:
-        return []
-    # Many more coarse places than are finally kept: at the coarse level (glyphs ~10 px) a faint
-    # mark on a textured photo scores below dozens of chance matches (development photos: coarse
-    # rank up to ~40 of the distinct places), while one step of the finer grid ranks it first.
-    top = _select(sorted(cands, key=lambda c: -c[0]), w100, coarse_factor * max_hypotheses, per_size_bin)
+    return [c for found in _map(one_size, sizes) for c in found]  # (score, size, angle, cx, cy)
 
+
+def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
+    """The finer grids of ``search`` for the coarse places ``top``; distinct hypotheses, best first."""
     def one_hypothesis(c):
         _, s0, a0, cx0, cy0 = c
         # several fonts: a quick look (position only) ranks them and the best two go on (the blend

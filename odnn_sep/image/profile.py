@@ -61,7 +61,8 @@ class DataProfile:
         am = (At @ Mp[:, :, None])[:, :, 0]                         # A^T M
         ay = At @ Yp                                                # A^T y  (p, k, C)
         rhs = np.concatenate([am[:, :, None], ay], axis=2)
-        sol = solve_batched(G, rhs)                                 # G^-1 [A^T M, A^T y]
+        # well conditioned by construction (full-rank plane design, u >= 0.005, regularised): no check
+        sol = solve_batched(G, rhs, check=False)                    # G^-1 [A^T M, A^T y]
         gm, gy = sol[:, :, :1], sol[:, :, 1:]
         sxx_p = self.mm - np.sum(am * gm[:, :, 0], axis=1)
         sxy_p = (Mp[:, None, :] @ Yp)[:, 0, :] - np.sum(am[:, :, None] * gy, axis=1)

@@ -211,13 +211,28 @@ def place_all(logo, placements, shape):
     return M, L
 
 
+def invert_logo(yc, Mc, Lc, alpha, colour, levels, inpaint_lost):
+    """(restored crop, lost pixels, reported colour): the blend undone with the fitted colour, or with
+    the logo's own colours ``Lc`` when ``colour`` is None (then the reported colour is their mean
+    over the logo's solid pixels)."""
+    from odnn_sep.image.estimate import invert
+
+    if colour is not None:
+        o, lost = invert(yc, Mc, alpha, colour, levels=levels, inpaint=inpaint_lost)
+        return o, lost, colour
+    # the logo's own colours: y' = y - alpha M (L - c0) is a one-colour blend with c0
+    c0 = np.full(yc.shape[2], 0.5)
+    o, lost = invert(yc - alpha * Mc[:, :, None] * (Lc - c0), Mc, alpha, c0, levels=levels, inpaint=inpaint_lost)
+    w = (Mc > 0.5)[:, :, None]
+    return o, lost, (Lc * w).sum(axis=(0, 1)) / max(1, int(w.sum()))
+
+
 def reference_mode(image, reference, *, angle_range: float = 45.0, max_copies: int = 64,
                    min_score: float | None = None, inpaint_lost: bool = True, random_state=0):
     """Find the logo ``reference`` in ``image`` and remove it; see ``api.unwatermark``.
 
     Returns an ``api.UnwatermarkResult``; its report has ``residual_mark`` (``residual.residual_mark``)."""
-    from odnn_sep.image.api import UnwatermarkResult, _color_report
-    from odnn_sep.image.estimate import invert
+    from odnn_sep.image.api import UnwatermarkResult, color_report
     from odnn_sep.image.io import paste, split
     from odnn_sep.image.logo_residual import residual_mark
 
@@ -252,14 +267,7 @@ def reference_mode(image, reference, *, angle_range: float = 45.0, max_copies: i
     b = (max(0, xs.min() - 4), max(0, ys.min() - 4), min(W, xs.max() + 5), min(H, ys.max() + 5))
     yc, Mc, Lc = y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], L[b[1]:b[3], b[0]:b[2]]
     alpha, colour, explained = _fit(yc, Mc, Lc, logo.coloured, random_state)
-    if colour is None:  # the logo's own colours: y' = y - alpha M (L - c0) is a one-colour blend with c0
-        c0 = np.full(C, 0.5)
-        o, lost = invert(yc - alpha * Mc[:, :, None] * (Lc - c0), Mc, alpha, c0, levels=planes.levels,
-                         inpaint=inpaint_lost)
-        w = (Mc > 0.5)[:, :, None]
-        colour = (Lc * w).sum(axis=(0, 1)) / max(1, int(w.sum()))
-    else:
-        o, lost = invert(yc, Mc, alpha, colour, levels=planes.levels, inpaint=inpaint_lost)
+    o, lost, colour = invert_logo(yc, Mc, Lc, alpha, colour, planes.levels, inpaint_lost)
     restored = paste(planes, o, b)
     lost_full = np.zeros((H, W), bool)
     lost_full[b[1]:b[3], b[0]:b[2]] = lost
@@ -271,7 +279,7 @@ def reference_mode(image, reference, *, angle_range: float = 45.0, max_copies: i
               "marks": [{"center": [round(p.cx, 2), round(p.cy, 2)], "scale": round(p.scale, 4),
                          "angle_deg": round(p.angle, 2), "edge_ncc": round(p.score, 4),
                          "score": round(float(fits[p]), 4)} for p in kept],
-              "alpha": round(float(alpha), 5), **_color_report(colour, planes),
+              "alpha": round(float(alpha), 5), **color_report(colour, planes),
               "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost_full.sum()),
               "residual_mark": resid, "runtime_s": round(time.perf_counter() - t0, 3)}
     return UnwatermarkResult(restored, float(alpha), np.asarray(colour), M.astype(np.float32), lost_full, report)

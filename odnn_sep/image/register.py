@@ -34,15 +34,48 @@ def render_at(text, font, size, angle, center, shape):
     return place(render_text(text, font, size), shape, center, angle)
 
 
+def nelder_mead(fun, x0, step, maxiter):
+    """(argmin, min) of ``fun`` by Nelder-Mead from the simplex ``x0``, ``x0 + diag(step)``."""
+    from scipy.optimize import minimize
+
+    sim = np.vstack([x0, x0 + np.diag(step)])
+    r = minimize(fun, x0, method="Nelder-Mead",
+                 options={"initial_simplex": sim, "maxiter": maxiter, "xatol": 0.02, "fatol": 1e-9})
+    return r.x, float(r.fun)
+
+
+def _whole_size(obj, p, f, size, iterations):
+    """(p, f) at the better of the continuous optimum ``p`` (objective ``f``) and the whole font sizes
+    next to it (``p[3]`` is the log of the size over ``size``).
+
+    Fonts are usually rendered at a whole pixel size, and hinting makes a 29.15 px rendering differ
+    from a 29 px one in ways no continuous scale reproduces: test the nearest whole size as well.
+    Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one."""
+    s_c = size * np.exp(p[3])
+    best_int = None
+    for s_int in sorted({int(np.floor(s_c)), int(np.ceil(s_c))}):
+        if s_int < 1 or abs(s_c - s_int) < 1e-3:
+            continue
+        q3 = np.log(s_int / size)
+        q, g = nelder_mead(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]),
+                           min(iterations, 25))
+        if best_int is None or g < best_int[1]:
+            best_int = (np.r_[q, q3], g)
+    if best_int is not None and best_int[1] < f:
+        return best_int
+    return p, f
+
+
 def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *, iterations: int = 60,
            whole_sizes: bool = True, random_state=0) -> Placed:
     """Refine (centre, angle, size) of one mark by the blend model's residual, then fit opacity/colour.
 
+    Why long (9 parameters): the data, the starting placement (text, font, size, angle, centre), then
+    keyword options.
+
     ``y`` is the whole image as float (H, W, C) in [0, 1] (or a view giving float crops).
     ``whole_sizes``: also try the whole font sizes next to the optimum (off on a resampled copy).
     """
-    from scipy.optimize import minimize
-
     H, W = y.shape[:2]
     M0, box = render_at(text, font, size, angle, center, (H, W))
     x0, y0, x1, y1 = box
@@ -73,30 +106,12 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
         prof = DataProfile(Yp, take_patches(cov(p), py, px, ps)[:, :, 0], Phi)
         return prof(a0)
 
-    def nm(fun, x0, step, maxiter=iterations):
-        sim = np.vstack([x0, x0 + np.diag(step)])
-        r = minimize(fun, x0, method="Nelder-Mead",
-                     options={"initial_simplex": sim, "maxiter": maxiter, "xatol": 0.02, "fatol": 1e-9})
-        return r.x, float(r.fun)
-
     f_start = obj(np.zeros(4))
-    p, f = nm(obj, np.zeros(4), np.array([0.5, 0.5, 0.3, 0.01]))
+    p, f = nelder_mead(obj, np.zeros(4), np.array([0.5, 0.5, 0.3, 0.01]), iterations)
     if f > f_start:
         p, f = np.zeros(4), f_start
-    # Fonts are usually rendered at a whole pixel size, and hinting makes a 29.15 px rendering differ
-    # from a 29 px one in ways no continuous scale reproduces: test the nearest whole size as well.
-    # Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one.
-    s_c = size * np.exp(p[3])
-    best_int = None
-    for s_int in sorted({int(np.floor(s_c)), int(np.ceil(s_c))}) if whole_sizes else ():
-        if s_int < 1 or abs(s_c - s_int) < 1e-3:
-            continue
-        q3 = np.log(s_int / size)
-        q, g = nm(lambda v, q3=q3: obj(np.r_[v, q3]), p[:3], np.array([0.3, 0.3, 0.15]), min(iterations, 25))
-        if best_int is None or g < best_int[1]:
-            best_int = (np.r_[q, q3], g)
-    if best_int is not None and best_int[1] < f:
-        p, f = best_int
+    if whole_sizes:
+        p, f = _whole_size(obj, p, f, size, iterations)
     M = cov(p)
     fit = fit_blend(crop, M, random_state=random_state)
     return Placed(Path(font), float(size * np.exp(p[3])), float(angle + p[2]),

@@ -63,6 +63,9 @@ def resolve_font(font) -> Path:
     >>> resolve_font("DejaVuSans-Bold").name
     'DejaVuSans-Bold.ttf'
     """
+    base, tracking = split_tracking(font)
+    if tracking:  # a spaced variant of a font (``spaced``): the same font file, spaced
+        return Path(spaced(resolve_font(base), tracking))
     p = Path(str(font)).expanduser()
     if p.is_file():
         return p
@@ -100,11 +103,69 @@ def _load(path: str, size: float):
         raise InputError(f"font {path!r} could not be loaded ({exc}); pass a TrueType/OpenType font") from None
 
 
+# A font with extra letter spacing (tracking, in em) is written ``<font>@tracking=<em>``: the search
+# tries spaced variants of its fonts as if they were fonts of their own (``spaced``).
+TRACKING_TAG = "@tracking="
+
+
+def spaced(font, tracking: float) -> str:
+    """The font ``font`` drawn with ``tracking`` em of extra space after every letter, as a font name
+    that ``render_text`` (and everything that renders through it) understands.
+
+    Examples
+    --------
+    >>> split_tracking(spaced("DejaVuSans", 0.15))[1]
+    0.15
+    """
+    base, _ = split_tracking(font)
+    if not tracking:
+        return str(base)
+    return f"{base}{TRACKING_TAG}{float(tracking):g}"
+
+
+def split_tracking(font) -> tuple[str, float]:
+    """(font name or path, tracking in em) of a font written by ``spaced`` (tracking 0 otherwise)."""
+    s = str(font)
+    if TRACKING_TAG in s:
+        base, _, t = s.rpartition(TRACKING_TAG)
+        try:
+            return base, float(t)
+        except ValueError:
+            pass
+    return s, 0.0
+
+
+def _render_spaced(text: str, f, size: float, tracking: float) -> np.ndarray:
+    """Letter by letter with ``tracking`` em of extra advance (marks are often drawn letter-spaced)."""
+    from PIL import Image, ImageDraw
+
+    extra = tracking * size
+    adv = [f.getlength(ch) + extra for ch in text]
+    _, y0, _, y1 = f.getbbox(text)
+    margin = int(np.ceil(size)) + 4
+    im = Image.new("L", (int(np.ceil(sum(adv))) + 2 * margin, int(y1 - y0) + 2 * margin), 0)
+    d = ImageDraw.Draw(im)
+    x = float(margin)
+    for ch, a in zip(text, adv):
+        d.text((x, margin - y0), ch, fill=255, font=f)
+        x += a
+    a = np.asarray(im, dtype=np.float32) / 255.0
+    rr, cc = np.nonzero(a > 0)
+    if rr.size == 0:
+        return np.zeros((5, 5), np.float32)
+    pad = 2
+    return np.pad(a[rr.min():rr.max() + 1, cc.min():cc.max() + 1], pad)
+
+
 @functools.lru_cache(maxsize=256)
-def _render_cached(text: str, font: str, size: float) -> np.ndarray:
+def _render_cached(text: str, font: str, size: float, tracking: float = 0.0) -> np.ndarray:
     from PIL import Image, ImageDraw
 
     f = _load(font, float(size))
+    if tracking:
+        a = _render_spaced(text, f, float(size), tracking)
+        a.setflags(write=False)
+        return a
     x0, y0, x1, y1 = f.getbbox(text)
     pad = 2
     w, h = max(1, x1 - x0) + 2 * pad, max(1, y1 - y0) + 2 * pad
@@ -128,7 +189,8 @@ def render_text(text: str, font, size: float) -> np.ndarray:
         raise InputError("text is empty or only whitespace; pass the watermark's visible text")
     if not size > 0:
         raise InputError(f"font size must be > 0 px; got {size}")
-    return _render_cached(str(text), str(resolve_font(font)), round(float(size), 3))
+    base, tracking = split_tracking(font)
+    return _render_cached(str(text), str(resolve_font(base)), round(float(size), 3), tracking)
 
 
 def place(coverage: np.ndarray, shape: tuple[int, int], center: tuple[float, float], angle: float,

@@ -70,6 +70,8 @@ def add_text_watermark(clean, text: str, *, font="DejaVuSans-Bold", size: int = 
                        random_state=0):
     """Blend a text watermark into ``clean`` (uint8/uint16, grey or RGB): ``y = (1 - a M) I + a M c``.
 
+    Why long (10 parameters): a test-data generator, every property of the mark a keyword with a default.
+
     ``center`` (x, y) defaults to a random point that keeps the mark inside; ``tile=(dx, dy)`` repeats
     it on a grid with that spacing. Returns ``(watermarked, M)`` with ``M`` the full-size coverage.
     """

@@ -4,10 +4,12 @@ only the found marks registered at full resolution."""
 from __future__ import annotations
 
 import logging
+from pathlib import Path
 
 import numpy as np
 
 from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.image.screening import placement_score, refine_order, screen_hypotheses
 
 log = logging.getLogger(__name__)
 
@@ -24,15 +26,17 @@ RIVAL_SCREEN_RATIO = 0.5
 SECOND_LOOK_FACTOR = 1.3
 # Glyph height (px) of the finer coarse grid of the last look (``find``); the first uses 10.
 FINE_LOOK_HEIGHT = 14.0
+# Letter spacing (em) of the spaced fonts of one more look (``find``): marks are often drawn spaced
+# out, and a rendering without spacing then matches one letter at best (development seeds: marks
+# spaced 0.1-0.25 em were found with this spacing and not without).
+LOOK_TRACKING = 0.18
 
 
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
     """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view).
 
-    ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes)."""
-    from odnn_sep.image.detect import detection_score
-    from odnn_sep.image.locate import Match, repeats
-    from odnn_sep.image.register import refine, render_at
+    ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes).
+    Why long (9 parameters): ``unwatermark``'s text-mode options, passed on."""
     from odnn_sep.image.render import default_fonts, resolve_font
 
     H, W = y.shape[:2]
@@ -43,27 +47,41 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     if best is None or score < min_score:
         raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
                          f"{min_score:g}); check --text/--font or give --mask")
-    # repeats of a faint mark are as faint: they pass the bar the first copy had to pass
     placed = [best]
     if max_marks > 1:
-        ref = Match(best.font, best.size, best.angle, (best.center[0] - off[0], best.center[1] - off[1]),
-                    best_nc.score)
-        for r in repeats(ys, text, ref, max_marks=max_marks)[1:]:
-            rc = (r.center[0] + off[0], r.center[1] + off[1])
-            m, box = render_at(text, best.font, best.size, best.angle, rc, (H, W))
-            if m.size == 0:
-                continue
-            try:
-                if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
-                    continue
-                p = refine(y, text, best.font, best.size, best.angle, rc, iterations=30, whole_sizes=not reduced,
-                           random_state=random_state)
-            except NotIdentifiableError:
-                continue
-            x0, y0, x1, y1 = p.box
-            if detection_score(y[y0:y1, x0:x1], p.coverage) >= min_score:
-                placed.append(p)
+        placed += _copies(y, ys, text, best, best_nc, off, max_marks, min_score,
+                          dict(reduced=reduced, random_state=random_state))
     return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
+
+
+def _copies(y, ys, text, best, best_nc, off, max_marks, min_score, how) -> list:
+    """Registered repeats of the found mark ``best`` (tiled or repeated watermarks).
+
+    Repeats of a faint mark are as faint: they pass the bar the first copy had to pass. ``how``:
+    ``reduced`` and ``random_state``.
+    Why long (9 parameters): the search's view and offset travel with the mark found there."""
+    from odnn_sep.image.detect import detection_score
+    from odnn_sep.image.locate import Match, repeats
+    from odnn_sep.image.register import refine, render_at
+
+    H, W = y.shape[:2]
+    ref = Match(best.font, best.size, best.angle, (best.center[0] - off[0], best.center[1] - off[1]), best_nc.score)
+    out = []
+    for r in repeats(ys, text, ref, max_marks=max_marks)[1:]:
+        rc = (r.center[0] + off[0], r.center[1] + off[1])
+        m, box = render_at(text, best.font, best.size, best.angle, rc, (H, W))
+        if m.size == 0:
+            continue
+        try:
+            if detection_score(y[box[1]:box[3], box[0]:box[2]], m) < min_score:
+                continue
+            p = refine(y, text, best.font, best.size, best.angle, rc, iterations=30, whole_sizes=not how["reduced"],
+                       random_state=how["random_state"])
+        except NotIdentifiableError:
+            continue
+        if placement_score(y, p, random_state=how["random_state"]) >= min_score:
+            out.append(p)
+    return out
 
 
 def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=False):
@@ -80,14 +98,19 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
     More looks give chance more tries, so a later look's mark must score ``SECOND_LOOK_FACTOR``
     times ``min_score``."""
     from odnn_sep.image.locate import least_alike
+    from odnn_sep.image.render import spaced
 
     first = best_match(y, text, fonts, region, angle_range, random_state, reduced)
     if first[0] is not None and first[2] >= min_score:
         return first
-    looks = [{"coarse_font": least_alike(text, fonts)}] if len(fonts) > 1 else []
-    looks.append({"coarse_height": FINE_LOOK_HEIGHT})
-    for look in looks:
-        again = best_match(y, text, fonts, region, angle_range, random_state, reduced, **look)
+    looks = [(fonts, {"coarse_font": least_alike(text, fonts)})] if len(fonts) > 1 else []
+    if len(fonts) > 1:
+        # letter-spaced marks: the first two fonts spaced out (the others only cost time here)
+        wide = [Path(spaced(f, LOOK_TRACKING)) for f in fonts[:2]]
+        looks.append((wide, {"coarse_font": wide[0]}))
+    looks.append((fonts, {"coarse_height": FINE_LOOK_HEIGHT}))
+    for look_fonts, look in looks:
+        again = best_match(y, text, look_fonts, region, angle_range, random_state, reduced, **look)
         log.debug("another look for %r (%s): best score %.3f (first look %.3f)", text, look, again[2], first[2])
         if again[0] is not None and again[2] >= SECOND_LOOK_FACTOR * min_score:
             return again
@@ -99,10 +122,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
 
     ``coarse``: ``coarse_font`` and ``coarse_height`` of the search's coarse grid (``locate.search``)."""
     from odnn_sep.image.choose import most_likely
-    from odnn_sep.image.detect import detection_score
-    from odnn_sep.image.estimate import fit_blend
-    from odnn_sep.image.locate import same_place, search
-    from odnn_sep.image.register import refine, render_at
+    from odnn_sep.image.locate import search
+    from odnn_sep.image.register import refine
 
     H, W = y.shape[:2]
     off = (0, 0)
@@ -113,33 +134,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         off = (max(0, cc.min() - pad), max(0, rr.min() - pad))
         ys = y[off[1]:min(H, rr.max() + pad + 1), off[0]:min(W, cc.max() + pad + 1)]
     cands = search(ys, text, fonts, angle_range=angle_range, max_hypotheses=20, per_size_bin=2, **coarse)
-    # screen every hypothesis with a quick blend fit (share of edge variance the mark explains),
-    # then refine the best three: correlation alone ranks small spurious templates too high
-    screened = []
-    for c in cands:
-        m, box = render_at(text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]), (H, W))
-        if m.size == 0:
-            continue
-        try:
-            f = fit_blend(y[box[1]:box[3], box[0]:box[2]], m, max_patches=300, irls=0, xatol=2e-3,
-                          random_state=random_state)
-        except NotIdentifiableError:
-            continue
-        screened.append((f.explained, c))
-    # Refine the three that screen best and the two that correlate best: the screening fit needs
-    # the placement to about a pixel, which the correlation grid does not always give (a faint mark
-    # then screens below a chance alignment while still leading the correlation).
-    by_corr = sorted(screened, key=lambda t: -t[1].score)[:2]
-    screened.sort(key=lambda t: -t[0])
-    order = screened[:3] + [t for t in by_corr if all(t[1] is not u[1] for u in screened[:3])]
-    # and the best of every other font at the place that screens best: the font is chosen below by
-    # the likelihood of the registered renderings, which the quick screening fit cannot stand in for
-    rivals = []
-    for t in screened[1:]:
-        if screened and t[1].font != screened[0][1].font and same_place(t[1], screened[0][1]) and all(
-                t[1].font != u[1].font for u in rivals):
-            rivals.append(t)
-    order += [t for t in rivals if all(t[1] is not u[1] for u in order)]
+    screened = screen_hypotheses(y, text, cands, off, random_state)
+    order, rivals = refine_order(screened)
     best, best_nc = None, None
     refined = []
     for sc0, c in order:
@@ -162,11 +158,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         # The place: the registered hypothesis with the best detection score. The in-sample share of
         # variance that ranked them so far is dominated by textured patches, where a chance
         # alignment can beat a faint real mark; the out-of-sample score is what decides detection.
-        def score_of(p):
-            x0, y0, x1, y1 = p.box
-            return detection_score(y[y0:y1, x0:x1], p.coverage, random_state=random_state)
-
-        scores = {id(p): score_of(p) for p, _ in refined}
+        scores = {id(p): placement_score(y, p, random_state=random_state)
+                  for p, _ in refined}
         best, best_nc = max(refined, key=lambda t: scores[id(t[0])])
         # the font (and size) at the chosen place: by the likelihood on the same pixels
         rivals = [(p, c) for p, c in refined if _overlap(p.box, best.box) > 0.5]
@@ -249,7 +242,6 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
     """
     import cv2
 
-    from odnn_sep.image.detect import detection_score
     from odnn_sep.image.register import refine
 
     H, W = y.shape[:2]
@@ -277,8 +269,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
                        iterations=40 if k == 0 else 20, random_state=random_state)
         except NotIdentifiableError:
             continue
-        x0, y0, x1, y1 = p.box
-        sc = detection_score(y[y0:y1, x0:x1], p.coverage, random_state=random_state)
+        sc = placement_score(y, p, random_state=random_state)
         if sc >= min_score:  # the bar the reduced copy's score had to pass
             placed.append(p)
             scores.append(sc)
