@@ -80,7 +80,30 @@ def denoise(y, sr=None, *, mains="auto", harmonics="auto", tones=(), block_s="au
 
 
 def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
-    """:func:`denoise` with its options gathered in ``opts`` (validated in the pipeline)."""
+    """:func:`denoise` with its options gathered in ``opts`` (validated in the pipeline).
+
+    Parameters
+    ----------
+    y : (n,) or (n, channels) array
+        Samples (any units); not modified.
+    sr : int
+        Sample rate (Hz).
+    opts : DenoiseOptions
+        The options of :func:`denoise`, as given (they are validated against ``sr`` here).
+
+    Returns
+    -------
+    DenoiseResult
+        With ``y`` (the cleaned samples) and ``hum`` (what was removed), shaped like the input.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> r = denoise_array(y, sr, DenoiseOptions(mains=50))
+    >>> r.y.shape == y.shape, r.nominal_hz
+    (True, 50.0)
+    """
     src = ArraySource(y, sr)
     # the source holds a private copy of y, read strictly ahead of what is written: the output
     # goes into it in place (one large allocation less)
@@ -124,7 +147,33 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
 
 
 def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None = None) -> DenoiseResult:
-    """:func:`denoise_file` with its options gathered in ``opts``."""
+    """:func:`denoise_file` with its options gathered in ``opts``.
+
+    Parameters
+    ----------
+    path_in, path_out : str or path-like
+        Input sound file and the file to write (written atomically).
+    opts : DenoiseOptions
+        The options of :func:`denoise`.
+    subtype : str, optional
+        Output subtype (soundfile name, e.g. ``'PCM_24'``); default: the input's.
+
+    Returns
+    -------
+    DenoiseResult
+        Without sample arrays; ``info`` names the files, format and subtype written.
+
+    Examples
+    --------
+    >>> import tempfile, os, soundfile as sf
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> d = tempfile.mkdtemp(); y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> sf.write(os.path.join(d, "in.wav"), y, sr, subtype="PCM_16")
+    >>> r = denoise_path(os.path.join(d, "in.wav"), os.path.join(d, "out.wav"), DenoiseOptions(),
+    ...                  subtype="FLOAT")
+    >>> r.info["subtype"], sf.info(os.path.join(d, "out.wav")).frames
+    ('FLOAT', 24000)
+    """
     import soundfile as sf
 
     from odnn_sep.io_utils import atomic_output, check_output_path
@@ -171,7 +220,29 @@ _PCM_BITS = {"PCM_S8": 8, "PCM_U8": 8, "PCM_16": 16}
 def requantisation_note(removed_power: float, subtype: str) -> str | None:
     """A warning when the hum removed (mean power, full scale 1) is within 10 dB of the noise that
     writing ``subtype`` adds (an 8/16-bit integer output is requantised after the subtraction:
-    noise of power LSB^2 / 12 over the whole band, where the hum was a few lines)."""
+    noise of power LSB^2 / 12 over the whole band, where the hum was a few lines).
+
+    Parameters
+    ----------
+    removed_power : float
+        Mean power of the hum removed per sample (full scale 1).
+    subtype : str
+        Output subtype (soundfile name); only 8- and 16-bit integer subtypes can warn.
+
+    Returns
+    -------
+    str or None
+        The warning, or None when the requantisation noise is negligible.
+
+    Examples
+    --------
+    >>> requantisation_note(1e-2, "PCM_16") is None
+    True
+    >>> requantisation_note(1e-12, "PCM_16")
+    'the hum removed (-120.0 dBFS) is within 10 dB of the requantisation noise ... PCM_24 or FLOAT ...'
+    >>> requantisation_note(1e-12, "FLOAT") is None
+    True
+    """
     bits = _PCM_BITS.get(subtype)
     if bits is None or removed_power <= 0:
         return None

@@ -25,7 +25,25 @@ def sin2_window(pos, length) -> np.ndarray:
 
 
 def hop_samples(block_s: float, sr) -> int:
-    """Hop (half a block) in samples for blocks of ``block_s`` seconds."""
+    """Hop (half a block) in samples for blocks of ``block_s`` seconds.
+
+    Parameters
+    ----------
+    block_s : float
+        Block length (s).
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    int
+        ``round(block_s sr / 2)``, at least 1.
+
+    Examples
+    --------
+    >>> hop_samples(8.0, 8000), hop_samples(0.0001, 8000)
+    (32000, 1)
+    """
     return max(1, int(round(block_s * sr / 2)))
 
 

@@ -61,7 +61,31 @@ class DenoiseOptions:
 
 
 def parse_block_s(block_s):
-    """``'auto'`` or a block length in seconds within :data:`BLOCK_S_RANGE`."""
+    """``'auto'`` or a block length in seconds within :data:`BLOCK_S_RANGE`.
+
+    Parameters
+    ----------
+    block_s : str or float
+        ``'auto'`` (any case) or a duration in seconds.
+
+    Returns
+    -------
+    'auto' or float
+
+    Raises
+    ------
+    InputError
+        When it is neither, or outside 0.1-60 s.
+
+    Examples
+    --------
+    >>> parse_block_s(" Auto "), parse_block_s("16")
+    ('auto', 16.0)
+    >>> parse_block_s(120)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: block_s must be between 0.1 and 60 s; got 120
+    """
     if isinstance(block_s, str) and block_s.strip().lower() == "auto":
         return "auto"
     try:
@@ -74,7 +98,33 @@ def parse_block_s(block_s):
 
 
 def parse_mains(mains, sr):
-    """``'auto'`` or a fundamental in Hz below Nyquist."""
+    """``'auto'`` or a fundamental in Hz below Nyquist.
+
+    Parameters
+    ----------
+    mains : str or float
+        ``'auto'`` (any case) or a frequency in Hz.
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    'auto' or float
+
+    Raises
+    ------
+    InputError
+        When it is not a positive frequency below ``sr / 2``.
+
+    Examples
+    --------
+    >>> parse_mains("AUTO", 8000), parse_mains("60", 8000)
+    ('auto', 60.0)
+    >>> parse_mains(50, 80)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: mains=50 Hz is at or above the Nyquist frequency (40 Hz for sr=80); ...
+    """
     if isinstance(mains, str) and mains.strip().lower() == "auto":
         return "auto"
     try:
@@ -90,7 +140,33 @@ def parse_mains(mains, sr):
 
 
 def parse_harmonics(harmonics):
-    """``'auto'``, a count N or a sorted list of harmonic numbers."""
+    """``'auto'``, a count N or a sorted list of harmonic numbers.
+
+    Parameters
+    ----------
+    harmonics : str, int or sequence of int
+        ``'auto'``, a count N (harmonics 1..N), a sequence of harmonic numbers, or the command
+        line's comma-separated ``"1,3,5"``.
+
+    Returns
+    -------
+    'auto', int or list of int
+        A list is sorted with duplicates removed.
+
+    Raises
+    ------
+    InputError
+        When a value is not a positive integer.
+
+    Examples
+    --------
+    >>> parse_harmonics("auto"), parse_harmonics(4.0), parse_harmonics("5,1,3,3")
+    ('auto', 4, [1, 3, 5])
+    >>> parse_harmonics(0)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: harmonics must be 'auto', a positive integer or a list of them (1,3,5); got 0
+    """
     if isinstance(harmonics, str) and harmonics.strip().lower() == "auto":
         return "auto"
     if isinstance(harmonics, str) and "," in harmonics:  # the CLI's "1,3,5"
@@ -112,7 +188,33 @@ def parse_harmonics(harmonics):
 
 
 def parse_tones(tones, sr):
-    """Tone frequencies (Hz) strictly between 0 and Nyquist."""
+    """Tone frequencies (Hz) strictly between 0 and Nyquist.
+
+    Parameters
+    ----------
+    tones : sequence of float or None
+        Tone frequencies (Hz); None or empty for none.
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    list of float
+
+    Raises
+    ------
+    InputError
+        When a tone is not a frequency strictly between 0 and ``sr / 2``.
+
+    Examples
+    --------
+    >>> parse_tones(["1000", 440], 8000), parse_tones(None, 8000)
+    ([1000.0, 440.0], [])
+    >>> parse_tones([5000], 8000)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: tone=5000 Hz must be between 0 and the Nyquist frequency (4000 Hz)
+    """
     out = []
     for t in tones or ():
         try:
@@ -126,7 +228,26 @@ def parse_tones(tones, sr):
 
 
 def progress_bar(enabled: bool, total: int, desc: str):
-    """A tqdm bar on stderr when enabled and stderr is a terminal, else None."""
+    """A tqdm bar on stderr when enabled and stderr is a terminal, else None.
+
+    Parameters
+    ----------
+    enabled : bool
+        Whether a bar was asked for.
+    total : int
+        Samples to process (the bar's length).
+    desc : str
+        The bar's label.
+
+    Returns
+    -------
+    tqdm.tqdm or None
+
+    Examples
+    --------
+    >>> progress_bar(False, 1000, "denoise") is None
+    True
+    """
     if not enabled or not sys.stderr.isatty():
         return None
     from tqdm import tqdm
@@ -135,7 +256,33 @@ def progress_bar(enabled: bool, total: int, desc: str):
 
 
 def parse_max_hz(max_hz, sr):
-    """``None`` (0.95 x Nyquist) or a positive frequency in Hz."""
+    """``None`` (0.95 x Nyquist) or a positive frequency in Hz.
+
+    Parameters
+    ----------
+    max_hz : float or None
+        Highest harmonic frequency to consider (Hz).
+    sr : int
+        Sample rate (Hz); not used by the check.
+
+    Returns
+    -------
+    float or None
+
+    Raises
+    ------
+    InputError
+        When it is not a positive frequency.
+
+    Examples
+    --------
+    >>> parse_max_hz(None, 8000) is None, parse_max_hz("1000", 8000)
+    (True, 1000.0)
+    >>> parse_max_hz(-5, 8000)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: max_hz must be a positive frequency in Hz (the highest harmonic to consider); got -5
+    """
     if max_hz is None:
         return None
     try:

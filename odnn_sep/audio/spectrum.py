@@ -10,6 +10,29 @@ import numpy as np
 
 @dataclass
 class Spectrum:
+    """A Welch PSD per channel, with the per-segment periodograms near the lines when kept.
+
+    Attributes
+    ----------
+    freqs : (nf,) array
+        Bin frequencies (Hz).
+    psd : (nf, channels) array
+        Mean power per Hz over the segments.
+    n_segments : int
+        Welch segments averaged (per channel).
+    seconds : float
+        Signal duration analysed (s).
+    segments : (nf_keep, channels, n_segments) array or None
+        Per-segment PSD of the lowest bins (for the persistence test).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = Spectrum(freqs=np.arange(5) * 0.25, psd=np.ones((5, 1)), n_segments=4, seconds=10.0)
+    >>> s.df, s.dof_per_bin
+    (0.25, 7.2)
+    """
+
     freqs: np.ndarray        # (nf,)
     psd: np.ndarray          # (nf, channels), mean power per Hz over segments
     n_segments: int          # Welch segments averaged (per channel)
@@ -38,6 +61,32 @@ def excerpt_spectrum(source, *, seg_s: float = 4.0, max_total_s: float = 240.0,
 
     ``keep_segments_hz``: also keep the per-segment periodograms below this frequency (used by
     the persistence test in :func:`detect_hum`).
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        Anything with ``sr``, ``frames`` and ``read(start, n) -> (n, channels)``.
+    seg_s : float
+        Welch segment length (s); Hann window, 50 % overlap.
+    max_total_s : float
+        Longest input analysed whole (s).
+    n_excerpts : int
+        Excerpts read from a longer input.
+    keep_segments_hz : float, optional
+        Keep the per-segment periodograms below this frequency (Hz).
+
+    Returns
+    -------
+    Spectrum
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> y = np.sin(2 * np.pi * 50 * np.arange(24000) / 8000)
+    >>> s = excerpt_spectrum(ArraySource(y, 8000))
+    >>> s.psd.shape, s.n_segments, s.seconds, float(s.freqs[s.psd[:, 0].argmax()])
+    ((6001, 1), 3, 3.0, 50.0)
     """
     sr, n = source.sr, source.frames
     nper = int(min(seg_s * sr, max(n // 2, 16)))
