@@ -34,7 +34,31 @@ def engine_rate(sfreq: float) -> tuple[int, float]:
 
 
 def check_engine_options(opts: dict, sfreq: float, n_times: int) -> None:
-    """Check the frequency options against the true ``sfreq`` (so messages quote the user's values)."""
+    """Check the frequency options against the true ``sfreq`` (so messages quote the user's values).
+
+    Parameters
+    ----------
+    opts : dict
+        Engine options (``mains``, ``tones``, ``max_hz``, ...).
+    sfreq : float
+        Sampling frequency (Hz).
+    n_times : int
+        Samples per channel.
+
+    Raises
+    ------
+    InputError
+        For too short an input or a bad frequency option.
+
+    Examples
+    --------
+    >>> check_engine_options({"mains": 50}, 512.5, 5000) is None
+    True
+    >>> check_engine_options({}, 512.5, 50)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: input is too short (50 samples = 0.098 s at 512.5 Hz) to resolve mains hum; ...
+    """
     if n_times < MIN_SECONDS * sfreq:
         raise InputError(f"input is too short ({n_times} samples = {n_times / sfreq:.3f} s at {sfreq:g} Hz) to "
                          f"resolve mains hum; pass at least {MIN_SECONDS:g} s of data")
@@ -44,7 +68,27 @@ def check_engine_options(opts: dict, sfreq: float, n_times: int) -> None:
 
 
 def scaled_options(opts: dict, scale: float) -> dict:
-    """Engine options with every frequency multiplied (and every duration divided) by ``scale``."""
+    """Engine options with every frequency multiplied (and every duration divided) by ``scale``.
+
+    Parameters
+    ----------
+    opts : dict
+        Engine options; not modified.
+    scale : float
+        ``sr / sfreq`` (see :func:`engine_rate`).
+
+    Returns
+    -------
+    dict
+        A copy with ``mains``, ``tones``, ``max_hz`` and ``block_s`` scaled ('auto' kept).
+
+    Examples
+    --------
+    >>> scaled_options({"mains": 50, "tones": [10], "block_s": 8.0}, 0.5)
+    {'mains': 25.0, 'tones': [5.0], 'block_s': 16.0}
+    >>> scaled_options({"mains": "auto"}, 0.5)
+    {'mains': 'auto', 'tones': []}
+    """
     out = dict(opts)
     if scale == 1.0:
         return out
@@ -73,6 +117,14 @@ def clean_columns(x: np.ndarray, sfreq: float, opts: dict) -> tuple[np.ndarray, 
     summary : dict
         ``mains_hz`` (true Hz or None), ``nominal_hz``, ``harmonics``, ``line_freqs_hz``,
         ``level_before_db``, ``level_after_db`` (per line, per column).
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(2500) / sfreq
+    >>> x = np.random.default_rng(0).standard_normal(t.size) + 2 * np.cos(2 * np.pi * 50 * t)
+    >>> hum, summary = clean_columns(x, sfreq, {})
+    >>> hum.shape, summary["nominal_hz"], summary["harmonics"], round(summary["mains_hz"], 1)
+    ((2500,), 50.0, [1], 50.0)
     """
     from odnn_sep.audio.api import denoise  # the engine; imported here (api imports this module lazily)
 
@@ -100,7 +152,19 @@ class _DropNoHum(logging.Filter):
 @contextlib.contextmanager
 def quiet_no_hum_warnings():
     """Silence the engine's per-call "no mains hum found" warning: over many channels the caller
-    reports once how many channels had none."""
+    reports once how many channels had none.
+
+    Returns
+    -------
+    context manager
+        The filters are removed on exit.
+
+    Examples
+    --------
+    >>> import logging
+    >>> with quiet_no_hum_warnings():
+    ...     logging.getLogger("odnn_sep.audio.pipeline").warning("no mains hum found in the input")
+    """
     flt = _DropNoHum()
     names = [n for n in list(logging.root.manager.loggerDict) if n.startswith("odnn_sep.audio")]
     loggers = [logging.getLogger(n) for n in names]

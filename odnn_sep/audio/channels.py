@@ -43,7 +43,23 @@ CHANNEL_OPTIONS = ("sfreq", "picks", "channel_axis", "spatial", "return_report")
 
 
 def is_raw(obj) -> bool:
-    """True for an MNE Raw; never imports MNE (an object of MNE's has already imported it)."""
+    """True for an MNE Raw; never imports MNE (an object of MNE's has already imported it).
+
+    Parameters
+    ----------
+    obj : object
+        Anything.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> is_raw(np.zeros((2, 100)))
+    False
+    """
     if sys.modules.get("mne") is None:
         return False
     from mne.io import BaseRaw
@@ -54,7 +70,39 @@ def is_raw(obj) -> bool:
 def is_channel_call(y, sr, channel_options: dict) -> bool:
     """Whether :func:`denoise` was called the EEG/MEG way (a Raw, or any channel option given).
 
-    Otherwise checks what the audio call needs (an array and an integer ``sr``)."""
+    Otherwise checks what the audio call needs (an array and an integer ``sr``).
+
+    Parameters
+    ----------
+    y : array or mne.io.Raw
+        The data passed to :func:`denoise`.
+    sr : int, float or None
+        The ``sr`` passed to :func:`denoise`.
+    channel_options : dict
+        The keyword options beyond the engine's (``sfreq``, ``picks``, ...).
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    TypeError
+        For an unknown keyword option.
+    InputError
+        For an audio call without a usable integer ``sr``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y = np.zeros(8000)
+    >>> is_channel_call(y, 8000, {}), is_channel_call(y, None, {"sfreq": 512.5})
+    (False, True)
+    >>> is_channel_call(y, 512.5, {})
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: sr=512.5 is not an integer audio rate; ...
+    """
     unknown = sorted(set(channel_options) - set(CHANNEL_OPTIONS))
     if unknown:
         raise TypeError(f"denoise() got unexpected keyword argument(s) {', '.join(map(repr, unknown))}")
@@ -75,7 +123,27 @@ def is_channel_call(y, sr, channel_options: dict) -> bool:
 
 
 def check_signal_type(y) -> None:
-    """Refuse anything that is neither an array (or list) nor an MNE Raw, saying what to pass."""
+    """Refuse anything that is neither an array (or list) nor an MNE Raw, saying what to pass.
+
+    Parameters
+    ----------
+    y : object
+        The data passed to :func:`denoise`.
+
+    Raises
+    ------
+    InputError
+        When ``y`` is not an array, list, tuple or Raw.
+
+    Examples
+    --------
+    >>> check_signal_type([0.0, 1.0]) is None
+    True
+    >>> check_signal_type("hum.wav")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: y must be a NumPy array or an MNE Raw; got str
+    """
     if isinstance(y, (np.ndarray, list, tuple)) or is_raw(y):
         return
     hint = ""
@@ -85,7 +153,31 @@ def check_signal_type(y) -> None:
 
 
 def check_sfreq(sfreq) -> float:
-    """A finite, positive sampling frequency in Hz (fractional rates such as 512.5 are fine)."""
+    """A finite, positive sampling frequency in Hz (fractional rates such as 512.5 are fine).
+
+    Parameters
+    ----------
+    sfreq : float, str or None
+        The sampling frequency given.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InputError
+        When it is missing, not a number, or not finite and positive.
+
+    Examples
+    --------
+    >>> check_sfreq("512.5")
+    512.5
+    >>> check_sfreq(0)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: sfreq must be a finite, positive sampling frequency in Hz; got 0
+    """
     if sfreq is None:
         raise InputError("sfreq is missing: an EEG/MEG array needs its sampling frequency, e.g. "
                          "denoise(data, sfreq=512.5)")
@@ -126,6 +218,16 @@ def denoise_channels(y, sr=None, *, sfreq=None, picks=None, channel_axis=None, s
     Returns
     -------
     Same type as ``y`` (and the report dict when ``return_report``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sfreq = 250.0; t = np.arange(2500) / sfreq
+    >>> rng = np.random.default_rng(0)
+    >>> x = rng.standard_normal((2, t.size)) + np.outer([2.0, 1.0], np.cos(2 * np.pi * 50 * t))
+    >>> out, rep = denoise_channels(x, sfreq=sfreq, return_report=True)
+    >>> out.shape, rep["method"], rep["picks"], [ch["harmonics"] for ch in rep["channels"]]
+    ((2, 2500), 'per-channel', [0, 1], [[1], [1]])
     """
     bad = sorted(set(engine_options) - set(ENGINE_OPTIONS))
     if bad:
@@ -142,7 +244,33 @@ def denoise_channels(y, sr=None, *, sfreq=None, picks=None, channel_axis=None, s
 
 
 def channels_view(arr: np.ndarray, channel_axis) -> np.ndarray:
-    """A (n_channels, n_times) view of a 1-D or 2-D array (the orientation rule of :func:`denoise_channels`)."""
+    """A (n_channels, n_times) view of a 1-D or 2-D array (the orientation rule of :func:`denoise_channels`).
+
+    Parameters
+    ----------
+    arr : ndarray
+        1-D (one channel) or 2-D data.
+    channel_axis : {0, 1, -1, -2} or None
+        The axis of the channels; None: the shorter axis (a square array is refused).
+
+    Returns
+    -------
+    ndarray
+        A view (no copy) of ``arr``, channels first.
+
+    Raises
+    ------
+    InputError
+        For other dimensions, a square array without ``channel_axis``, or a bad axis.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> channels_view(np.zeros(10), None).shape, channels_view(np.zeros((10, 3)), None).shape
+    ((1, 10), (3, 10))
+    >>> channels_view(np.zeros((4, 4)), 1).shape
+    (4, 4)
+    """
     if arr.ndim == 1:
         return arr[None, :]
     if arr.ndim != 2:

@@ -17,7 +17,32 @@ log = logging.getLogger(__name__)
 
 
 def parse_picks(text: str | None) -> list[int] | None:
-    """``"0,2"`` -> ``[0, 2]`` (channel indices of a sound file, 0-based)."""
+    """``"0,2"`` -> ``[0, 2]`` (channel indices of a sound file, 0-based).
+
+    Parameters
+    ----------
+    text : str or None
+        The ``--picks`` value: comma-separated integers.
+
+    Returns
+    -------
+    list of int or None
+        None when no picks were given.
+
+    Raises
+    ------
+    InputError
+        When an entry is not an integer.
+
+    Examples
+    --------
+    >>> parse_picks("0,2"), parse_picks("1,"), parse_picks(None)
+    ([0, 2], [1], None)
+    >>> parse_picks("left")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --picks must be comma-separated channel indices such as 0,2; got 'left'
+    """
     if text is None:
         return None
     try:
@@ -30,6 +55,34 @@ def denoise_file_channels(path_in, path_out, *, picks=None, spatial=False, subty
     """Clean the picked channels of ``path_in`` into ``path_out``; returns a JSON-ready report.
 
     Options as in :func:`odnn_sep.audio.channels.denoise_channels`; ``picks`` are channel indices.
+
+    Parameters
+    ----------
+    path_in, path_out : str or path-like
+        Input sound file and the file to write (atomically).
+    picks : list of int, optional
+        Channels to clean (0-based); default: all.
+    spatial : bool
+        Use the hum's spatial components (needs at least 2 channels).
+    subtype : str, optional
+        Output subtype (soundfile name); default: the input's.
+    **engine_options
+        ``mains``, ``harmonics``, ``tones``, ... as in :func:`odnn_sep.audio.denoise`.
+
+    Returns
+    -------
+    dict
+        JSON-ready: the files, format, per-channel summaries and one entry per line removed.
+
+    Examples
+    --------
+    >>> import os, tempfile, soundfile as sf
+    >>> from odnn_sep.audio.synth import make_hum_mix
+    >>> y, _, _ = make_hum_mix(4.0, 8000, channels=2)
+    >>> d = tempfile.mkdtemp(); sf.write(os.path.join(d, "in.wav"), y, 8000, subtype="FLOAT")
+    >>> rep = denoise_file_channels(os.path.join(d, "in.wav"), os.path.join(d, "out.wav"), picks=[1])
+    >>> rep["picks"], rep["channels"], sorted({ln["channel"] for ln in rep["lines"]})
+    ([1], 2, [1])
     """
     import soundfile as sf
 
@@ -76,7 +129,24 @@ def _file_report(report: dict, src, out, fmt: str, st: str, clip_message) -> dic
 
 
 def summary_line(rep: dict) -> str:
-    """One line for the terminal: what was removed where."""
+    """One line for the terminal: what was removed where.
+
+    Parameters
+    ----------
+    rep : dict
+        A report of :func:`denoise_file_channels`.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> summary_line({"lines": [{"channel": 0}], "output": "out.wav"})
+    'removed hum on channel(s) [0] -> out.wav'
+    >>> summary_line({"lines": [], "output": "out.wav"})
+    'no significant hum found on the picked channels; wrote the input unchanged -> out.wav'
+    """
     found = sorted({ln["channel"] for ln in rep["lines"]})
     comps = (rep.get("spatial") or {}).get("components") or {}
     head = ""
