@@ -23,6 +23,22 @@ examples:
 
 
 def register(subparsers) -> None:
+    """Add the ``denoise`` subcommand and its options to ``subparsers``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers()`` returned.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers())
+    >>> args = parser.parse_args(["denoise", "in.wav", "-o", "out.wav", "--mains", "60", "--tone", "1000"])
+    >>> args.mains, args.tone, args.harmonics, args.func is run
+    ('60', [1000.0], 'auto', True)
+    """
     p = subparsers.add_parser("denoise", help=HELP, description=DESCRIPTION, epilog=EXAMPLES,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", metavar="IN", help="input audio file (WAV, FLAC, OGG, AIFF; MP3 where supported)")
@@ -58,6 +74,30 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``odnn-sep denoise`` with the parsed ``args`` (see :func:`register`).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit status (0; errors are raised as :class:`~odnn_sep.errors.InputError`).
+
+    Examples
+    --------
+    >>> import argparse, os, tempfile, soundfile as sf
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> d = tempfile.mkdtemp(); y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> sf.write(os.path.join(d, "in.wav"), y, sr)
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep"); register(parser.add_subparsers())
+    >>> args = parser.parse_args(["denoise", os.path.join(d, "in.wav"), "-o", os.path.join(d, "out.wav"),
+    ...                           "--quiet"])
+    >>> run(args), sf.info(os.path.join(d, "out.wav")).frames
+    (0, 24000)
+    """
     from pathlib import Path
 
     from odnn_sep.audio.api import denoise_file

@@ -16,7 +16,26 @@ log = logging.getLogger(__name__)
 
 
 class ArraySource:
-    """An in-memory signal, shaped (n, channels)."""
+    """An in-memory signal, shaped (n, channels).
+
+    Parameters
+    ----------
+    y : (n,) or (n, channels) array-like
+        Samples along the first axis; copied to float64.
+    sr : int
+        Sample rate (Hz); a positive integer.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> src = ArraySource(np.arange(6.0), 8000)
+    >>> src.frames, src.channels, src.mono, src.read(4, 10).ravel().tolist()
+    (6, 1, True, [4.0, 5.0])
+    >>> ArraySource(np.zeros((2, 100)), 8000)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: y has shape (2, 100): more channels than samples; ...
+    """
 
     def __init__(self, y, sr):
         arr = as_float_array("y", y, ndim=(1, 2))
@@ -46,7 +65,23 @@ class ArraySource:
 
 
 class FileSource:
-    """A sound file read with soundfile in blocks (float64, always 2-D)."""
+    """A sound file read with soundfile in blocks (float64, always 2-D).
+
+    Parameters
+    ----------
+    path : str or path-like
+        An existing sound file (WAV, FLAC, OGG, AIFF; MP3 where libsndfile supports it).
+
+    Examples
+    --------
+    >>> import os, tempfile, numpy as np, soundfile as sf
+    >>> p = os.path.join(tempfile.mkdtemp(), "a.wav")
+    >>> sf.write(p, np.zeros((800, 2)), 8000, subtype="PCM_16")
+    >>> src = FileSource(p)
+    >>> src.sr, src.channels, src.frames, src.subtype, src.read(790, 100).shape
+    (8000, 2, 800, 'PCM_16', (10, 2))
+    >>> src.close()
+    """
 
     def __init__(self, path):
         import soundfile as sf
@@ -120,7 +155,38 @@ def _check_sr(sr) -> int:
 
 def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str, str]:
     """Container format and subtype for the output: same as the input unless the suffix or the
-    caller asks otherwise."""
+    caller asks otherwise.
+
+    Parameters
+    ----------
+    src : FileSource
+        The input.
+    out : pathlib.Path
+        The output path; its suffix names the container.
+    subtype : str, optional
+        The subtype asked for (soundfile name).
+
+    Returns
+    -------
+    (str, str)
+        Container format and subtype (soundfile names).
+
+    Raises
+    ------
+    InputError
+        For an unknown suffix, or a subtype asked for that the container cannot hold.
+
+    Examples
+    --------
+    >>> import os, tempfile, numpy as np, soundfile as sf
+    >>> from pathlib import Path
+    >>> p = os.path.join(tempfile.mkdtemp(), "a.wav")
+    >>> sf.write(p, np.zeros(800), 8000, subtype="PCM_16")
+    >>> src = FileSource(p)
+    >>> output_subtype(src, Path("x.flac"), None), output_subtype(src, Path("x.wav"), "FLOAT")
+    (('FLAC', 'PCM_16'), ('WAV', 'FLOAT'))
+    >>> src.close()
+    """
     import soundfile as sf
 
     ext = out.suffix.lower().lstrip(".")
@@ -142,7 +208,24 @@ def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str
 
 
 class ClipCounter:
-    """Clips to [-1, 1] for integer subtypes and remembers how much was cut (never silently)."""
+    """Clips to [-1, 1] for integer subtypes and remembers how much was cut (never silently).
+
+    Parameters
+    ----------
+    integer : bool
+        Whether the output subtype is an integer one (only those are clipped).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> clip = ClipCounter(integer=True)
+    >>> clip(np.array([0.5, 1.5, -2.0])).tolist(), clip.n_clipped
+    ([0.5, 1.0, -1.0], 2)
+    >>> clip.message()
+    'output clipped: 2 sample(s) exceeded full scale by up to 6.02 dB (peak 2.0000); ...'
+    >>> ClipCounter(integer=False).message() is None
+    True
+    """
 
     def __init__(self, integer: bool):
         self.integer = integer
@@ -171,6 +254,22 @@ class ClipCounter:
 
 
 def is_integer_subtype(subtype: str) -> bool:
+    """Whether a soundfile subtype stores integers (PCM and the companded/ADPCM codecs).
+
+    Parameters
+    ----------
+    subtype : str
+        A soundfile subtype name.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> is_integer_subtype("PCM_16"), is_integer_subtype("ULAW"), is_integer_subtype("FLOAT")
+    (True, True, False)
+    """
     return subtype.startswith(("PCM", "ULAW", "ALAW", "DWVW", "DPCM", "IMA", "MS_ADPCM", "GSM", "G72"))
 
 
@@ -179,7 +278,29 @@ _BYTES = {"PCM_U8": 1, "PCM_S8": 1, "PCM_16": 2, "PCM_24": 3, "PCM_32": 4, "FLOA
 
 def wav_declared_frames(path, channels: int, subtype: str) -> int | None:
     """Frames the ``data`` chunk of a RIFF/WAVE header declares (None when not a plain PCM/float
-    WAV, or when the size field is a streaming placeholder)."""
+    WAV, or when the size field is a streaming placeholder).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    channels : int
+        Channels of the file.
+    subtype : str
+        Its soundfile subtype (gives the bytes per sample).
+
+    Returns
+    -------
+    int or None
+
+    Examples
+    --------
+    >>> import os, tempfile, numpy as np, soundfile as sf
+    >>> p = os.path.join(tempfile.mkdtemp(), "a.wav")
+    >>> sf.write(p, np.zeros((800, 2)), 8000, subtype="PCM_16")
+    >>> wav_declared_frames(p, 2, "PCM_16"), wav_declared_frames(p, 2, "VORBIS")
+    (800, None)
+    """
     width = _BYTES.get(subtype)
     if width is None:
         return None

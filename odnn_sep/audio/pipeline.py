@@ -47,7 +47,35 @@ def run(source, sink, opts: DenoiseOptions, *, after_source_fn):
     """All passes over ``source`` (an ArraySource or FileSource); the cleaned samples go through
     ``sink(piece, removed)``. ``opts`` as given by the caller (validated here, once);
     ``after_source_fn()``: the written output as a source, for the line levels after. Returns the
-    DenoiseResult."""
+    DenoiseResult.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input, read twice in bounded blocks.
+    sink : callable
+        ``sink(piece, removed)``: receives each stretch of input and the hum fitted to it, in order.
+    opts : DenoiseOptions
+        The options as given.
+    after_source_fn : callable
+        Returns the written output as a source, once every piece went through ``sink``.
+
+    Returns
+    -------
+    DenoiseResult
+        Without ``y`` and ``hum`` (the sink has them).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000); out = []
+    >>> r = run(ArraySource(y, sr), lambda piece, removed: out.append(piece - removed), DenoiseOptions(),
+    ...         after_source_fn=lambda: ArraySource(np.concatenate(out), sr))
+    >>> r.harmonics[:2], sum(len(o) for o in out)
+    ([1, 2], 24000)
+    """
     # Many small matrix products: BLAS threads only add spin-wait overhead here (and collapse
     # when the machine is busy), so run them single-threaded.
     try:

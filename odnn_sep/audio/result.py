@@ -47,6 +47,17 @@ class DenoiseResult:
         Each line's level above its local noise floor (dB, per channel).
     report : dict
         JSON-ready summary (see :meth:`as_dict`).
+
+    Examples
+    --------
+    >>> from odnn_sep.audio import denoise
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> r = denoise(y, sr)
+    >>> r.line_names[:2], r.amplitudes.shape[1:], bool(abs(y - r.y - r.hum).max() < 1e-12)
+    (['h1', 'h2'], (1, 5), True)
+    >>> d = r.as_dict(); d["mains"]["nominal_hz"], [ln["name"] for ln in d["lines"]][:2]
+    (50.0, ['h1', 'h2'])
     """
 
     y: np.ndarray | None
