@@ -26,6 +26,32 @@ FLOOR_WIDTH_HZ = 8.0    # width of the floor region on each side
 
 @dataclass
 class Detection:
+    """What :func:`detect_hum` decided.
+
+    Attributes
+    ----------
+    mains_hz : float or None
+        Refined fundamental (Hz); None when no hum was found.
+    nominal_hz : float or None
+        50, 60 or the requested value.
+    harmonics : list of int
+        Harmonic numbers to remove.
+    tones : list of float
+        Refined tone frequencies (Hz).
+    candidates : list of dict
+        Every line tested, with its statistics.
+    floors : dict
+        ``(kind, k)`` -> per-channel floor PSD of each chosen line (``kind`` 'h' or 'tone').
+    alpha : float
+        Family-wise significance level used.
+
+    Examples
+    --------
+    >>> d = Detection(mains_hz=50.01, nominal_hz=50.0, harmonics=[1, 3], tones=[])
+    >>> d.harmonics, d.candidates, d.alpha
+    ([1, 3], [], 0.001)
+    """
+
     mains_hz: float | None                 # refined fundamental (Hz), None when no hum was found
     nominal_hz: float | None               # 50, 60 or the requested value
     harmonics: list[int]                   # harmonic numbers that will be removed
@@ -51,6 +77,27 @@ def _median0(a: np.ndarray) -> np.ndarray:
 
 
 def band_halfwidth(spec: Spectrum, k: float) -> float:
+    """Half-width (Hz) of the band tested for harmonic ``k``: two bins plus ``k`` times the drift
+    tolerance :data:`DRIFT_TOL_HZ`.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        The spectrum tested (gives the bin width).
+    k : float
+        Harmonic number (0 for a fixed tone).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> spec = Spectrum(np.arange(10) * 0.25, np.ones((10, 1)), 4, 10.0)
+    >>> band_halfwidth(spec, 0), round(band_halfwidth(spec, 3), 2)
+    (0.5, 0.8)
+    """
     return 2.0 * spec.df + DRIFT_TOL_HZ * k
 
 
@@ -62,6 +109,31 @@ def persistence_p_value(spec: Spectrum, f: float, bw: float, floor: np.ndarray) 
     of them exceeds x with probability binom.sf(ceil(L/2) - 1, L, q(x)). A transient host note
     that sits on a harmonic raises the mean spectrum but not this median, so it is not taken for
     hum.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        With per-segment periodograms (``segments``); without them the p-value is 1.
+    f : float
+        Line frequency (Hz).
+    bw : float
+        Band half-width (Hz).
+    floor : (channels,) array
+        Local floor PSD per channel (from :func:`line_level`).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> spec = excerpt_spectrum(ArraySource(y, sr), keep_segments_hz=1000)
+    >>> floor = line_level(spec, 50.0, 0.5)["floor"]
+    >>> persistence_p_value(spec, 50.0, 0.5, floor) < 1e-6
+    True
     """
     S = spec.segments
     if S is None:
@@ -84,6 +156,33 @@ def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
     """Power in ``f +- bw`` relative to the local floor, per channel and pooled, with a p-value.
 
     ``exclude``: (frequency, half-width) of other lines kept out of the floor estimate.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        The spectrum.
+    f : float
+        Line frequency (Hz).
+    bw : float
+        Band half-width (Hz).
+    exclude : sequence of (float, float)
+        Other lines' frequency and half-width (Hz).
+
+    Returns
+    -------
+    dict
+        ``level_db`` (per channel), ``pooled_db``, ``p_value`` (chi-square, one line) and
+        ``floor`` (per-channel floor PSD); NaN levels and p-value 1 when the floor region has
+        fewer than 4 bins.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> st = line_level(excerpt_spectrum(ArraySource(y, sr)), 50.0, 1.5)
+    >>> round(st["pooled_db"]), st["p_value"] < 1e-6
+    (23, True)
     """
     # work on the few bins around the line only (long spectra have ~10^5 bins)
     reach = bw + FLOOR_GAP_HZ + FLOOR_WIDTH_HZ + spec.df
@@ -124,7 +223,27 @@ def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
 
 def line_test(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
     """:func:`line_level`, its p-value raised to that of :func:`persistence_p_value` where the
-    local floor is known (a line must stand out on average and in most segments)."""
+    local floor is known (a line must stand out on average and in most segments).
+
+    Parameters
+    ----------
+    spec, f, bw, exclude
+        As in :func:`line_level`.
+
+    Returns
+    -------
+    dict
+        As :func:`line_level`.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> spec = excerpt_spectrum(ArraySource(y, sr), keep_segments_hz=1000)
+    >>> line_test(spec, 50.0, 1.5)["p_value"] < 1e-6
+    True
+    """
     st = line_level(spec, f, bw, exclude)
     if np.isfinite(st["floor"]).all():
         st["p_value"] = max(st["p_value"], persistence_p_value(spec, f, bw, st["floor"]))
@@ -132,7 +251,31 @@ def line_test(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
 
 
 def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float = 0.01) -> float:
-    """Fundamental maximising the floor-normalised power summed over harmonics (SNR weighting)."""
+    """Fundamental maximising the floor-normalised power summed over harmonics (SNR weighting).
+
+    Parameters
+    ----------
+    spec : Spectrum
+        The spectrum (channels pooled).
+    nominal : float
+        Nominal fundamental (Hz).
+    ks : sequence of int
+        Harmonics that vote.
+    rel_search : float
+        Relative search range around ``nominal``.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> round(refine_fundamental(excerpt_spectrum(ArraySource(y, sr)), 50.0, [1, 2, 3]), 1)
+    50.0
+    """
     pooled = spec.psd.sum(axis=1)
     lo, hi = nominal * (1 - rel_search), nominal * (1 + rel_search)
     grid = np.arange(lo, hi, min(0.002, spec.df / 20))
@@ -155,7 +298,30 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
 
 def candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> list[int]:
     """Harmonic numbers to test: ``'auto'`` (up to MAX_HARMONICS), a count or a list, each below
-    0.95 x Nyquist (or ``max_hz``) with room for drift."""
+    0.95 x Nyquist (or ``max_hz``) with room for drift.
+
+    Parameters
+    ----------
+    f0 : float
+        Fundamental (Hz).
+    sr : int
+        Sample rate (Hz).
+    harmonics : 'auto', int or list of int
+        As normalised by :func:`~odnn_sep.audio.options.parse_harmonics`.
+    max_hz : float or None
+        Highest frequency considered (Hz).
+
+    Returns
+    -------
+    list of int
+
+    Examples
+    --------
+    >>> candidate_harmonics(60.0, 400, "auto", None), candidate_harmonics(50.0, 8000, [1, 3, 5], 200)
+    ([1, 2, 3], [1, 3])
+    >>> len(candidate_harmonics(50.0, 8000, "auto", None)), candidate_harmonics(50.0, 8000, 3, None)
+    (40, [1, 2, 3])
+    """
     nyq = sr / 2
     top = 0.95 * nyq if max_hz is None else min(0.95 * nyq, max_hz)
     if isinstance(harmonics, list):
@@ -167,7 +333,30 @@ def candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> 
 
 def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones=(),
                alpha: float = 1e-3, max_hz: float | None = None) -> Detection:
-    """Decide the fundamental and the harmonics to remove (see the module docstring)."""
+    """Decide the fundamental and the harmonics to remove (see the module docstring).
+
+    Parameters
+    ----------
+    spec : Spectrum
+        Spectrum of the input (with per-segment periodograms for the persistence test).
+    sr : int
+        Sample rate (Hz).
+    mains, harmonics, tones, alpha, max_hz
+        As validated by :class:`~odnn_sep.audio.options.DenoiseOptions`.
+
+    Returns
+    -------
+    Detection
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> det = detect_hum(excerpt_spectrum(ArraySource(y, sr), keep_segments_hz=1000), sr)
+    >>> det.nominal_hz, det.harmonics[:3], round(det.mains_hz, 1)
+    (50.0, [1, 2, 3], 50.0)
+    """
     nominals = [50.0, 60.0] if mains == "auto" else [float(mains)]
     fams = {}
     n_tests = 0
@@ -226,7 +415,29 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
 
 
 def refine_tones(spec: Spectrum, tones) -> list[float]:
-    """Each tone at the spectrum's peak within +-0.5 Hz (parabolic on log power), or as given."""
+    """Each tone at the spectrum's peak within +-0.5 Hz (parabolic on log power), or as given.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        The spectrum (channels pooled).
+    tones : sequence of float
+        Tone frequencies (Hz).
+
+    Returns
+    -------
+    list of float
+        A tone is returned as given when fewer than 3 bins lie within +-0.5 Hz of it.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> t = np.arange(24000) / 2000
+    >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size) + np.sin(2 * np.pi * 300.1 * t)
+    >>> [round(f, 2) for f in refine_tones(excerpt_spectrum(ArraySource(x, 2000)), [300.0])]
+    [300.1]
+    """
     tone_list = []
     pooled = spec.psd.sum(axis=1)
     for t in tones:
@@ -245,7 +456,31 @@ def refine_tones(spec: Spectrum, tones) -> list[float]:
 
 
 def line_levels(spec: Spectrum, freqs, *, half_width_hz=None) -> list[dict]:
-    """Level of each given line above its local floor (dB, per channel), for the report."""
+    """Level of each given line above its local floor (dB, per channel), for the report.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        The spectrum.
+    freqs : sequence of float
+        Line frequencies (Hz); each is kept out of the others' floors.
+    half_width_hz : float, optional
+        Band half-width (Hz); default :func:`band_halfwidth` at ``f / 60``.
+
+    Returns
+    -------
+    list of dict
+        ``freq_hz`` and ``level_db`` (list, per channel) per line.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
+    >>> lv = line_levels(excerpt_spectrum(ArraySource(y, sr)), [50.0, 100.0])
+    >>> [(d["freq_hz"], round(d["level_db"][0])) for d in lv]
+    [(50.0, 23), (100.0, 25)]
+    """
     out = []
     all_lines = list(freqs)
     for i, f in enumerate(all_lines):
