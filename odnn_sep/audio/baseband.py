@@ -18,7 +18,34 @@ log = logging.getLogger(__name__)
 
 
 def tracked_phase(D, sr: int, f_ref: float, trk) -> np.ndarray:
-    """``psi_j`` (rad) at the chunk centres: 2 pi times the integral of ``f0(t) - f_ref``."""
+    """``psi_j`` (rad) at the chunk centres: 2 pi times the integral of ``f0(t) - f_ref``.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums (only their count is used).
+    sr : int
+        Sample rate (Hz).
+    f_ref : float
+        Reference fundamental of ``D`` (Hz).
+    trk : track.Track
+        The fundamental track; its refined phase is used when it has one at ``f_ref``.
+
+    Returns
+    -------
+    (J,) float array
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.track import Track
+    >>> D = np.zeros((400, 1, 1), np.complex64)            # 4 s of chunk sums at 8 kHz
+    >>> z = np.zeros(3)
+    >>> trk = Track(t=np.array([0.0, 2.0, 4.0]), f0=np.full(3, 50.25), rate=z, curv=z,
+    ...             confident=np.ones(3, bool), strength=z)
+    >>> psi = tracked_phase(D, 8000, 50.0, trk)
+    >>> psi.shape, round(float(psi[-1] / (2 * np.pi)), 3)                   # 0.25 Hz over 4 s: one cycle
+    ((400,), 1.0)
+    """
     m = _track.chunk_length(sr)
     tc = (np.arange(D.shape[0]) * m + (m - 1) / 2) / sr
     ph = getattr(trk, "phase", None)
@@ -29,7 +56,27 @@ def tracked_phase(D, sr: int, f_ref: float, trk) -> np.ndarray:
 
 
 def derotate(D, ks, psi) -> np.ndarray:
-    """``D * exp(-i k psi)`` in complex128, shape (J, C, K)."""
+    """``D * exp(-i k psi)`` in complex128, shape (J, C, K).
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums.
+    ks : sequence of float
+        Harmonic number of each column.
+    psi : (J,) float array
+        Tracked phase (rad), as :func:`tracked_phase` gives it.
+
+    Returns
+    -------
+    (J, C, K) complex128 array
+
+    Examples
+    --------
+    >>> D = np.ones((3, 1, 2), np.complex64)
+    >>> derotate(D, [1, 2], np.array([0.0, np.pi / 2, np.pi]))[:, 0].round(6).tolist()
+    [[(1+0j), (1+0j)], [-1j, (-1-0j)], [(-1-0j), (1+0j)]]
+    """
     ks = np.asarray(ks, float)
     # exp(-i k psi) by its real and imaginary parts (the same values as the complex exponential)
     th = (-psi)[:, None] * ks[None, :]

@@ -24,7 +24,29 @@ OVERLAP_VAR = 1.33      # variance of the mean of 50 %-overlapped Hann segments 
 
 def segment_phasors(u: np.ndarray, sr: int, seg_s: float = SEG_S) -> np.ndarray:
     """Hann-weighted complex means of ``u`` (J, ...) over segments of ``seg_s`` (50 % overlap):
-    (S, ...). The segments are two interleaved sets of back-to-back ones (one product each)."""
+    (S, ...). The segments are two interleaved sets of back-to-back ones (one product each).
+
+    Parameters
+    ----------
+    u : (J, ...) complex array
+        A baseband at the chunk rate (100 per second).
+    sr : int
+        Sample rate of the audio it came from (Hz).
+    seg_s : float
+        Segment length (s); at most the whole input.
+
+    Returns
+    -------
+    (S, ...) complex array
+        In time order.
+
+    Examples
+    --------
+    >>> u = np.ones((1000, 2), complex)                     # 10 s of a steady phasor
+    >>> a = segment_phasors(u, 8000)
+    >>> a.shape, np.allclose(a, 1.0)
+    ((4, 2), True)
+    """
     fs = sr / _track.chunk_length(sr)
     n = int(round(seg_s * fs))
     J = u.shape[0]
@@ -46,7 +68,29 @@ def segment_phasors(u: np.ndarray, sr: int, seg_s: float = SEG_S) -> np.ndarray:
 def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     """P-value (per column of ``u`` (J, C, K), channels pooled) that the tracked baseband has a
     steady non-zero mean, and the phase-lock index ``|mean| / rms`` of the segment phasors (1 for
-    a perfectly locked line, ~1/sqrt(S) for noise)."""
+    a perfectly locked line, ~1/sqrt(S) for noise).
+
+    Parameters
+    ----------
+    u : (J, C, K) complex array
+        Tracked baseband (chunk sums turned by the tracked phase).
+    sr : int
+        Sample rate of the audio (Hz).
+
+    Returns
+    -------
+    p : (K,) array
+    index : (K,) array
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> noise = rng.standard_normal((2000, 1, 2)) + 1j * rng.standard_normal((2000, 1, 2))
+    >>> u = noise + np.array([3.0, 0.0])                  # column 0 holds a steady line
+    >>> p, index = lock_p_values(u, 8000)
+    >>> bool(p[0] < 1e-6), bool(p[1] > 1e-3), bool(index[0] > 0.9)
+    (True, True, True)
+    """
     # 4 s segments; shorter on short inputs, so that there are at least ~11 of them
     dur = u.shape[0] * _track.chunk_length(sr) / sr
     a = segment_phasors(u, sr, seg_s=float(np.clip(dur / 6, 1.0, SEG_S)))          # (S, C, K)
@@ -73,7 +117,39 @@ def locked(D, sr: int, ks, psi: np.ndarray, *, alpha: float):
     """Harmonics of ``ks`` (columns of the chunk sums ``D``) whose tracked baseband is phase-locked
     at level ``alpha`` (one test per line: it tells hum from a note partial on a line already
     shown to be significant), and per harmonic ``(p, lock_index, amplitude)`` (amplitude: modulus
-    of the mean tracked baseband, in chunk-sum units)."""
+    of the mean tracked baseband, in chunk-sum units).
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref`` (:func:`track.demodulate`).
+    sr : int
+        Sample rate (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    psi : (J,) float array
+        Tracked phase of the fundamental (cycles, relative to ``f_ref t``).
+    alpha : float
+        Significance level of each test.
+
+    Returns
+    -------
+    keep : list of int
+    info : dict
+        Harmonic -> ``(p, lock_index, amplitude)``.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> psi = 0.1 * (np.arange(len(D)) * 10 + 4.5) / sr     # the 0.1 Hz offset, in cycles
+    >>> keep, info = locked(D, sr, [1, 2], psi, alpha=1e-3)
+    >>> keep, round(info[1][1], 2)
+    ([1], 1.0)
+    """
     ks_a = np.asarray(ks, float)
     p, idx, amp = np.ones(len(ks)), np.zeros(len(ks)), np.zeros(len(ks))
     for i, k in enumerate(ks_a):

@@ -26,6 +26,32 @@ MAX_DRIFT_HZ = 1.6    # farthest the fundamental is followed from where the spec
 
 @dataclass
 class Track:
+    """Per-block estimates of the hum fundamental (from :func:`track_fundamental`).
+
+    Attributes
+    ----------
+    t : (B,) array
+        Block centres (s).
+    f0 : (B,) array
+        Fundamental (Hz).
+    rate, curv : (B,) arrays
+        Its first and second time derivatives (Hz/s, Hz/s^2).
+    confident : (B,) bool array
+        Hum clearly present in the block.
+    strength : (B,) array
+        Peak harmonic energy over its noise-only value.
+    phase : finetrack.PhaseTrack or None
+        The fundamental's phase at every sample, when refined.
+
+    Examples
+    --------
+    >>> z = np.zeros(3)
+    >>> trk = Track(t=np.arange(3.0), f0=np.array([50.0, 50.02, 49.9]), rate=z, curv=z,
+    ...             confident=np.array([True, True, False]), strength=z)
+    >>> round(trk.median_f0(50.0), 2)
+    50.01
+    """
+
     t: np.ndarray          # (B,) block centres (s)
     f0: np.ndarray         # (B,) fundamental (Hz)
     rate: np.ndarray       # (B,) df/dt (Hz/s)
@@ -43,11 +69,56 @@ NOISE_OFFSETS = np.array([-0.45, -0.35, -0.25, 0.25, 0.35, 0.45])
 
 
 def chunk_length(sr: int) -> int:
+    """Samples per 10 ms chunk of the demodulated chunk sums (at least 1).
+
+    Parameters
+    ----------
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> chunk_length(8000), chunk_length(44100), chunk_length(50)
+    (80, 441, 1)
+    """
     return max(1, int(round(sr / 100.0)))
 
 
 def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress=None) -> np.ndarray:
-    """Chunk sums ``D[j, c, k] = sum_{t in chunk j} y_c(t) exp(-2 pi i k f_ref t)``, complex64."""
+    """Chunk sums ``D[j, c, k] = sum_{t in chunk j} y_c(t) exp(-2 pi i k f_ref t)``, complex64.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input (read in blocks of ``read_frames``).
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers (the last axis of ``D``).
+    read_frames : int
+        Frames per read.
+    progress : callable, optional
+        Called with the frames of each read.
+
+    Returns
+    -------
+    (J, channels, K) complex64 array
+        ``J`` 10 ms chunks (:func:`chunk_length`); a line of peak amplitude ``A`` at ``k f_ref``
+        has chunk sums of modulus about ``m A / 2``.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.0 * t) + 0.5 * np.cos(2 * np.pi * 100.0 * t + 1)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> D.shape, D.dtype, np.abs(D[100:700, 0].mean(axis=0)).round(2).tolist()
+    ((800, 1, 2), dtype('complex64'), [5.0, 2.5])
+    """
     sr, n, C = source.sr, source.frames, source.channels
     m = chunk_length(sr)
     kf = f_ref * np.asarray(ks, dtype=float)
@@ -214,6 +285,41 @@ def track_fundamental(D, f_ref: float, ks, weights, plan, *, max_offset_hz: floa
     of ``plan`` (a blockplan.BlockPlan).
 
     ``weights`` (C, K): inverse noise-floor PSD per channel and harmonic (SNR weighting).
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums of :func:`demodulate` at ``k f_ref``.
+    f_ref : float
+        Their reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    weights : (C, K) array
+        Inverse noise-floor PSD per channel and harmonic.
+    plan : BlockPlan
+        The blocks.
+    max_offset_hz : float, optional
+        Farthest the fundamental is followed from ``f_ref`` (default :data:`MAX_DRIFT_HZ` + 1 %).
+    min_strength : float
+        Strength above which a block counts as confident.
+    progress : callable, optional
+        Progress callback.
+
+    Returns
+    -------
+    Track
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.blockplan import BlockPlan
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
+    >>> x += 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> trk = track_fundamental(D, 50.0, [1, 2], np.ones((1, 2)), BlockPlan.from_block_s(4.0, sr, t.size))
+    >>> trk.t.tolist(), trk.f0.round(2).tolist(), trk.confident.tolist()
+    ([0.0, 2.0, 4.0, 6.0, 8.0], [50.1, 50.1, 50.1, 50.1, 50.1], [False, True, True, True, False])
     """
     sr, n_frames, hop, nb = plan.sr, plan.n_frames, plan.hop, plan.count
     m = chunk_length(sr)
@@ -358,7 +464,39 @@ def refine_fixed_comb(D, sr: int, f_ref: float, ks, weights, *, half_hz: float, 
     """Fundamental of a steady (untracked) comb: maximise the harmonic energy E(delta) over one long
     Hann window (a central stretch of at most ``max_seconds``), searching +-``half_hz`` around
     ``f_ref``. Far finer than a Welch peak: a fixed-frequency line fitted over 16 s blocks needs
-    its frequency to about 1e-3 Hz at the tenth harmonic."""
+    its frequency to about 1e-3 Hz at the tenth harmonic.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums of :func:`demodulate` at ``k f_ref``.
+    sr : int
+        Sample rate (Hz).
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    weights : (C, K) array
+        Inverse noise-floor PSD per channel and harmonic.
+    half_hz : float
+        Search half-range (Hz).
+    max_seconds : float
+        Longest central stretch used (s).
+
+    Returns
+    -------
+    float
+        ``f_ref`` itself when the input is too short (under 4 baseband samples).
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> round(refine_fixed_comb(D, sr, 50.0, [1, 2], np.ones((1, 2)), half_hz=0.5), 3)
+    50.1
+    """
     m = chunk_length(sr)
     J = D.shape[0]
     jmax = int(max_seconds * sr / m)
