@@ -42,6 +42,25 @@ def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
     ``u`` (J,) complex chunk sums of one line and channel (any fixed demodulation within a few Hz
     of the line). Returns two (J,) float64 arrays, each floored at ``POWER_FLOOR`` x its median.
     The mean includes a partial of the content a few Hz away, the median does not.
+
+    Parameters
+    ----------
+    u : (J,) complex array
+        Chunk sums of one line and channel.
+    fs : float
+        Their rate (Hz; 100 for 10 ms chunks).
+
+    Returns
+    -------
+    mean, median : (J,) float arrays
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> u = 5.0 + rng.standard_normal(2000) + 1j * rng.standard_normal(2000)   # a line; noise power 2
+    >>> p_mean, p_med = local_power(u, 100.0)
+    >>> p_mean.shape, round(float(np.median(p_mean)), 1), bool(1.5 < np.median(p_med) < 2.5)
+    ((2000,), 2.0, True)
     """
     J = u.shape[0]
     n = int(min(J, max(8, round(WINDOW_S * fs))))
@@ -71,7 +90,39 @@ def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
 def steady_amplitudes(D: np.ndarray, f_ref: float, ks, trk, plan: BlockPlan) -> np.ndarray:
     """Peak amplitude (C, K) of harmonics ``ks`` (the columns of ``D``, demodulated at ``k f_ref``)
     over the whole input where steady, NaN elsewhere. ``trk``: the fundamental track of blocks
-    of the blocks of ``plan``; only blocks inside the signal count."""
+    of the blocks of ``plan``; only blocks inside the signal count.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref`` (:func:`track.demodulate`).
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    trk : track.Track
+        Fundamental track of the blocks of ``plan``.
+    plan : BlockPlan
+        The blocks.
+
+    Returns
+    -------
+    (C, K) float array
+        NaN throughout when fewer than 3 blocks lie inside the signal.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate, track_fundamental
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
+    >>> x += 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> plan = BlockPlan.from_block_s(4.0, sr, t.size)
+    >>> trk = track_fundamental(D, 50.0, [1, 2], np.ones((1, 2)), plan)
+    >>> steady_amplitudes(D, 50.0, [1, 2], trk, plan).round(2).tolist()
+    [[1.0, 0.5]]
+    """
     sr, hop, n_frames = plan.sr, plan.hop, plan.n_frames
     J, C, K = D.shape
     out = np.full((C, K), np.nan)

@@ -29,12 +29,55 @@ MAX_SMOOTH_S = 12.0   # longest phase-correction kernel (s)
 
 
 def chunk_times(J: int, sr: int) -> np.ndarray:
+    """Centres (s) of the first ``J`` 10 ms chunks of the chunk sums.
+
+    Parameters
+    ----------
+    J : int
+        Number of chunks.
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    (J,) float array
+
+    Examples
+    --------
+    >>> chunk_times(3, 1000).tolist()
+    [0.0045, 0.0145, 0.0245]
+    """
     m = _track.chunk_length(sr)
     return (np.arange(J) * m + (m - 1) / 2) / sr
 
 
 def block_track_phase(trk, tc: np.ndarray, f_ref: float, sr: int) -> np.ndarray:
-    """Phase (cycles, relative to ``f_ref t``) of the block track at chunk centres ``tc``."""
+    """Phase (cycles, relative to ``f_ref t``) of the block track at chunk centres ``tc``.
+
+    Parameters
+    ----------
+    trk : track.Track
+        The block track.
+    tc : (J,) array
+        Chunk centres (s), from :func:`chunk_times`.
+    f_ref : float
+        Reference fundamental (Hz).
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    (J,) float array
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.track import Track
+    >>> z = np.zeros(2)
+    >>> trk = Track(t=np.array([0.0, 4.0]), f0=np.full(2, 50.25), rate=z, curv=z,
+    ...             confident=np.ones(2, bool), strength=z)
+    >>> round(float(block_track_phase(trk, chunk_times(400, 1000), 50.0, 1000)[-1]), 3)
+    1.0
+    """
     m = _track.chunk_length(sr)
     dfreq = np.interp(tc, trk.t, trk.f0) - f_ref
     return np.cumsum(dfreq) * (m / sr)
@@ -46,6 +89,37 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
     ``D`` (J, C, K) chunk sums at ``k f_ref``; ``weights`` (C, K) inverse floor PSDs (only relative
     weights between channels of one harmonic matter: the SNR comes from the data); ``psi0`` the
     starting phase (the block track's).
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref`` (:func:`track.demodulate`).
+    sr : int
+        Sample rate (Hz).
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    weights : (C, K) array
+        Inverse floor PSDs.
+    psi0 : (J,) array
+        Starting phase (cycles).
+
+    Returns
+    -------
+    (J,) float array
+        ``psi0`` itself for inputs under 16 decimated samples (1.6 s).
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1])
+    >>> psi = refine_phase(D, sr, 50.0, [1], np.ones((1, 1)), np.zeros(len(D)))
+    >>> round(float(psi[-1] - psi[0]), 1)                     # 0.1 Hz over 8 s
+    0.8
     """
     J, C, K = D.shape
     ks = np.asarray(ks, float)
@@ -98,6 +172,30 @@ def smoothed_correction(num, den, power, ks, n_min: int, fs_d: float) -> np.ndar
     1 / (2 den) rad^2); ``power`` (C, K): the lines' powers. A Hann kernel of n samples passes
     1.5 / n of a white phase noise's variance; harmonic k carries k times the fundamental's
     phase error.
+
+    Parameters
+    ----------
+    num, den : (nd,) arrays
+        Weighted phase estimates (cycles) times their precision, and the precision.
+    power : (C, K) array
+        The lines' powers.
+    ks : (K,) array
+        Harmonic numbers.
+    n_min : int
+        Shortest kernel (decimated samples).
+    fs_d : float
+        Decimated sample rate (Hz).
+
+    Returns
+    -------
+    (nd,) float array
+
+    Examples
+    --------
+    >>> den = np.ones(50); num = 0.01 * np.arange(50.0)       # a phase ramp, equal precision
+    >>> out = smoothed_correction(num, den, np.ones((1, 1)), np.array([1.0]), 5, 10.0)
+    >>> out.shape, bool(np.allclose(out, num))
+    ((50,), True)
     """
     short = local_linear(num, den, _hann(n_min))
     prec = float(np.median(den)) if len(den) else 0.0
@@ -129,7 +227,24 @@ def local_linear(num: np.ndarray, den: np.ndarray, kern: np.ndarray) -> np.ndarr
     over even weights); at the ends, where the kernel is one-sided, the local slope keeps a
     phase error that grows towards the end (a fast ramp that the block track extrapolates) from
     being pulled back towards the interior, which a weighted mean does (its lag does not shrink
-    from round to round)."""
+    from round to round).
+
+    Parameters
+    ----------
+    num, den : (n,) arrays
+        Estimates times their weights, and the weights.
+    kern : (w,) array
+        Symmetric smoothing kernel.
+
+    Returns
+    -------
+    (n,) float array
+
+    Examples
+    --------
+    >>> local_linear(np.array([1.0, 2, 3, 4, 5]), np.ones(5), np.ones(3)).round(6).tolist()
+    [1.0, 2.0, 3.0, 4.0, 5.0]
+    """
     x = np.arange(len(num), dtype=float)
     x -= x.mean()
     conv = [ndimage.convolve1d(v, kern, mode="constant") for v in (den, den * x, den * x * x, num, num * x)]
@@ -147,7 +262,33 @@ def local_linear(num: np.ndarray, den: np.ndarray, kern: np.ndarray) -> np.ndarr
 
 def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.ndarray, h: float = 0.25):
     """Fundamental, rate and curvature at the block centres from the phase ``psi`` (for the parts
-    of the pipeline that work per block: reports, the block-length choice, pooling)."""
+    of the pipeline that work per block: reports, the block-length choice, pooling).
+
+    Parameters
+    ----------
+    psi : (J,) array
+        Phase of the fundamental (cycles, relative to ``f_ref t``).
+    tc : (J,) array
+        Its times (s).
+    f_ref : float
+        Reference fundamental (Hz).
+    t_blocks : (B,) array
+        Block centres (s).
+    h : float
+        Half-span (s) of the phase slope.
+
+    Returns
+    -------
+    f0, rate, curv : (B,) arrays
+        Hz, Hz/s and Hz/s^2.
+
+    Examples
+    --------
+    >>> tc = chunk_times(400, 1000)
+    >>> f0, rate, curv = block_params(0.1 * tc, tc, 50.0, np.array([1.0, 2.0, 3.0]))
+    >>> f0.round(3).tolist(), bool(np.allclose(rate, 0)), bool(np.allclose(curv, 0))
+    ([50.1, 50.1, 50.1], True, True)
+    """
     # the phase's slope over +-h (default 0.25 s, the track's resolution), not chunk to chunk
     lo, hi = np.clip(t_blocks - h, tc[0], tc[-1]), np.clip(t_blocks + h, tc[0], tc[-1])
     f_b = f_ref + (np.interp(hi, tc, psi) - np.interp(lo, tc, psi)) / np.maximum(hi - lo, 1e-9)
@@ -158,7 +299,26 @@ def block_params(psi: np.ndarray, tc: np.ndarray, f_ref: float, t_blocks: np.nda
 
 
 class PhaseTrack:
-    """Evaluates the tracked phase ``f_ref t + psi(t)`` (cycles) at sample indices."""
+    """Evaluates the tracked phase ``f_ref t + psi(t)`` (cycles) at sample indices.
+
+    Parameters
+    ----------
+    psi : (J,) array
+        Phase offset (cycles) at the chunk centres.
+    sr : int
+        Sample rate (Hz).
+    f_ref : float
+        Reference fundamental (Hz).
+
+    Examples
+    --------
+    >>> sr = 1000; tc = chunk_times(100, sr)
+    >>> ph = PhaseTrack(0.1 * tc, sr, 50.0)                 # 50.1 Hz
+    >>> ph.offset_cycles(np.array([4.5, 504.5])).round(4).tolist()
+    [0.0004, 0.0504]
+    >>> ph.cycles(0, 3, 0).round(4).tolist(), ph.cycles_at(np.array([10.0]), 0.0).round(3).tolist()
+    ([0.0, 0.05, 0.1], [0.501])
+    """
 
     def __init__(self, psi: np.ndarray, sr: int, f_ref: float):
         self.sr, self.f_ref = sr, float(f_ref)
@@ -218,7 +378,30 @@ class PhaseTrack:
 
 def track_from_phase(psi: np.ndarray, f_ref: float, plan):
     """A :class:`track.Track` for the blocks of ``plan`` (a blockplan.BlockPlan) whose phase is
-    ``psi`` (the per-block fundamental, rate and curvature follow from it)."""
+    ``psi`` (the per-block fundamental, rate and curvature follow from it).
+
+    Parameters
+    ----------
+    psi : (J,) array
+        Phase of the fundamental (cycles, relative to ``f_ref t``) at the chunk centres.
+    f_ref : float
+        Reference fundamental (Hz).
+    plan : BlockPlan
+        The blocks.
+
+    Returns
+    -------
+    track.Track
+        Every block confident, with ``phase`` a :class:`PhaseTrack`.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.blockplan import BlockPlan
+    >>> plan = BlockPlan.from_block_s(4.0, 1000, 8000)
+    >>> trk = track_from_phase(0.1 * chunk_times(800, 1000), 50.0, plan)
+    >>> trk.t.tolist(), trk.f0.round(3).tolist(), trk.phase.f_ref
+    ([0.0, 2.0, 4.0, 6.0, 8.0], [50.1, 50.1, 50.1, 50.1, 50.1], 50.0)
+    """
     sr, hop, nb = plan.sr, plan.hop, plan.count
     t = plan.centres_s
     tc = chunk_times(len(psi), sr)
