@@ -30,7 +30,27 @@ class BasisSpec:
     ``(fundamental, harmonics)`` combs, lines.as_combs) and, with ``nuisance``, a constant and a
     linear-trend column. The nuisance columns are fitted but never subtracted: a baseline offset
     or slow wander (ECG, EEG, DC-coupled audio) then cannot leak onto the hum lines in a block cut
-    short by the start or end of the signal."""
+    short by the start or end of the signal.
+
+    Attributes
+    ----------
+    sr : int
+        Sample rate (Hz).
+    ks : tuple of int
+        Tracked harmonic numbers.
+    fixed_lines : tuple
+        Fixed frequencies (Hz) or ``(fundamental, harmonics)`` combs.
+    nuisance : bool
+        Add the constant and trend columns.
+    phase : finetrack.PhaseTrack or None
+        The tracked phase; None: the block's polynomial.
+
+    Examples
+    --------
+    >>> spec = BasisSpec(1000, ks=(1, 2), fixed_lines=(170.0, (61.0, (2, 3))))
+    >>> spec.n_lines_cols
+    10
+    """
 
     sr: int
     ks: tuple = ()
@@ -55,6 +75,36 @@ def block_basis(spec: BasisSpec, idx0: int, n: int, centre: int, poly=(0.0, 0.0,
     ``step``: evaluate only at samples idx0, idx0 + step, ... (rows of the full basis, taken
     every ``step``-th; used for the sub-sampled Gram matrix). ``dtype``: float32 suffices for the
     Gram matrix (see :func:`solve_block`).
+
+    Parameters
+    ----------
+    spec : BasisSpec
+        The columns.
+    idx0 : int
+        First sample (absolute index).
+    n : int
+        Samples in the block.
+    centre : int
+        Block centre (absolute sample index): the tracked phase is zero there.
+    poly : (float, float, float)
+        ``(f0, rate, curv)`` about ``centre``.
+    cache : dict, optional
+        Reused across blocks by the caller.
+    step : int
+        Row step.
+    dtype : numpy dtype
+        float64 or float32.
+
+    Returns
+    -------
+    (ceil(n / step), p) array, Fortran order
+
+    Examples
+    --------
+    >>> spec = BasisSpec(1000, ks=(1, 2), fixed_lines=(170.0,))
+    >>> F = block_basis(spec, 0, 2000, 1000, (50.0, 0.0, 0.0))
+    >>> F.shape, F.flags.f_contiguous, F[1000, :4].round(3).tolist()      # the centre: phase 0
+    ((2000, 8), True, [1.0, 0.0, 1.0, 0.0])
     """
     ks, sr = list(spec.ks), spec.sr
     p = spec.n_lines_cols
@@ -89,7 +139,24 @@ def block_basis(spec: BasisSpec, idx0: int, n: int, centre: int, poly=(0.0, 0.0,
 
 def tracked_cycles(tau: np.ndarray, f0: float, rate: float, curv: float) -> np.ndarray:
     """Phase of the tracked fundamental in cycles, ``f0 tau + rate tau^2 / 2 + curv tau^3 / 6``
-    (a new float64 array, evaluated in place by Horner's rule; not reduced)."""
+    (a new float64 array, evaluated in place by Horner's rule; not reduced).
+
+    Parameters
+    ----------
+    tau : array
+        Time from the block centre (s).
+    f0, rate, curv : float
+        Fundamental (Hz), its rate (Hz/s) and curvature (Hz/s^2) at the centre.
+
+    Returns
+    -------
+    float64 array like ``tau``
+
+    Examples
+    --------
+    >>> tracked_cycles(np.array([0.0, 0.5, 1.0]), 50.0, 0.2, 0.0).tolist()
+    [0.0, 25.025, 50.1]
+    """
     cyc = np.multiply(tau, curv / 6)
     cyc += rate / 2
     cyc *= tau
@@ -120,7 +187,23 @@ def _put_harmonics(F, col, z, ks):
 def unit_phasor(phi: np.ndarray) -> np.ndarray:
     """exp(i phi) as complex64: the phase is reduced to [-pi, pi] in float64 first, so the fast
     (vectorised) float32 sine and cosine are accurate to about 1e-7 (hum residual near -140 dB,
-    -110 dB after 40 harmonic powers) at a twentieth of the float64 cost."""
+    -110 dB after 40 harmonic powers) at a twentieth of the float64 cost.
+
+    Parameters
+    ----------
+    phi : float64 array
+        Phase (rad), any size.
+
+    Returns
+    -------
+    complex64 array like ``phi``
+
+    Examples
+    --------
+    >>> z = unit_phasor(np.array([0.0, np.pi / 2, 100 * np.pi]))
+    >>> z.dtype, np.allclose(z, [1, 1j, 1], atol=1e-6)
+    (dtype('complex64'), True)
+    """
     r = phi - (2 * np.pi) * np.rint(phi * (1 / (2 * np.pi)))
     r32 = r.astype(np.float32)
     z = np.empty(phi.shape, np.complex64)
@@ -131,7 +214,22 @@ def unit_phasor(phi: np.ndarray) -> np.ndarray:
 
 def unit_phasor_cycles(frac: np.ndarray) -> np.ndarray:
     """exp(2 pi i frac) as complex64 for a phase already reduced to [-1/2, 1/2] cycle (see
-    :func:`unit_phasor`)."""
+    :func:`unit_phasor`).
+
+    Parameters
+    ----------
+    frac : float array
+        Phase (cycles) in [-1/2, 1/2].
+
+    Returns
+    -------
+    complex64 array like ``frac``
+
+    Examples
+    --------
+    >>> np.allclose(unit_phasor_cycles(np.array([0.0, 0.25, -0.5])), [1, 1j, -1], atol=1e-6)
+    True
+    """
     r32 = frac.astype(np.float32)
     r32 *= np.float32(2 * np.pi)
     z = np.empty(frac.shape, np.complex64)
@@ -152,6 +250,33 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
     window-weighted sums of sinusoids at (k +- j) f, all below sr / (2 q) when q <= sr / (4 f_max),
     so the sub-sampled sum equals the full one up to the window's spectrum far from zero
     (negligible); the data term F^T W Y always uses every sample.
+
+    Parameters
+    ----------
+    F : (n, p) array
+        The block basis (:func:`block_basis`).
+    Y : (n, C) array
+        The block's samples.
+    w : (n,) array
+        Non-negative row weights (the block's window).
+    gram_step : int
+        Row step of the Gram matrix (see :func:`sub_gram`).
+    F_sub : array, optional
+        ``F`` evaluated every ``gram_step``-th row, when the caller built it.
+
+    Returns
+    -------
+    (p, C) float64 array
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.blockplan import sin2_window
+    >>> sr, n = 1000, 2000; t = np.arange(n)
+    >>> F = block_basis(BasisSpec(sr, ks=(1, 2)), 0, n, 1000, (50.0, 0.0, 0.0))
+    >>> y = 0.8 * np.cos(2 * np.pi * 50 * (t - 1000) / sr + 0.3) + 0.1     # cos(p + 0.3), offset
+    >>> theta = solve_block(F, y[:, None], sin2_window(t + 0.5, n))
+    >>> theta.shape, theta[[0, 1, 4], 0].round(4).tolist(), bool(np.abs(theta[[2, 3, 5]]).max() < 1e-6)
+    ((6, 1), [0.7643, -0.2364, 0.1], True)
     """
     n, p = F.shape
     dt = F.dtype
@@ -183,12 +308,49 @@ def solve_block(F: np.ndarray, Y: np.ndarray, w: np.ndarray, gram_step: int = 1,
 
 def sub_gram(n: int, p: int, gram_step: int) -> bool:
     """Whether the Gram matrix of an (n, p) basis is summed over every ``gram_step``-th row only
-    (see :func:`solve_block`): when that still leaves at least 8 rows per column."""
+    (see :func:`solve_block`): when that still leaves at least 8 rows per column.
+
+    Parameters
+    ----------
+    n, p : int
+        Rows and columns of the basis.
+    gram_step : int
+        Row step asked for.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> sub_gram(100000, 10, 4), sub_gram(100, 10, 4), sub_gram(100000, 10, 1)
+    (True, False, False)
+    """
     return gram_step > 1 and n // gram_step >= 8 * p
 
 
 def weighted_gram(F, w, scale):
-    """``scale * F^T diag(w) F`` with BLAS syrk (one triangle: half the work of a product), w >= 0."""
+    """``scale * F^T diag(w) F`` with BLAS syrk (one triangle: half the work of a product), w >= 0.
+
+    Parameters
+    ----------
+    F : (n, p) float32 or float64 array
+        The basis.
+    w : (n,) array
+        Non-negative weights.
+    scale : float
+        Factor (the row step of a sub-sampled basis).
+
+    Returns
+    -------
+    (p, p) symmetric array
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0); F = rng.standard_normal((50, 3)); w = rng.uniform(size=50)
+    >>> np.allclose(weighted_gram(F, w, 2.0), 2.0 * (F * w[:, None]).T @ F)
+    True
+    """
     from scipy.linalg import blas
 
     Fw = np.asfortranarray(F * np.sqrt(w).astype(F.dtype)[:, None])

@@ -39,6 +39,26 @@ def fixed_gram(omega: np.ndarray, n: int) -> np.ndarray:
     The trend's own entries with the fixed columns use the kernel's derivative, which loses
     precision for frequencies within a few window bins of 0 or of Nyquist: callers use this only
     when every line is well inside the band.
+
+    Parameters
+    ----------
+    omega : (m,) array
+        Line frequencies (rad per sample).
+    n : int
+        Samples in the block.
+
+    Returns
+    -------
+    (2 m + 2, 2 m + 2) float64 array
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.blockplan import sin2_window
+    >>> n, omega = 2000, 2 * np.pi * 0.17; t = np.arange(n)
+    >>> F = np.stack([np.cos(omega * t), np.sin(omega * t), np.ones(n), -1 + 2 * t / (n - 1)], axis=1)
+    >>> G = fixed_gram(np.array([omega]), n)
+    >>> G.shape, np.allclose(G, (F * sin2_window(t + 0.5, n)[:, None]).T @ F)
+    ((4, 4), True)
     """
     omega = np.asarray(omega, float)
     m = len(omega)
