@@ -72,7 +72,29 @@ def line_bands(sfreq: float, mains, harmonics="auto", max_hz=None) -> list[tuple
 def band_covariances(x: np.ndarray, sfreq: float, bands) -> tuple[np.ndarray, np.ndarray]:
     """Covariances of the channels ``x`` (n_channels, n_times) around the lines: ``c_local`` over each
     band and its flanks (``FLANK_HZ`` on each side), ``c_band`` over the bands alone (Parseval on
-    Hann-windowed, half-overlapping segments; one segment in memory at a time)."""
+    Hann-windowed, half-overlapping segments; one segment in memory at a time).
+
+    Parameters
+    ----------
+    x : (n_channels, n_times) array
+        The channels.
+    sfreq : float
+        Sampling frequency (Hz).
+    bands : sequence of (float, float)
+        Line bands (Hz), as :func:`line_bands` gives them.
+
+    Returns
+    -------
+    c_local, c_band : (n_channels, n_channels) arrays
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq; rng = np.random.default_rng(0)
+    >>> x = rng.standard_normal((4, t.size)) + np.outer([2.0, 1.0, -1.5, 0.5], np.cos(2 * np.pi * 50 * t))
+    >>> c_local, c_band = band_covariances(x, sfreq, line_bands(sfreq, 50))
+    >>> c_local.shape, bool(np.all(np.diag(c_band) < np.diag(c_local)))
+    ((4, 4), True)
+    """
     C, N = x.shape
     seg = int(min(N, max(16, round(SEGMENT_S * sfreq))))
     f = np.fft.rfftfreq(seg, 1.0 / sfreq)
@@ -93,7 +115,30 @@ def band_covariances(x: np.ndarray, sfreq: float, bands) -> tuple[np.ndarray, np
 
 def hum_components(c_total: np.ndarray, c_band: np.ndarray, rel_tol: float = 1e-10):
     """DSS: spatial filters ``W`` (n_channels, m) maximising in-band over total power, best first,
-    with their scores (the in-band fraction, 0..1). Directions with no power are dropped."""
+    with their scores (the in-band fraction, 0..1). Directions with no power are dropped.
+
+    Parameters
+    ----------
+    c_total : (C, C) array
+        Reference covariance (bands and flanks).
+    c_band : (C, C) array
+        In-band covariance.
+    rel_tol : float
+        Eigenvalues of ``c_total`` below this fraction of the largest are dropped.
+
+    Returns
+    -------
+    scores : (m,) array
+    W : (C, m) array
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq; rng = np.random.default_rng(0)
+    >>> x = rng.standard_normal((4, t.size)) + np.outer([2.0, 1.0, -1.5, 0.5], np.cos(2 * np.pi * 50 * t))
+    >>> scores, W = hum_components(*band_covariances(x, sfreq, line_bands(sfreq, 50)))
+    >>> scores.round(2).tolist(), W.shape
+    ([0.97, 0.2, 0.17, 0.15], (4, 4))
+    """
     d, V = np.linalg.eigh(c_total)
     keep = d > rel_tol * max(d.max(), np.finfo(float).tiny)
     P = V[:, keep] / np.sqrt(d[keep])
@@ -105,7 +150,25 @@ def hum_components(c_total: np.ndarray, c_band: np.ndarray, rel_tol: float = 1e-
 def n_hum_components(scores: np.ndarray, odds_ratio: float | None = None) -> int:
     """How many leading components stand out as hum: their band-to-flank power ratio
     ``s / (1 - s)`` is at least ``odds_ratio`` (default ODDS_RATIO) times the median component's (a
-    smooth spectrum gives every component about the same ratio, the bands' share of the width)."""
+    smooth spectrum gives every component about the same ratio, the bands' share of the width).
+
+    Parameters
+    ----------
+    scores : (m,) array
+        Component scores of :func:`hum_components`, best first.
+    odds_ratio : float, optional
+        Threshold over the median component's odds.
+
+    Returns
+    -------
+    int
+        At most ``MAX_COMPONENTS`` and ``m - 1``.
+
+    Examples
+    --------
+    >>> n_hum_components(np.array([0.97, 0.2, 0.17, 0.15])), n_hum_components(np.array([0.1, 0.1, 0.1]))
+    (1, 0)
+    """
     if scores.size < 2:
         return 0
     odds = scores / np.maximum(1.0 - scores, 1e-12)
@@ -118,7 +181,31 @@ def fit_components(S: np.ndarray, sfreq: float, opts: dict):
     """The engine on the component time courses ``S`` (r, n_times) together. Where a line stays more
     than REFIT_LEVEL_DB above its floor after the engine's own block length (real line noise often
     changes within seconds), the components are fitted again with SHORT_BLOCK_S blocks: the notch
-    widens to about 1/SHORT_BLOCK_S Hz but follows the changes. Returns (hum (n_times, r), summary)."""
+    widens to about 1/SHORT_BLOCK_S Hz but follows the changes. Returns (hum (n_times, r), summary).
+
+    Parameters
+    ----------
+    S : (r, n_times) array
+        Component time courses.
+    sfreq : float
+        Sampling frequency (Hz).
+    opts : dict
+        Engine options.
+
+    Returns
+    -------
+    hum : (n_times, r) array
+    summary : dict
+        As :func:`~odnn_sep.audio.channel_engine.clean_columns`, with the ``block_s`` used.
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq
+    >>> S = np.random.default_rng(0).standard_normal((1, t.size)) + 3 * np.cos(2 * np.pi * 50 * t)
+    >>> hum, summary = fit_components(S, sfreq, {})
+    >>> hum.shape, summary["harmonics"], summary["block_s"]
+    ((5000, 1), [1], 'auto')
+    """
     hum_s, comp = clean_columns(S.T, sfreq, opts)
     comp["block_s"] = opts.get("block_s", "auto")
     auto = str(comp["block_s"]).strip().lower() == "auto"
@@ -135,7 +222,32 @@ def line_patterns(x: np.ndarray, S: np.ndarray, sfreq: float, line_hz: float) ->
     DFT bins on the components' bins within the line's band, over Hann-windowed half-overlapping
     segments. Windowed segments keep a transient (a filter's start-up, a step) local instead of
     letting its in-band content weigh on the whole fit; complex patterns let every channel have
-    its own phase."""
+    its own phase.
+
+    Parameters
+    ----------
+    x : (n_channels, n_times) array
+        The channels.
+    S : (r, n_times) array
+        Component time courses.
+    sfreq : float
+        Sampling frequency (Hz).
+    line_hz : float
+        The line (Hz).
+
+    Returns
+    -------
+    (n_channels, r) complex array
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq; rng = np.random.default_rng(0)
+    >>> s = np.cos(2 * np.pi * 50 * t)
+    >>> x = 0.1 * rng.standard_normal((3, t.size)) + np.outer([2.0, 1.0, -1.5], s)
+    >>> A = line_patterns(x, s[None, :], sfreq, 50.0)
+    >>> A.shape, A[:, 0].real.round(1).tolist()
+    ((3, 1), [2.0, 1.0, -1.5])
+    """
     C, N = x.shape
     seg = int(min(N, max(16, round(SEGMENT_S * sfreq))))
     f = np.fft.rfftfreq(seg, 1.0 / sfreq)
@@ -150,7 +262,34 @@ def line_patterns(x: np.ndarray, S: np.ndarray, sfreq: float, line_hz: float) ->
 
 def channel_hum(x: np.ndarray, S: np.ndarray, hum_s: np.ndarray, line_freqs, sfreq: float) -> np.ndarray:
     """The channels' hum from the components' fitted hum ``hum_s`` (r, n_times): line by line, the
-    analytic signal of the components' hum near the line times each channel's complex pattern."""
+    analytic signal of the components' hum near the line times each channel's complex pattern.
+
+    Parameters
+    ----------
+    x : (n_channels, n_times) array
+        The channels.
+    S : (r, n_times) array
+        Component time courses.
+    hum_s : (r, n_times) array
+        The components' fitted hum.
+    line_freqs : sequence of float
+        Lines (Hz) in ``hum_s``.
+    sfreq : float
+        Sampling frequency (Hz).
+
+    Returns
+    -------
+    (n_channels, n_times) array
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq; rng = np.random.default_rng(0)
+    >>> s = np.cos(2 * np.pi * 50 * t)
+    >>> x = 0.1 * rng.standard_normal((3, t.size)) + np.outer([2.0, 1.0, -1.5], s)
+    >>> h = channel_hum(x, s[None, :], s[None, :], [50.0], sfreq)
+    >>> h.shape, bool(np.abs(h - np.outer([2.0, 1.0, -1.5], s)).max() < 0.05)
+    ((3, 5000), True)
+    """
     N = x.shape[1]
     H = np.fft.rfft(hum_s, axis=1)
     f = np.fft.rfftfreq(N, 1.0 / sfreq)
@@ -168,7 +307,29 @@ def channel_hum(x: np.ndarray, S: np.ndarray, hum_s: np.ndarray, line_freqs, sfr
 
 def residual_channels(x: np.ndarray, sfreq: float, line_freqs) -> np.ndarray:
     """Channels whose power in the bands around ``line_freqs`` still stands out against the flanks
-    (``ODDS_RATIO`` times what a smooth spectrum gives): the ones the residual check refits."""
+    (``ODDS_RATIO`` times what a smooth spectrum gives): the ones the residual check refits.
+
+    Parameters
+    ----------
+    x : (n_channels, n_times) array
+        The channels (after the components' hum is removed).
+    sfreq : float
+        Sampling frequency (Hz).
+    line_freqs : sequence of float
+        Lines (Hz).
+
+    Returns
+    -------
+    int array
+        Channel indices.
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq; rng = np.random.default_rng(0)
+    >>> x = rng.standard_normal((3, t.size)); x[1] += np.cos(2 * np.pi * 50 * t)
+    >>> residual_channels(x, sfreq, [50.0]).tolist()
+    [1]
+    """
     bands = [(fl - BAND_HZ - BAND_REL * fl, fl + BAND_HZ + BAND_REL * fl) for fl in line_freqs]
     c_local, c_band = band_covariances(x, sfreq, bands)
     band, local = np.diag(c_band), np.diag(c_local)
@@ -190,6 +351,14 @@ def spatial_hum(x: np.ndarray, sfreq: float, opts: dict):
     channels : list of dict
         Per channel: the lines removed through the components (``spatial_harmonics``) and by the
         residual check (as in channel_engine.clean_columns; empty where it was not needed).
+
+    Examples
+    --------
+    >>> sfreq = 250.0; t = np.arange(5000) / sfreq; rng = np.random.default_rng(0)
+    >>> x = rng.standard_normal((4, t.size)) + np.outer([2.0, 1.0, -1.5, 0.5], np.cos(2 * np.pi * 50 * t))
+    >>> hum, spatial, channels = spatial_hum(x, sfreq, {})
+    >>> hum.shape, spatial["n_components"], spatial["components"]["harmonics"], spatial["residual_refit"]
+    ((4, 5000), 1, [1], [])
     """
     bands = line_bands(sfreq, opts.get("mains", "auto"), opts.get("harmonics", "auto"), opts.get("max_hz"))
     scores, W = hum_components(*band_covariances(x, sfreq, bands))
