@@ -17,7 +17,33 @@ log = logging.getLogger(__name__)
 
 @dataclass(frozen=True)
 class CombSearch:
-    """Settings of :func:`detect_extra_combs` (see there)."""
+    """Settings of :func:`detect_extra_combs` (see there).
+
+    Attributes
+    ----------
+    min_sep_hz : float
+        Harmonics closer than this to a line already removed are left to that line.
+    alpha : float
+        Family-wise significance level.
+    max_hz : float or None
+        Highest frequency considered.
+    max_combs : int
+        Most further combs.
+    rel_search : float
+        Relative range of the floors' bands.
+    max_harmonic : int or None
+        Highest harmonic searched (the main comb's reach).
+    main_f0 : float or None
+        The main comb's fundamental (centre of the search).
+    near_rel : float
+        Relative search range around ``main_f0``.
+
+    Examples
+    --------
+    >>> s = CombSearch(min_sep_hz=0.1, main_f0=50.02)
+    >>> s.alpha, s.max_combs, s.near_rel
+    (0.001, 2, 0.003)
+    """
 
     min_sep_hz: float
     alpha: float = 1e-3
@@ -31,6 +57,14 @@ class CombSearch:
 
 @dataclass
 class Comb:
+    """A further comb: its fundamental (Hz), the harmonics found and every candidate's statistics.
+
+    Examples
+    --------
+    >>> Comb(50.1, [2, 3, 4])
+    Comb(fundamental_hz=50.1, harmonics=[2, 3, 4], candidates=[])
+    """
+
     fundamental_hz: float
     harmonics: list[int]
     candidates: list[dict] = field(default_factory=list)
@@ -48,6 +82,36 @@ def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: li
     harmonics and all resolvable fundamentals in the search range (the look-elsewhere effect);
     harmonics closer than ``min_sep_hz`` to a line already removed are left to that line's fit
     (the two would be collinear over one block).
+
+    Parameters
+    ----------
+    spec : Spectrum
+        A fine spectrum of the input (with per-segment periodograms).
+    sr : int
+        Sample rate (Hz).
+    nominal : float
+        Nominal fundamental (Hz).
+    main : list of (float, float)
+        Lines already removed: frequency and half-width (Hz).
+    search : CombSearch
+        Settings.
+
+    Returns
+    -------
+    list of Comb
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(32 * sr) / sr
+    >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> for k in (1, 2, 3, 4):
+    ...     x += 0.3 * np.cos(2 * np.pi * k * 50.1 * t + 2 * k)      # a comb at 50.1 Hz
+    >>> spec = _detect.excerpt_spectrum(ArraySource(x, sr), seg_s=16.0, keep_segments_hz=500)
+    >>> main = [(k * 50.0, 0.2) for k in (1, 2, 3, 4)]             # the main comb at 50 Hz
+    >>> combs = detect_extra_combs(spec, sr, 50.0, main, CombSearch(0.05, main_f0=50.0, max_harmonic=4))
+    >>> [(round(float(c.fundamental_hz), 2), c.harmonics) for c in combs]
+    [(50.1, [2, 3, 4])]
     """
     ks_all = _detect.candidate_harmonics(nominal, sr, "auto", search.max_hz)
     # a further comb is searched only as far up as the main comb reaches: isolated high lines
@@ -139,6 +203,40 @@ def refine_combs(source, sr: int, combs: list[Comb], main_f0: float | None, spec
     16 s blocks needs it to about 1e-3 Hz at the tenth harmonic, and amplitudes pooled over
     several blocks need it still finer (a 5 mHz error turns the phase by 0.13 rad per 4 s).
     One demodulation pass serves every comb and tone.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input.
+    sr : int
+        Sample rate (Hz).
+    combs : list of Comb
+        Modified in place (fundamental refined; lines that are not phase-locked dropped, and
+        combs left with fewer than 3 lines removed from the list).
+    main_f0 : float or None
+        The main comb's fundamental (Hz).
+    spec : Spectrum
+        The spectrum the combs were found on.
+    tones : sequence of float
+        Tones (Hz) to refine.
+
+    Returns
+    -------
+    list of float
+        The refined tones.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(32 * sr) / sr
+    >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> for k in (2, 3, 4):
+    ...     x += 0.3 * np.cos(2 * np.pi * k * 50.1 * t + 2 * k)
+    >>> src = ArraySource(x, sr)
+    >>> spec = _detect.excerpt_spectrum(src, seg_s=16.0)
+    >>> combs = [Comb(50.102, [2, 3, 4])]
+    >>> refine_combs(src, sr, combs, 50.0, spec), [(round(c.fundamental_hz, 4), c.harmonics) for c in combs]
+    ([], [(50.1, [2, 3, 4])])
     """
     tones = [float(t) for t in tones]
     if not combs and not tones:

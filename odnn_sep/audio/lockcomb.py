@@ -28,6 +28,34 @@ LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
 
 @dataclass
 class Comb:
+    """The phase-locked comb chosen by :func:`choose`.
+
+    Attributes
+    ----------
+    nominal_hz : float
+        50, 60 or the requested fundamental.
+    f_ref : float
+        Reference fundamental of the demodulation (Hz).
+    harmonics : list of int
+        Locked harmonics (or the requested ones).
+    psi : (J,) array or None
+        The fundamental's phase (cycles, relative to ``f_ref t``) at the chunk centres.
+    D : (J, C, K) complex array or None
+        Chunk sums of ``harmonics``.
+    weights : (C, K) array or None
+        Inverse floor PSD.
+    evidence : float
+        Sum of ``-log10 p`` of the locked lines.
+    lock : dict
+        Harmonic -> ``(p, lock index, amplitude)`` of every line tested.
+
+    Examples
+    --------
+    >>> c = Comb(nominal_hz=50.0, f_ref=50.0, harmonics=[], psi=None, D=None, weights=None)
+    >>> c.evidence, c.lock
+    (0.0, {})
+    """
+
     nominal_hz: float
     f_ref: float
     harmonics: list[int]          # locked harmonics (or the requested ones)
@@ -84,7 +112,42 @@ class _Family:
 
 def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool = True, progress=None) -> Comb:
     """Track and lock-test the family of ``det`` (harmonics ``det.harmonics`` plus ``extra``
-    candidates). ``test=False``: the harmonics were given by the caller; only track them."""
+    candidates). ``test=False``: the harmonics were given by the caller; only track them.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input.
+    spec : Spectrum
+        Its spectrum.
+    det : Detection
+        The family (fundamental, harmonics, floors).
+    extra : sequence of int
+        Further candidate harmonics.
+    alpha : float
+        Significance level.
+    n_tests : int
+        Bonferroni count.
+    test : bool
+        Lock-test the lines.
+    progress : callable, optional
+        Progress callback of the demodulation.
+
+    Returns
+    -------
+    Comb
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=2000)
+    >>> src = ArraySource(y, sr); spec = _detect.excerpt_spectrum(src, keep_segments_hz=1000)
+    >>> det = _detect.detect_hum(spec, sr)
+    >>> comb = settle(src, spec, det, [], alpha=1e-3, n_tests=len(det.candidates))
+    >>> comb.harmonics, comb.D.shape, comb.evidence > 10
+    ([1, 2, 3, 4, 5], (300, 1, 5), True)
+    """
     sr, N = source.sr, source.frames
     cand = sorted(set(det.harmonics) | set(extra))
     fam = _Family(D=_track.demodulate(source, det.mains_hz, cand, progress=progress),
@@ -122,7 +185,36 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:
     """The locked comb of the detected family, or of the other nominal family when it has more
     locked evidence; None when no line is locked. Options as in :func:`~odnn_sep.audio.denoise`
-    (validated); keyword-only, which is why there are nine (why long)."""
+    (validated); keyword-only, which is why there are nine (why long).
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input.
+    spec : Spectrum
+        Its spectrum.
+    det : Detection
+        What the spectrum showed.
+    mains, harmonics, alpha, max_hz, tones
+        As in :func:`~odnn_sep.audio.denoise` (validated).
+    progress : callable, optional
+        Progress callback.
+
+    Returns
+    -------
+    Comb or None
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=2000)
+    >>> src = ArraySource(y, sr); spec = _detect.excerpt_spectrum(src, keep_segments_hz=1000)
+    >>> comb = choose(src, spec, _detect.detect_hum(spec, sr), mains="auto", harmonics="auto", alpha=1e-3,
+    ...               max_hz=None, tones=[])
+    >>> comb.nominal_hz, comb.harmonics, round(comb.f_ref, 1)
+    (50.0, [1, 2, 3, 4, 5], 50.0)
+    """
     test = harmonics == "auto"
     n_first = max(1, sum(1 for c in det.candidates if c["harmonic"] is not None))
     fams = []
