@@ -32,7 +32,14 @@ class FitSettings:
     """How pass 2 fits: the solver (``'exact'`` or ``'network'``, with its seed), the Gram
     sub-sampling step (fit.solve_block), and the local noise floor PSD at each line (C per line;
     harmonics ``main_psd``, fixed lines ``fixed_psd``) for pooling amplitudes over up to
-    ``smooth_blocks`` blocks on each side (None: that kind of line is not pooled)."""
+    ``smooth_blocks`` blocks on each side (None: that kind of line is not pooled).
+
+    Examples
+    --------
+    >>> s = FitSettings(gram_step=4)
+    >>> s.solver, s.gram_step, s.main_psd is None, s.smooth_blocks
+    ('exact', 4, True, 4)
+    """
 
     solver: str = "exact"
     random_state: object = 0
@@ -50,6 +57,46 @@ def fit_pass(source, sink, plan: BlockPlan, trk, lines: LineSet, settings: FitSe
     Returns ``(amps, phs, valid, overall)``: (blocks, C, lines) peak amplitude and phase, which
     blocks are full length, and (C, lines) whole-input amplitudes of steady lines (NaN where a
     line is not steady or not pooled; None without pooling).
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input.
+    sink : callable
+        ``sink(piece, removed)``, in order.
+    plan : BlockPlan
+        The blocks.
+    trk : track.Track
+        The fundamental track of the blocks.
+    lines : LineSet
+        The lines to fit.
+    settings : FitSettings
+        Solver and pooling.
+    tick : callable, optional
+        Called with the frames of each block read.
+
+    Returns
+    -------
+    amps, phs : (blocks, C, lines) arrays
+    valid : (blocks,) bool array
+    overall : (C, lines) array or None
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate, track_fundamental
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> hum = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
+    >>> src = ArraySource(hum + 0.1 * np.random.default_rng(0).standard_normal(t.size), sr)
+    >>> plan = BlockPlan.from_block_s(4.0, sr, t.size)
+    >>> trk = track_fundamental(demodulate(src, 50.0, [1, 2]), 50.0, [1, 2], np.ones((1, 2)), plan)
+    >>> out = []
+    >>> amps, phs, valid, overall = fit_pass(src, lambda piece, removed: out.append(removed), plan, trk,
+    ...                                      LineSet([1, 2]), FitSettings())
+    >>> amps.shape, valid.tolist(), np.median(amps[valid], axis=0).round(2).tolist()
+    ((5, 1, 2), [False, True, True, True, False], [[1.0, 0.5]])
+    >>> bool(np.abs(np.concatenate(out)[:, 0] - hum).max() < 0.05)       # the hum, as removed
+    True
     """
     fp = _FitPass(source, plan, trk, lines, settings)
     C, hop = source.channels, plan.hop

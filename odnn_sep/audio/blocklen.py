@@ -37,6 +37,39 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
 
     ``D``: chunk sums (J, C, K) from :func:`track.demodulate` at ``f_ref`` for harmonics ``ks``;
     ``weights`` (C, K) as for :func:`track.track_fundamental`.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums.
+    sr : int
+        Sample rate (Hz).
+    n_frames : int
+        Samples in the input.
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers.
+    weights : (C, K) array
+        Inverse floor PSD.
+    candidates : sequence of float
+        Block lengths (s), increasing.
+
+    Returns
+    -------
+    block_s : float
+    track : track.Track
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
+    >>> x += 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> block_s, trk = choose_block(D, sr, t.size, 50.0, [1, 2], np.ones((1, 2)), candidates=(2.0, 4.0))
+    >>> block_s, trk.t.tolist()
+    (4.0, [0.0, 2.0, 4.0, 6.0, 8.0])
     """
     J = D.shape[0]
     j0, De, n_ex = _excerpt(D, sr, n_frames)
@@ -131,7 +164,33 @@ def _excerpt(D, sr: int, n_frames: int):
 
 def choose_block_phase(D, psi, sr: int, n_frames: int, f_ref: float, ks, *, candidates=CANDIDATES_S) -> float:
     """As :func:`choose_block`, with the lines turned by the refined phase ``psi`` (cycles, at the
-    chunk centres; finetrack.py) instead of a block track: returns the best block length."""
+    chunk centres; finetrack.py) instead of a block track: returns the best block length.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums.
+    psi : (J,) array
+        Refined phase of the fundamental (cycles).
+    sr, n_frames, f_ref, ks, candidates
+        As in :func:`choose_block`.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.finetrack import chunk_times
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(8 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
+    >>> x += 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> psi = 0.1 * chunk_times(len(D), sr)                  # the 0.1 Hz offset, in cycles
+    >>> choose_block_phase(D, psi, sr, t.size, 50.0, [1, 2], candidates=(2.0, 4.0))
+    4.0
+    """
     j0, De, n_ex = _excerpt(D, sr, n_frames)
     u = _baseband.derotate(De, ks, 2 * np.pi * (psi[j0: j0 + De.shape[0]] - psi[j0])).astype(np.complex64)
     welch = _Welch(u.shape[0], sr)

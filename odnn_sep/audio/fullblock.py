@@ -37,6 +37,33 @@ class FullBlockFitter:
 
     Fitted amplitudes of the fixed lines are in absolute time (phase at sample 0 of the input);
     the tracked comb's in the block's own reference (its centre).
+
+    Parameters
+    ----------
+    L : int
+        Full block length (samples).
+    sr : int
+        Sample rate (Hz).
+    ks : sequence of int
+        Tracked harmonics.
+    fixed_lines : sequence
+        Fixed frequencies (Hz) or ``(fundamental, harmonics)`` combs.
+    w : (L,) array
+        The full block's window.
+    gram_step : int
+        Row step of a sub-sampled Gram matrix.
+    chunk : int
+        Samples per chunk of the fixed-line table.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.blockplan import sin2_window
+    >>> sr, L = 1000, 4000; t = np.arange(L)
+    >>> y = 0.8 * np.cos(2 * np.pi * 50 * (t - 2000) / sr + 0.3) + 0.2 * np.cos(2 * np.pi * 170 * t / sr)
+    >>> fitter = FullBlockFitter(L, sr, [1], [170.0], sin2_window(t + 0.5, L), gram_step=1)
+    >>> theta = fitter.fit(0, 2000, 50.0, 0.0, 0.0, [y[:, None]])     # h1 (cos, sin), then 170 Hz
+    >>> theta.shape, theta[:3, 0].round(4).tolist()
+    ((4, 1), [0.7643, -0.2364, 0.2])
     """
 
     def __init__(self, L: int, sr: int, ks, fixed_lines, w: np.ndarray, gram_step: int, chunk: int = CHUNK):
