@@ -365,6 +365,26 @@ def solve_block_network(F, Y, w, names, random_state=None, epochs: int = 300):
     The weighted problem is whitened first (rows scaled by sqrt(w)), so the network's projection
     layer removes span(F) in exactly the inner product the exact solver uses and both give the
     same theta up to optimisation tolerance.
+
+    Parameters
+    ----------
+    F : (n, p) array
+        The block basis (:func:`block_basis`).
+    Y : (n, C) array
+        The block's samples.
+    w : (n,) array
+        Non-negative row weights; rows of weight 0 are left out.
+    names : list of str
+        One name per column of ``F``.
+    random_state : int, optional
+        Seed of the network.
+    epochs : int
+        Training epochs per channel.
+
+    Returns
+    -------
+    (p, C) float array
+        As :func:`solve_block` gives, within optimisation tolerance.
     """
     from odnn_sep.core import Basis, Orthogonal, Separator
 

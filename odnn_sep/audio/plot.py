@@ -27,6 +27,17 @@ def plot_denoise(result, before, after, out, *, max_seconds: float = 120.0) -> N
     shown). Only the first ``max_seconds`` enter the spectrograms, and their titles say so when
     the input is longer. Both spectrograms share one colour scale (set by the input), so what
     was removed shows as a change of colour; the removed lines are marked and labelled by comb.
+
+    Parameters
+    ----------
+    result : DenoiseResult
+        What :func:`~odnn_sep.audio.denoise` or :func:`~odnn_sep.audio.denoise_file` returned.
+    before, after : (n,) or (n, channels) arrays
+        Input and output samples.
+    out : str or path-like
+        The figure file (.png, .pdf, .svg or .jpg).
+    max_seconds : float
+        Longest stretch shown in the spectrograms (s).
     """
     from scipy import signal
 
