@@ -131,6 +131,23 @@ def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto",
     subtype unless ``subtype`` is given). Options as in :func:`denoise` (gathered into one
     :class:`~odnn_sep.audio.options.DenoiseOptions`: why long).
 
+    Parameters
+    ----------
+    path_in : str or path-like
+        Input sound file (WAV, FLAC, OGG, AIFF; MP3 where supported).
+    path_out : str or path-like
+        Output file (format from its extension; never the input), written atomically.
+    subtype : str, optional
+        Output subtype (soundfile name, e.g. ``'PCM_24'``, ``'FLOAT'``); default: the input's.
+    mains, harmonics, tones, block_s, solver, alpha, max_hz, progress, random_state
+        As in :func:`denoise`.
+
+    Returns
+    -------
+    DenoiseResult
+        Without sample arrays (``y`` and ``hum`` are None); ``info`` names the files, format and
+        subtype, ``clip_message`` and ``requantisation_message`` say what writing cost.
+
     Examples
     --------
     >>> import tempfile, os, soundfile as sf

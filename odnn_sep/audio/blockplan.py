@@ -16,6 +16,17 @@ def sin2_window(pos, length) -> np.ndarray:
     """``sin^2(pi pos / length)``: the cross-fade and fit window at positions ``pos`` (samples or
     chunk times) of a window ``length`` long (a Hann window over ``[0, length]``).
 
+    Parameters
+    ----------
+    pos : array-like
+        Positions, in the units of ``length``.
+    length : float
+        Window length.
+
+    Returns
+    -------
+    float array like ``pos``
+
     Examples
     --------
     >>> sin2_window(np.arange(4) + 0.5, 4).round(3).tolist()

@@ -24,6 +24,18 @@ MIN_SECONDS = 0.2   # the engine's own minimum (pipeline.py)
 def engine_rate(sfreq: float) -> tuple[int, float]:
     """The integer rate the engine runs at and the factor ``sr / sfreq`` frequencies are scaled by.
 
+    Parameters
+    ----------
+    sfreq : float
+        True sampling frequency (Hz), possibly fractional.
+
+    Returns
+    -------
+    sr : int
+        ``round(sfreq)``, at least 1.
+    scale : float
+        ``sr / sfreq``.
+
     Examples
     --------
     >>> engine_rate(512.5)
@@ -109,6 +121,15 @@ def clean_columns(x: np.ndarray, sfreq: float, opts: dict) -> tuple[np.ndarray, 
 
     Columns share the engine's tracked fundamental and line choice; each gets its own amplitudes and
     phases. Each column is scaled to unit RMS for the call (EEG in volts is ~1e-5) and back.
+
+    Parameters
+    ----------
+    x : (n_times,) or (n_times, k) array
+        Samples, float64.
+    sfreq : float
+        Sampling frequency (Hz), possibly fractional.
+    opts : dict
+        Engine options (``mains``, ``harmonics``, ...; see :data:`ENGINE_OPTIONS`).
 
     Returns
     -------

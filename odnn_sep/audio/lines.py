@@ -12,6 +12,15 @@ def as_combs(fixed_lines):
     """``fixed_lines``: frequencies (Hz) or (fundamental, [harmonic numbers]) pairs, in column
     order; yields ``(fundamental, harmonics)`` for each (a lone tone is its own first harmonic).
 
+    Parameters
+    ----------
+    fixed_lines : iterable
+        Floats (tones, Hz) or ``(fundamental, harmonics)`` tuples.
+
+    Yields
+    ------
+    (float, list of int)
+
     Examples
     --------
     >>> list(as_combs([1000.0, (60.1, [4, 5])]))

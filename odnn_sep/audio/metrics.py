@@ -103,6 +103,26 @@ def band_floor_offset_db(x, sr, lines, exclude_hz, *, seg_s: float = 32.0, exclu
     with the report's metric: a floor that is not flat near a line (room modes, a neighbouring
     partial) puts a lower bound on ``|level after|`` there.
 
+    Parameters
+    ----------
+    x : (n,) array
+        The input.
+    sr : int
+        Sample rate (Hz).
+    lines : sequence of float
+        Lines to report (Hz).
+    exclude_hz : sequence of float
+        Every hum line (Hz), left out of the bands and floors.
+    seg_s : float
+        Welch segment length (s).
+    exclude_half_width_hz : float
+        Half-width left out around each of ``exclude_hz`` within the band (Hz).
+
+    Returns
+    -------
+    list of float
+        dB per line; NaN where the band or the floor has no bin left.
+
     Examples
     --------
     >>> import numpy as np
@@ -135,6 +155,28 @@ def beside_line_cut_db(x_in, x_out, sr, lines, exclude_hz, *, seg_s: float = 32.
     is naturally below that floor, removing the line alone reads as a hole there. This measure
     looks only where the input has no line at a resolution that separates them, and so reads 0 dB
     when a removal leaves the content beside the lines untouched.
+
+    Parameters
+    ----------
+    x_in, x_out : (n,) arrays
+        Input and output.
+    sr : int
+        Sample rate (Hz).
+    lines : sequence of float
+        Lines to report (Hz).
+    exclude_hz : sequence of float
+        Every hum line (Hz).
+    seg_s : float
+        Welch segment length (s).
+    exclude_half_width_hz : float
+        Half-width left out around each of ``exclude_hz`` (Hz).
+    width_hz : float
+        Half-width of the region searched beside each line (Hz).
+
+    Returns
+    -------
+    list of float
+        dB per line; NaN where no bin is left.
 
     Examples
     --------

@@ -45,6 +45,22 @@ REFIT_LEVEL_DB = 6.0     # ... i.e. when a line stays this far above its floor i
 def line_bands(sfreq: float, mains, harmonics="auto", max_hz=None) -> list[tuple[float, float]]:
     """Frequency bands (Hz) around the candidate hum lines, below 0.95 x Nyquist.
 
+    Parameters
+    ----------
+    sfreq : float
+        Sampling frequency (Hz).
+    mains : 'auto' or float
+        ``'auto'`` (any string): both the 50 and 60 Hz families; else that fundamental.
+    harmonics : 'auto', int, str of digits or sequence of int
+        Harmonics to cover (``'auto'``: up to :data:`MAX_HARMONIC`).
+    max_hz : float, optional
+        Highest frequency covered.
+
+    Returns
+    -------
+    list of (float, float)
+        Sorted ``(low, high)`` bands, half-width ``BAND_HZ + BAND_REL f``.
+
     Examples
     --------
     >>> [(round(lo, 2), round(hi, 2)) for lo, hi in line_bands(250.0, 50)]
@@ -341,6 +357,15 @@ def residual_channels(x: np.ndarray, sfreq: float, line_freqs) -> np.ndarray:
 
 def spatial_hum(x: np.ndarray, sfreq: float, opts: dict):
     """The hum in channels ``x`` (n_channels, n_times) found through its spatial components.
+
+    Parameters
+    ----------
+    x : (n_channels, n_times) array
+        The picked channels, float64.
+    sfreq : float
+        Sampling frequency (Hz).
+    opts : dict
+        Engine options (``mains``, ``harmonics``, ``max_hz``, ...).
 
     Returns
     -------

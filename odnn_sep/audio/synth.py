@@ -162,6 +162,15 @@ def make_hum_demo(duration_s: float = 8.0, sr: int = 16000, random_state=0):
 
     Deterministic for a given ``random_state``; used to write ``samples/hum_demo.wav``.
 
+    Parameters
+    ----------
+    duration_s : float
+        Length (s).
+    sr : int
+        Sample rate (Hz).
+    random_state : int
+        Seed.
+
     Returns
     -------
     y : (n,) float array in [-0.9, 0.9]
