@@ -63,10 +63,11 @@ def choose_block(D, sr: int, n_frames: int, f_ref: float, ks, weights, *, candid
     Examples
     --------
     >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
     >>> sr = 1000; t = np.arange(8 * sr) / sr
     >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
     >>> x += 0.1 * np.random.default_rng(0).standard_normal(t.size)
-    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
     >>> block_s, trk = choose_block(D, sr, t.size, 50.0, [1, 2], np.ones((1, 2)), candidates=(2.0, 4.0))
     >>> block_s, trk.t.tolist()
     (4.0, [0.0, 2.0, 4.0, 6.0, 8.0])
@@ -183,10 +184,11 @@ def choose_block_phase(D, psi, sr: int, n_frames: int, f_ref: float, ks, *, cand
     --------
     >>> from odnn_sep.audio.finetrack import chunk_times
     >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
     >>> sr = 1000; t = np.arange(8 * sr) / sr
     >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.5 * np.cos(2 * np.pi * 100.2 * t + 1)
     >>> x += 0.1 * np.random.default_rng(0).standard_normal(t.size)
-    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
     >>> psi = 0.1 * chunk_times(len(D), sr)                  # the 0.1 Hz offset, in cycles
     >>> choose_block_phase(D, psi, sr, t.size, 50.0, [1, 2], candidates=(2.0, 4.0))
     4.0

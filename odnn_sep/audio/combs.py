@@ -102,12 +102,13 @@ def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: li
 
     Examples
     --------
+    >>> from odnn_sep.audio.detect import detect_hum, excerpt_spectrum
     >>> from odnn_sep.audio.io import ArraySource
     >>> sr = 1000; t = np.arange(32 * sr) / sr
     >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size)
     >>> for k in (1, 2, 3, 4):
     ...     x += 0.3 * np.cos(2 * np.pi * k * 50.1 * t + 2 * k)      # a comb at 50.1 Hz
-    >>> spec = _detect.excerpt_spectrum(ArraySource(x, sr), seg_s=16.0, keep_segments_hz=500)
+    >>> spec = excerpt_spectrum(ArraySource(x, sr), seg_s=16.0, keep_segments_hz=500)
     >>> main = [(k * 50.0, 0.2) for k in (1, 2, 3, 4)]             # the main comb at 50 Hz
     >>> combs = detect_extra_combs(spec, sr, 50.0, main, CombSearch(0.05, main_f0=50.0, max_harmonic=4))
     >>> [(round(float(c.fundamental_hz), 2), c.harmonics) for c in combs]
@@ -227,13 +228,14 @@ def refine_combs(source, sr: int, combs: list[Comb], main_f0: float | None, spec
 
     Examples
     --------
+    >>> from odnn_sep.audio.detect import detect_hum, excerpt_spectrum
     >>> from odnn_sep.audio.io import ArraySource
     >>> sr = 1000; t = np.arange(32 * sr) / sr
     >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size)
     >>> for k in (2, 3, 4):
     ...     x += 0.3 * np.cos(2 * np.pi * k * 50.1 * t + 2 * k)
     >>> src = ArraySource(x, sr)
-    >>> spec = _detect.excerpt_spectrum(src, seg_s=16.0)
+    >>> spec = excerpt_spectrum(src, seg_s=16.0)
     >>> combs = [Comb(50.102, [2, 3, 4])]
     >>> refine_combs(src, sr, combs, 50.0, spec), [(round(c.fundamental_hz, 4), c.harmonics) for c in combs]
     ([], [(50.1, [2, 3, 4])])

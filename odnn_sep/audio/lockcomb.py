@@ -139,11 +139,12 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
 
     Examples
     --------
+    >>> from odnn_sep.audio.detect import detect_hum, excerpt_spectrum
     >>> from odnn_sep.audio.io import ArraySource
     >>> from odnn_sep.audio.synth import make_hum_demo
     >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=2000)
-    >>> src = ArraySource(y, sr); spec = _detect.excerpt_spectrum(src, keep_segments_hz=1000)
-    >>> det = _detect.detect_hum(spec, sr)
+    >>> src = ArraySource(y, sr); spec = excerpt_spectrum(src, keep_segments_hz=1000)
+    >>> det = detect_hum(spec, sr)
     >>> comb = settle(src, spec, det, [], alpha=1e-3, n_tests=len(det.candidates))
     >>> comb.harmonics, comb.D.shape, comb.evidence > 10
     ([1, 2, 3, 4, 5], (300, 1, 5), True)
@@ -206,11 +207,12 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
 
     Examples
     --------
+    >>> from odnn_sep.audio.detect import detect_hum, excerpt_spectrum
     >>> from odnn_sep.audio.io import ArraySource
     >>> from odnn_sep.audio.synth import make_hum_demo
     >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=2000)
-    >>> src = ArraySource(y, sr); spec = _detect.excerpt_spectrum(src, keep_segments_hz=1000)
-    >>> comb = choose(src, spec, _detect.detect_hum(spec, sr), mains="auto", harmonics="auto", alpha=1e-3,
+    >>> src = ArraySource(y, sr); spec = excerpt_spectrum(src, keep_segments_hz=1000)
+    >>> comb = choose(src, spec, detect_hum(spec, sr), mains="auto", harmonics="auto", alpha=1e-3,
     ...               max_hz=None, tones=[])
     >>> comb.nominal_hz, comb.harmonics, round(comb.f_ref, 1)
     (50.0, [1, 2, 3, 4, 5], 50.0)
