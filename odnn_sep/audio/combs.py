@@ -102,7 +102,7 @@ def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: li
 
     Examples
     --------
-    >>> from odnn_sep.audio.detect import detect_hum, excerpt_spectrum
+    >>> from odnn_sep.audio.detect import excerpt_spectrum
     >>> from odnn_sep.audio.io import ArraySource
     >>> sr = 1000; t = np.arange(32 * sr) / sr
     >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size)
@@ -228,7 +228,7 @@ def refine_combs(source, sr: int, combs: list[Comb], main_f0: float | None, spec
 
     Examples
     --------
-    >>> from odnn_sep.audio.detect import detect_hum, excerpt_spectrum
+    >>> from odnn_sep.audio.detect import excerpt_spectrum
     >>> from odnn_sep.audio.io import ArraySource
     >>> sr = 1000; t = np.arange(32 * sr) / sr
     >>> x = 0.1 * np.random.default_rng(0).standard_normal(t.size)
