@@ -45,6 +45,18 @@ FONT_PLACES = 3  # without a pinned font, the best places where every font is tr
 
 @dataclasses.dataclass
 class Match:
+    """One placement hypothesis of the search: font, em size (px), angle (degrees, counter-clockwise),
+    ink-box centre (x, y) and the band-pass match score.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from odnn_sep.image.locate import Match
+    >>> m = Match(Path("DejaVuSans-Bold.ttf"), 20.0, 0.0, (32.0, 24.0), 0.9)
+    >>> m.size, m.center
+    (20.0, (32.0, 24.0))
+    """
+
     font: Path
     size: float          # em size in px at full resolution
     angle: float         # degrees, counter-clockwise as displayed
@@ -184,7 +196,28 @@ def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
 
 def least_alike(text: str, fonts: list[Path]) -> Path:
     """The font whose rendering of ``text`` correlates least with the first font's (both band-passed
-    and stretched to the same box): the coarse grid's templates of the first font match it worst."""
+    and stretched to the same box): the coarse grid's templates of the first font match it worst.
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    fonts : list of Path
+        Candidate fonts, the first the reference.
+
+    Returns
+    -------
+    Path
+        One of ``fonts[1:]`` (``fonts[0]`` when it is the only one).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.locate import least_alike
+    >>> from odnn_sep.image.render import resolve_font
+    >>> fonts = [resolve_font(n) for n in ("DejaVuSans-Bold", "DejaVuSans", "DejaVuSansMono-Bold")]
+    >>> least_alike("Hi", fonts).name, least_alike("Hi", fonts[:1]).name
+    ('DejaVuSansMono-Bold.ttf', 'DejaVuSans-Bold.ttf')
+    """
     import cv2
 
     def look(font):
@@ -200,6 +233,27 @@ def least_alike(text: str, fonts: list[Path]) -> Path:
 
 
 def same_place(a: Match, b: Match) -> bool:
+    """Whether two matches are the same place: centres within half the larger size, angles within 5 degrees.
+
+    Parameters
+    ----------
+    a, b : Match
+        The two placements.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from odnn_sep.image.locate import Match, same_place
+    >>> a = Match(Path("f.ttf"), 20.0, 0.0, (32.0, 24.0), 0.9)
+    >>> same_place(a, Match(Path("g.ttf"), 20.0, 2.0, (35.0, 24.0), 0.5))
+    True
+    >>> same_place(a, Match(Path("f.ttf"), 20.0, 0.0, (52.0, 24.0), 0.7))
+    False
+    """
     return bool(np.hypot(a.center[0] - b.center[0], a.center[1] - b.center[1]) < 0.5 * max(a.size, b.size)
                 and abs(a.angle - b.angle) < 5.0)
 
