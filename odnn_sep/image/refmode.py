@@ -234,6 +234,18 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
     -------
     list of tuple
         (Placement, judged score), the best first, then its tiled copies.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> from odnn_sep.image.refmode import locate
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96, 1), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M[..., None] * (L - 0.3)
+    >>> [(round(p.cx), round(p.cy), round(p.scale, 1)) for p, _ in locate(photo, logo, 0.0, 1, lambda p: p.score)]
+    [(40, 30, 1.0)]
     """
     from odnn_sep.image import logo_search as ls
 
