@@ -30,6 +30,15 @@ class UnwatermarkResult:
     mask : (H, W) coverage M of the mark (glyph coverage in [0, 1])
     lost : (H, W) bool, pixels whose data were gone and were inpainted
     report : JSON-ready dict
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.api import UnwatermarkResult
+    >>> r = UnwatermarkResult(np.zeros((32, 48, 3)), 0.3, np.ones(3), np.zeros((32, 48)),
+    ...                       np.zeros((32, 48), bool), {})
+    >>> r.alpha, r.image.shape, int(r.lost.sum())
+    (0.3, (32, 48, 3), 0)
     """
 
     image: np.ndarray
@@ -73,7 +82,30 @@ def _residual(out, inp, M, prior, b, random_state) -> dict:
 
 
 def color_report(color, planes) -> dict:
-    """The report's ``color`` (and ``color_hex`` for colour images) of a fitted mark colour in [0, 1]."""
+    """The report's ``color`` (and ``color_hex`` for colour images) of a fitted mark colour in [0, 1].
+
+    Parameters
+    ----------
+    color : array_like
+        (C,) mark colour in [0, 1].
+    planes : Planes
+        The split input (:func:`odnn_sep.image.io.split`); only ``planes.grey`` is used.
+
+    Returns
+    -------
+    dict
+        ``{"color": [...]}`` rounded to 5 decimals, plus ``"color_hex"`` for colour images.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.api import color_report
+    >>> from odnn_sep.image.io import split
+    >>> color_report([1.0, 0.5, 0.0], split(np.zeros((32, 48, 3), np.uint8)))
+    {'color': [1.0, 0.5, 0.0], 'color_hex': '#ff8000'}
+    >>> color_report([0.25], split(np.zeros((32, 48), np.uint8)))
+    {'color': [0.25]}
+    """
     col = np.asarray(color, dtype=float)
     out = {"color": [round(float(v), 5) for v in col]}
     if not planes.grey:

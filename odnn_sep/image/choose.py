@@ -18,7 +18,39 @@ from odnn_sep.image.profile import PhotoProfile, design
 def most_likely(y, rivals, *, patch: int = 8, max_patches: int = 800, random_state=0) -> int:
     """Index of the rival placement (``register.Placed``) under which the data are most likely.
 
-    ``y``: the whole image as float (H, W, C) in [0, 1] (or a view giving float crops)."""
+    ``y``: the whole image as float (H, W, C) in [0, 1] (or a view giving float crops).
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        The whole image, float (H, W, C) in [0, 1].
+    rivals : list of Placed
+        Rival placements of one mark; fewer than two give 0.
+    patch : int, default 8
+        Patch size in pixels.
+    max_patches : int, default 800
+        Most patches used (a random subset beyond).
+    random_state : int or Generator, default 0
+        Seed of the patch subset.
+
+    Returns
+    -------
+    int
+        Index in ``rivals`` of the most likely placement.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.choose import most_likely
+    >>> from odnn_sep.image.register import Placed, refine
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> clean = np.repeat(np.linspace(70, 110, 48)[:, None, None], 64, 1).repeat(3, 2).astype(np.uint8)
+    >>> y, _ = add_text_watermark(clean, "Hi", size=20, center=(32, 24), alpha=0.5)
+    >>> p = refine(y / 255.0, "Hi", "DejaVuSans-Bold", 19.5, 0.0, (31.5, 24.5))
+    >>> shifted = Placed(p.font, p.size, p.angle, p.center, p.box, np.roll(p.coverage, 3, axis=1), p.fit)
+    >>> most_likely(y / 255.0, [shifted, p]), most_likely(y / 255.0, [p])
+    (1, 0)
+    """
     if len(rivals) < 2:
         return 0
     X0, Y0 = min(p.box[0] for p in rivals), min(p.box[1] for p in rivals)

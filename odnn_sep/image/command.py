@@ -34,6 +34,22 @@ EXIT_MARK_VISIBLE = 3
 
 
 def register(subparsers) -> None:
+    """Add the ``unwatermark`` subcommand and its options to ``subparsers``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers()`` returned.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from odnn_sep.image import command
+    >>> ap = argparse.ArgumentParser(); command.register(ap.add_subparsers())
+    >>> a = ap.parse_args(["unwatermark", "in.png", "-o", "out.png", "--text", "SAMPLE", "--mask-as-is"])
+    >>> a.text, a.output, a.mask_invert, a.func is command.run
+    ('SAMPLE', 'out.png', False, True)
+    """
     p = subparsers.add_parser("unwatermark", help=HELP, description=DESCRIPTION, epilog=EXAMPLES,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("input", metavar="IMG", help="input image (PNG, JPEG, TIFF, WebP; grey/RGB/RGBA; 8/16-bit)")
@@ -67,6 +83,33 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``odnn-sep unwatermark`` on parsed arguments: read, remove the mark, write output and report.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The options :func:`register` defines.
+
+    Returns
+    -------
+    int
+        Exit code: 0 removed, ``EXIT_MARK_VISIBLE`` (3) found and inverted but still visible.
+
+    Raises
+    ------
+    InputError
+        Without ``--text``, ``--mask`` or ``--reference``, or with ``--reference`` and another mode.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from odnn_sep.image import command
+    >>> ap = argparse.ArgumentParser(); command.register(ap.add_subparsers())
+    >>> command.run(ap.parse_args(["unwatermark", "in.png", "-o", "out.png"]))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: give the watermark's text (--text) or a mask of its area (--mask), ...
+    """
     from pathlib import Path
 
     from odnn_sep.errors import InputError

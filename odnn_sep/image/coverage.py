@@ -54,7 +54,34 @@ def _smooth(a: np.ndarray, sigma: float) -> np.ndarray:
 
 def predict_photo(R: np.ndarray, w: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
     """Normalised Gaussian average of the photo ``R`` (h, w, C) seen with weights ``w`` (h, w):
-    the prediction (h, w, C) and the local RMS prediction error where it is seen (h, w)."""
+    the prediction (h, w, C) and the local RMS prediction error where it is seen (h, w).
+
+    Parameters
+    ----------
+    R : np.ndarray
+        (h, w, C) photo estimate.
+    w : np.ndarray
+        (h, w) weights, 0 where the photo is not seen.
+    sigma : float
+        Gaussian width in px.
+
+    Returns
+    -------
+    pred : np.ndarray
+        (h, w, C) predicted photo.
+    err : np.ndarray
+        (h, w) local RMS prediction error.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import predict_photo
+    >>> R = np.full((32, 48, 3), 0.4); R[10:20, 10:20] = 0.9
+    >>> w = np.ones((32, 48)); w[10:20, 10:20] = 0
+    >>> pred, err = predict_photo(R, w, 2.0)
+    >>> round(float(pred[15, 15, 0]), 3), bool(err.max() < 1e-6)
+    (0.4, True)
+    """
     den = _smooth(w, sigma)[:, :, None] + 1e-6
     pred = np.stack([_smooth(w * R[:, :, c], sigma) for c in range(R.shape[2])], axis=2) / den
     err = np.mean((R - pred) ** 2, axis=2)
@@ -63,7 +90,47 @@ def predict_photo(R: np.ndarray, w: np.ndarray, sigma: float) -> tuple[np.ndarra
 
 
 def coverage_step(y, M, prior, band, alpha, color, sigma, first):
-    """One matting step: the photo predicted from where it is seen, then ``M`` per band pixel."""
+    """One matting step: the photo predicted from where it is seen, then ``M`` per band pixel.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    M : np.ndarray
+        (h, w) current coverage.
+    prior : np.ndarray
+        (h, w) registered rendering (the prior on M).
+    band : np.ndarray
+        (h, w) bool, where M is estimated (:func:`band_around`).
+    alpha : float
+        Opacity.
+    color : array_like
+        (C,) mark colour.
+    sigma : float
+        Width (px) of the photo's prediction.
+    first : bool
+        Predict the photo from outside the band only (else from outside and inside the glyphs).
+
+    Returns
+    -------
+    M_new : np.ndarray
+        (h, w) coverage, 0 outside the band.
+    Q : np.ndarray
+        (h, w) per-pixel ``a M`` where determined well enough, NaN elsewhere.
+    disagree : np.ndarray
+        (h, w) bool, confident pixels where the data overrule the rendering.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import band_around, coverage_step
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> y = 0.4 * (1 - 0.5 * M[..., None]) + 0.5 * M[..., None] * np.ones(3)
+    >>> band, s = band_around(M)
+    >>> M_new, Q, dis = coverage_step(y, M, M, band, 0.5, np.ones(3), 5.0, True)
+    >>> round(float(np.abs(M_new - M).max()), 3), round(float(np.nanmax(Q)), 3), int(dis.sum())
+    (0.0, 0.5, 0)
+    """
     a = float(alpha)
     col = np.asarray(color, dtype=np.float64).reshape(1, 1, -1)
     if first:  # the rendering's glyphs may be wrong: only the photo outside the band is trusted
@@ -92,7 +159,28 @@ def coverage_step(y, M, prior, band, alpha, color, sigma, first):
 def disagreement(Q: np.ndarray, prior: np.ndarray) -> float:
     """Share of the glyph pixels where the per-pixel ``a M`` (``Q``, NaN where not determined) departs
     from the rendering scaled by its best opacity by more than a third of that opacity (an opacity
-    fitted with a wrong rendering is itself off, so it is not used)."""
+    fitted with a wrong rendering is itself off, so it is not used).
+
+    Parameters
+    ----------
+    Q : np.ndarray
+        (h, w) per-pixel ``a M`` (:func:`coverage_step`), NaN where not determined.
+    prior : np.ndarray
+        (h, w) registered rendering.
+
+    Returns
+    -------
+    float
+        Share in [0, 1]; 0 when fewer than 50 pixels are determined.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import disagreement
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> disagreement(0.5 * M, M), disagreement(0.5 * np.roll(M, 4, axis=1), M) > 0.3
+    (0.0, True)
+    """
     ok = np.isfinite(Q)
     if ok.sum() < 50:
         return 0.0
@@ -113,7 +201,25 @@ def interior_opacity(Q: np.ndarray) -> float | None:
 
     Per pixel only ``a M`` is seen, so the split between opacity and coverage comes from the glyphs
     being solid: inside a stroke (a pixel whose neighbours are all in the glyph) ``M`` is 1. An opacity
-    fitted with the wrong glyph shape is wrong by the ratio of the two."""
+    fitted with the wrong glyph shape is wrong by the ratio of the two.
+
+    Parameters
+    ----------
+    Q : np.ndarray
+        (h, w) per-pixel ``a M``, NaN where not determined.
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import interior_opacity
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> interior_opacity(0.5 * M), interior_opacity(np.full((4, 4), np.nan))
+    (0.5, None)
+    """
     import cv2
 
     v = np.nan_to_num(Q, nan=0.0)
@@ -142,6 +248,18 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     -------
     (M (h, w), BlendFit or None): the coverage and the last fit; (``prior``, None) when the data agree
     with the rendering (or the fit failed): then ``alpha`` and ``color`` stand
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import refine_coverage
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> yy, xx = np.mgrid[0:32, 0:48] / 48.0
+    >>> I = np.stack([0.2 + 0.3 * xx, 0.3 + 0.2 * yy, 0.5 + 0.1 * xx], -1)
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> M_out, fit = refine_coverage(y, M, 0.5, np.ones(3))   # the rendering is right: it stands
+    >>> M_out is M, fit
+    (True, None)
     """
     from odnn_sep.image.estimate import fit_blend
 
@@ -186,7 +304,29 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
 
 
 def band_around(prior: np.ndarray) -> tuple[np.ndarray, float]:
-    """(band, stroke width): where a glyph of a similar font drawn at the rendering's place can reach."""
+    """(band, stroke width): where a glyph of a similar font drawn at the rendering's place can reach.
+
+    Parameters
+    ----------
+    prior : np.ndarray
+        (h, w) registered rendering.
+
+    Returns
+    -------
+    band : np.ndarray
+        (h, w) bool, the rendering dilated by ``BAND_STROKES`` stroke widths.
+    s : float
+        Stroke width of the rendering (px).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import band_around
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> band, s = band_around(M)
+    >>> int(band.sum()), round(s, 2)
+    (712, 3.82)
+    """
     import cv2
 
     from odnn_sep.image.estimate import stroke_width
@@ -200,7 +340,35 @@ def band_around(prior: np.ndarray) -> tuple[np.ndarray, float]:
 
 def edges_left(y, M, alpha, color, prior) -> float:
     """Share of the mark's excess edge energy left after inverting with (M, alpha, color), in the
-    band of the rendering and of ``M`` (the larger)."""
+    band of the rendering and of ``M`` (the larger).
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    M : np.ndarray
+        (h, w) coverage to invert with.
+    alpha : float
+        Opacity.
+    color : array_like
+        (C,) mark colour.
+    prior : np.ndarray
+        (h, w) registered rendering.
+
+    Returns
+    -------
+    float
+        Share of the input's excess edge energy left (0 = none).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import edges_left
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> y = 0.4 * (1 - 0.5 * M[..., None]) + 0.5 * M[..., None] * np.ones(3)
+    >>> round(edges_left(y, M, 0.5, np.ones(3), M), 3)
+    0.0
+    """
     from odnn_sep.image.estimate import invert
     from odnn_sep.image.residual import edge_excess
 

@@ -39,7 +39,33 @@ def principal_halves(xx, yy, py, px, ps):
     """Split edge patches (top-left corners ``py``, ``px``, size ``ps``) into the two halves of the
     mark along its principal axis (from the mark's pixel coordinates ``xx``, ``yy``): the held-out
     fit predicts one half from the other. Returns the boolean mask of the first half, or None when
-    either half has fewer than two patches."""
+    either half has fewer than two patches.
+
+    Parameters
+    ----------
+    xx, yy : np.ndarray
+        Pixel coordinates of the mark.
+    py, px : np.ndarray
+        Top-left corners of the edge patches.
+    ps : int
+        Patch side in px.
+
+    Returns
+    -------
+    np.ndarray or None
+        Bool mask of the patches in the first half.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.detect import principal_halves
+    >>> yy, xx = np.mgrid[0:8, 0:48]
+    >>> px, py = np.arange(0, 48, 8), np.zeros(6, int)
+    >>> principal_halves(xx.ravel(), yy.ravel(), py, px, 8).tolist()
+    [True, True, True, False, False, False]
+    >>> principal_halves(xx.ravel(), yy.ravel(), py[:3], px[:3], 8) is None
+    True
+    """
     d = np.linalg.eigh(np.cov(np.stack([xx, yy])))[1][:, -1]
     pos = (px + ps / 2) * d[0] + (py + ps / 2) * d[1]
     low = pos <= np.median(pos)

@@ -33,6 +33,19 @@ log = logging.getLogger(__name__)
 
 @dataclasses.dataclass(frozen=True)
 class BlendFit:
+    """Fitted blend of a mark of known coverage: opacity ``alpha``, ``beta = alpha * colour`` (C,),
+    the standard error of ``alpha``, the weighted residual ``rss``, the number and side of the patches
+    used, and ``explained``, the share of the patches' photo-only residual the mark explains.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import BlendFit
+    >>> fit = BlendFit(0.5, np.array([0.5, 0.25, 0.0]), 0.01, 0.0, 10, 8)
+    >>> fit.color.tolist()
+    [1.0, 0.5, 0.0]
+    """
+
     alpha: float
     beta: np.ndarray          # (C,) = alpha * colour
     alpha_stderr: float
@@ -47,7 +60,26 @@ class BlendFit:
 
 
 def stroke_width(M: np.ndarray) -> float:
-    """Typical glyph stroke width (px) of a coverage map: twice the median inner distance on the ridge."""
+    """Typical glyph stroke width (px) of a coverage map: twice the median inner distance on the ridge.
+
+    Parameters
+    ----------
+    M : np.ndarray
+        (h, w) coverage in [0, 1].
+
+    Returns
+    -------
+    float
+        Stroke width in px, at least 1 (2 for an empty coverage).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import stroke_width
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> round(stroke_width(M), 2), stroke_width(np.zeros((4, 4)))
+    (3.82, 2.0)
+    """
     import cv2
 
     b = (M > 0.5).astype(np.uint8)
@@ -59,7 +91,35 @@ def stroke_width(M: np.ndarray) -> float:
 
 
 def patch_grid(M: np.ndarray, size: int, max_patches: int, rng) -> tuple[np.ndarray, np.ndarray, int]:
-    """Top-left corners of overlapping square patches (stride size/2) that straddle a glyph edge."""
+    """Top-left corners of overlapping square patches (stride size/2) that straddle a glyph edge.
+
+    Parameters
+    ----------
+    M : np.ndarray
+        (h, w) coverage in [0, 1].
+    size : int
+        Patch side in px (clipped to [3, min(h, w)]).
+    max_patches : int
+        Most patches kept (a random subset beyond).
+    rng : np.random.Generator
+        Draws the subset.
+
+    Returns
+    -------
+    py, px : np.ndarray
+        Row and column of each patch's top-left corner.
+    size : int
+        The patch side used.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import patch_grid
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> py, px, size = patch_grid(M, 8, 1000, np.random.default_rng(0))
+    >>> len(py), size, py[:3].tolist(), px[:3].tolist()
+    (27, 8, [4, 4, 4], [4, 8, 12])
+    """
     import cv2
 
     h, w = M.shape
@@ -81,7 +141,31 @@ def patch_grid(M: np.ndarray, size: int, max_patches: int, rng) -> tuple[np.ndar
 
 
 def take_patches(a: np.ndarray, py: np.ndarray, px: np.ndarray, size: int) -> np.ndarray:
-    """(n, size*size, C) stack of patches of a (h, w[, C]) array at the given corners."""
+    """(n, size*size, C) stack of patches of a (h, w[, C]) array at the given corners.
+
+    Parameters
+    ----------
+    a : np.ndarray
+        (h, w) or (h, w, C) array.
+    py, px : np.ndarray
+        (n,) rows and columns of the patches' top-left corners.
+    size : int
+        Patch side in px.
+
+    Returns
+    -------
+    np.ndarray
+        float64 (n, size * size, C), pixels in row-major order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import take_patches
+    >>> a = np.arange(32 * 48, dtype=float).reshape(32, 48)
+    >>> P = take_patches(a, np.array([0, 4]), np.array([0, 10]), 2)
+    >>> P.shape, P[1, :, 0].tolist()
+    ((2, 4, 1), [202.0, 203.0, 250.0, 251.0])
+    """
     if a.ndim == 2:
         a = a[:, :, None]
     oy, ox = np.mgrid[0:size, 0:size]
@@ -92,7 +176,30 @@ def take_patches(a: np.ndarray, py: np.ndarray, px: np.ndarray, size: int) -> np
 
 def drop_clipped(Yp: np.ndarray, *arrays: np.ndarray) -> tuple[np.ndarray, ...]:
     """Leave out the patches of ``Yp`` (n, size*size, C) holding clipped pixels (0 or full scale), which
-    break the blend model, with the matching rows of ``arrays``; all are kept unless enough remain."""
+    break the blend model, with the matching rows of ``arrays``; all are kept unless enough remain.
+
+    Parameters
+    ----------
+    Yp : np.ndarray
+        (n, size * size, C) patches in [0, 1].
+    *arrays : np.ndarray
+        Arrays with one row per patch, filtered alike.
+
+    Returns
+    -------
+    tuple of np.ndarray
+        ``Yp`` and ``arrays`` without the clipped patches (unchanged when fewer than
+        max(8, 20 %) would remain).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import drop_clipped
+    >>> Yp = np.full((20, 64, 1), 0.5); Yp[0, 0] = 1.0
+    >>> Y, idx = drop_clipped(Yp, np.arange(20))
+    >>> Y.shape, int(idx[0])
+    ((19, 64, 1), 1)
+    """
     ok = ~((Yp <= 0.5 / 65535) | (Yp >= 1 - 0.5 / 65535)).any(axis=(1, 2))
     if ok.sum() >= max(8, 0.2 * len(ok)):
         return (Yp[ok], *(a[ok] for a in arrays))
@@ -182,7 +289,31 @@ def _summarise(prof, alpha: float, a_hi: float, patch: int) -> BlendFit:
 def minimise_profile(prof, a_hi: float, n_grid: int, xatol: float):
     """Minimum of a one-dimensional opacity profile on (0, ``a_hi``]: the best of ``n_grid - 1``
     grid points, then a bounded search between its neighbours (the profile can have several local
-    minima, a bounded search alone may stop in the wrong one). Returns scipy's OptimizeResult."""
+    minima, a bounded search alone may stop in the wrong one). Returns scipy's OptimizeResult.
+
+    Parameters
+    ----------
+    prof : callable
+        The profile, a float function of the opacity.
+    a_hi : float
+        Largest opacity searched.
+    n_grid : int
+        Grid points on [0, ``a_hi``] (0 itself is left out).
+    xatol : float
+        Tolerance of the bounded search.
+
+    Returns
+    -------
+    scipy.optimize.OptimizeResult
+        ``x`` the minimising opacity, ``fun`` the profile there.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.estimate import minimise_profile
+    >>> r = minimise_profile(lambda a: (a - 0.3) ** 2, 0.995, 17, 1e-6)
+    >>> round(float(r.x), 4)
+    0.3
+    """
     from scipy.optimize import minimize_scalar
 
     grid = np.linspace(0.0, a_hi, n_grid)[1:]
@@ -192,7 +323,31 @@ def minimise_profile(prof, a_hi: float, n_grid: int, xatol: float):
 
 
 def inpaint_telea(y: np.ndarray, hole: np.ndarray, radius: int) -> np.ndarray:
-    """``y`` (h, w, C) in [0, 1] with the ``hole`` pixels filled from around them (OpenCV TELEA)."""
+    """``y`` (h, w, C) in [0, 1] with the ``hole`` pixels filled from around them (OpenCV TELEA).
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float image in [0, 1].
+    hole : np.ndarray
+        (h, w) bool, the pixels to fill.
+    radius : int
+        Inpainting radius in px.
+
+    Returns
+    -------
+    np.ndarray
+        The filled image, (h, w, C) float (16-bit precision).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import inpaint_telea
+    >>> y = np.full((32, 48, 3), 0.5); hole = np.zeros((32, 48), bool); hole[10:14, 10:14] = True
+    >>> y[hole] = 0.0
+    >>> round(float(inpaint_telea(y, hole, 3)[12, 12, 0]), 3)
+    0.5
+    """
     import cv2
 
     m8 = hole.astype(np.uint8) * 255
@@ -212,6 +367,43 @@ def invert(y: np.ndarray, M: np.ndarray, alpha: float, color: np.ndarray, *, lev
     lost_threshold`` (nearly opaque: quantisation noise would be amplified more than 10x) or a
     channel clipped at 0 or 1 where the mark is. Returns the restored float image (same channels as
     ``y``) and the boolean lost mask.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w) or (h, w, C) watermarked image in [0, 1].
+    M : np.ndarray
+        (h, w) coverage of the mark.
+    alpha : float
+        Opacity.
+    color : np.ndarray
+        (C,) mark colour in [0, 1].
+    levels : int, default 255
+        Quantisation steps of the data.
+    lost_threshold : float, default 0.1
+        Pixels with ``1 - a M`` below it are lost.
+    inpaint : bool, default True
+        Inpaint the lost pixels (else leave them as inverted).
+
+    Returns
+    -------
+    out : np.ndarray
+        Restored image, shaped as ``y``.
+    lost : np.ndarray
+        (h, w) bool, the pixels whose data were gone.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import invert
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1
+    >>> I = np.full((32, 48, 3), 0.4)
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> out, lost = invert(y, M, 0.5, np.ones(3))
+    >>> bool(np.allclose(out, I)), int(lost.sum())
+    (True, 0)
+    >>> int(invert(y, M, 0.95, np.ones(3))[1].sum())
+    96
     """
     y = np.asarray(y, dtype=np.float64)
     squeeze = y.ndim == 2

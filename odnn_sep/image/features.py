@@ -29,6 +29,27 @@ def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
     The doubled angle makes the orientation features sign-free: a mark lighter or darker than the
     photo under it (which varies along the mark) gives the same feature, while photo edges that
     cross the glyph outlines at other angles do not correlate.
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (h, w) or (h, w, C) float image.
+    blur : float, default 0.0
+        Gaussian blur (px) of the features; 0 for none.
+
+    Returns
+    -------
+    np.ndarray
+        (h, w, 3) float32: saturated edge strength and its doubled-angle orientation.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import edge_map
+    >>> img = np.zeros((32, 48)); img[8:24, 10:30] = 1.0
+    >>> e = edge_map(img)
+    >>> e.shape, float(e[16, 16, 0]), bool(e[8, 20, 0] > 0.9)
+    ((32, 48, 3), 0.0, True)
     """
     import cv2
 
@@ -59,7 +80,30 @@ def edge_map(img: np.ndarray, blur: float = 0.0) -> np.ndarray:
 def bandpass_map(img: np.ndarray, levels: int = 255) -> tuple[np.ndarray, np.ndarray]:
     """(R, E): high-passed channels (C, h, w) float32, channel first so that each is one contiguous
     plane for the correlations, and their energy summed over channels (h, w), floored so that flat or
-    clipped areas (no texture at all) cannot give a near-zero denominator."""
+    clipped areas (no texture at all) cannot give a near-zero denominator.
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (h, w) or (h, w, C) float image in [0, 1].
+    levels : int, default 255
+        Quantisation steps (sets the energy floor).
+
+    Returns
+    -------
+    R : np.ndarray
+        (C, h + 2 PAD, w + 2 PAD) float32 high-passed channels with a zero margin.
+    E : np.ndarray
+        (h + 2 PAD, w + 2 PAD) float32 floored energy.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import bandpass_map
+    >>> R, E = bandpass_map(np.zeros((32, 48, 3)))
+    >>> R.shape, E.shape, bool(E.min() > 0)
+    ((3, 48, 64), (48, 64), True)
+    """
     import cv2
 
     img = np.asarray(img, dtype=np.float32)
@@ -81,7 +125,27 @@ def bandpass_map(img: np.ndarray, levels: int = 255) -> tuple[np.ndarray, np.nda
 
 class Pyramid:
     """The image at arbitrary downscale factors (snapped to a half-octave grid), with its feature
-    maps computed once per factor."""
+    maps computed once per factor.
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (H, W) or (H, W, C) float image.
+    base_max : int, default 768
+        Longest side of the finest level (larger images are reduced first).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import Pyramid
+    >>> pyr = Pyramid(np.zeros((32, 48, 3)))
+    >>> e, f = pyr.level(0.5, 0.7)
+    >>> e.shape, f
+    ((32, 40, 3), 0.5)
+    >>> R, E, f = pyr.bandpass(1.0)
+    >>> R.shape, f
+    ((3, 48, 64), 1.0)
+    """
 
     def __init__(self, img: np.ndarray, base_max: int = 768):
         import cv2
@@ -137,13 +201,67 @@ class Pyramid:
 
 @functools.lru_cache(maxsize=4096)
 def edge_template(text: str, font: str, size_lvl: float, angle: float, blur: float) -> np.ndarray:
+    """Edge features (:func:`edge_map`) of ``text`` rendered at ``size_lvl`` px and rotated by ``angle``
+    degrees (cached).
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    font : str
+        Font file or name.
+    size_lvl : float
+        Font size at the pyramid level, px (at least 1).
+    angle : float
+        Rotation in degrees, counter-clockwise.
+    blur : float
+        Gaussian blur (px) of the features.
+
+    Returns
+    -------
+    np.ndarray
+        (h, w, 3) float32 template.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.features import edge_template
+    >>> edge_template("Hi", "DejaVuSans-Bold", 12.0, 0.0, 0.7).shape
+    (16, 20, 3)
+    """
     m = rotated(render_text(text, font, max(size_lvl, 1.0)), angle)
     return edge_map(m, blur)
 
 
 @functools.lru_cache(maxsize=4096)
 def bp_template(text: str, font: str, size_lvl: float, angle: float) -> tuple[np.ndarray, np.ndarray]:
-    """(T, band): high-passed coverage (normalised to unit energy) and its edge band (0/1)."""
+    """(T, band): high-passed coverage (normalised to unit energy) and its edge band (0/1).
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    font : str
+        Font file or name.
+    size_lvl : float
+        Font size at the pyramid level, px (at least 1).
+    angle : float
+        Rotation in degrees, counter-clockwise.
+
+    Returns
+    -------
+    T : np.ndarray
+        (h, w) float32, read-only, unit energy.
+    band : np.ndarray
+        (h, w) float32, read-only, 1 on the edge band.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import bp_template
+    >>> T, band = bp_template("Hi", "DejaVuSans-Bold", 12.0, 0.0)
+    >>> T.shape, round(float((T * T).sum()), 3), sorted(np.unique(band).tolist())
+    ((16, 20), 1.0, [0.0, 1.0])
+    """
     import cv2
 
     m = rotated(render_text(text, font, max(size_lvl, 1.0)), angle).astype(np.float32)
@@ -156,7 +274,32 @@ def bp_template(text: str, font: str, size_lvl: float, angle: float) -> tuple[np
 
 
 def match_edges(edges: np.ndarray, tmpl: np.ndarray) -> np.ndarray | None:
-    """Normalised cross-correlation map of edge features (None when the template does not fit)."""
+    """Normalised cross-correlation map of edge features (None when the template does not fit).
+
+    Parameters
+    ----------
+    edges : np.ndarray
+        (h, w, 3) float32 edge map of the image (with its margin).
+    tmpl : np.ndarray
+        (th, tw, 3) float32 edge template.
+
+    Returns
+    -------
+    np.ndarray or None
+        (h - th + 1, w - tw + 1) correlation in [-1, 1] at each top-left corner.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import PAD, edge_map, edge_template, match_edges
+    >>> from odnn_sep.image.render import render_text
+    >>> m = render_text("Hi", "DejaVuSans-Bold", 12.0)
+    >>> img = np.full((40, 60), 0.3); img[10:10 + m.shape[0], 20:20 + m.shape[1]] += 0.5 * m
+    >>> e = np.pad(edge_map(img, 0.7), ((PAD, PAD), (PAD, PAD), (0, 0)))
+    >>> r = match_edges(e, edge_template("Hi", "DejaVuSans-Bold", 12.0, 0.0, 0.7))
+    >>> r.shape, tuple(int(v) for v in np.unravel_index(np.argmax(r), r.shape)), round(float(r.max()), 2)
+    ((41, 57), (17, 27), 0.98)
+    """
     import cv2
 
     if tmpl.shape[0] >= edges.shape[0] or tmpl.shape[1] >= edges.shape[1] or tmpl[:, :, 0].std() < 1e-9:
@@ -167,7 +310,35 @@ def match_edges(edges: np.ndarray, tmpl: np.ndarray) -> np.ndarray | None:
 
 def match_bandpass(R: np.ndarray, E: np.ndarray, T: np.ndarray, band: np.ndarray) -> np.ndarray | None:
     """Share of the band-passed energy on the template's edge band that the template explains
-    (``R`` channel first, (C, h, w), as ``bandpass_map`` gives it, or a window of it)."""
+    (``R`` channel first, (C, h, w), as ``bandpass_map`` gives it, or a window of it).
+
+    Parameters
+    ----------
+    R : np.ndarray
+        (C, h, w) float32 high-passed channels.
+    E : np.ndarray
+        (h, w) float32 floored energy.
+    T : np.ndarray
+        (th, tw) float32 template (:func:`bp_template`).
+    band : np.ndarray
+        (th, tw) float32 edge band of the template.
+
+    Returns
+    -------
+    np.ndarray or None
+        (h - th + 1, w - tw + 1) score at each top-left corner; None when the template does not fit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import bandpass_map, bp_template, match_bandpass
+    >>> from odnn_sep.image.render import render_text
+    >>> m = render_text("Hi", "DejaVuSans-Bold", 12.0)
+    >>> img = np.full((40, 60), 0.3); img[10:10 + m.shape[0], 20:20 + m.shape[1]] += 0.5 * m
+    >>> s = match_bandpass(*bandpass_map(img), *bp_template("Hi", "DejaVuSans-Bold", 12.0, 0.0))
+    >>> s.shape, tuple(int(v) for v in np.unravel_index(np.argmax(s), s.shape)), round(float(s.max()), 2)
+    ((41, 57), (17, 27), 1.0)
+    """
     import cv2
 
     if T.shape[0] >= R.shape[1] or T.shape[1] >= R.shape[2]:
@@ -187,7 +358,32 @@ def match_bandpass(R: np.ndarray, E: np.ndarray, T: np.ndarray, band: np.ndarray
 
 
 def peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float, int, int]]:
-    """Up to ``n`` local maxima of ``r`` above ``floor``, at least ``radius`` apart (greedy NMS)."""
+    """Up to ``n`` local maxima of ``r`` above ``floor``, at least ``radius`` apart (greedy NMS).
+
+    Parameters
+    ----------
+    r : np.ndarray
+        (h, w) score map.
+    n : int
+        Most peaks.
+    radius : int
+        Half-width (px) of the square cleared around each peak.
+    floor : float
+        Smallest score kept.
+
+    Returns
+    -------
+    list of tuple
+        (value, row, column), best first.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.features import peaks
+    >>> r = np.zeros((10, 10)); r[2, 3] = 1.0; r[3, 3] = 0.9; r[7, 8] = 0.5
+    >>> peaks(r, 5, 2, 0.1)
+    [(1.0, 2, 3), (0.5, 7, 8)]
+    """
     out = []
     r = r.copy()
     for _ in range(n):

@@ -28,6 +28,23 @@ class FloatView:
 
     A 12-megapixel photo as float64 is ~290 MB; converting (and later rounding back) all of it cost
     seconds while only the mark's neighbourhood is ever looked at in full resolution.
+
+    Parameters
+    ----------
+    raw : np.ndarray
+        (H, W, C) colour channels of the input, in the input's dtype.
+    scale : float
+        Factor that maps ``raw`` to [0, 1] (``1 / 255`` for uint8, 1 for float images).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import FloatView
+    >>> v = FloatView(np.full((32, 48, 3), 51, np.uint8), 1 / 255)
+    >>> v.shape, round(float(v[0, 0, 0]), 3)
+    ((32, 48, 3), 0.2)
+    >>> v.full().dtype, v.reduced(12, 8).shape
+    (dtype('float64'), (8, 12, 3))
     """
 
     def __init__(self, raw: np.ndarray, scale: float):
@@ -61,7 +78,31 @@ class FloatView:
 @dataclasses.dataclass
 class Planes:
     """An image split for processing: a float view of the colour planes (H, W, C) in [0, 1], plus
-    what is needed to put it back together in the original format."""
+    what is needed to put it back together in the original format.
+
+    Attributes
+    ----------
+    image : np.ndarray
+        The input array, unchanged.
+    view : FloatView
+        Float view of the colour planes (one plane for grey images).
+    alpha : np.ndarray or None
+        The alpha channel (H, W), passed through untouched, or None.
+    dtype : np.dtype
+        The input's dtype.
+    levels : int
+        Quantisation levels of the output (255 for uint8, 65535 for uint16 and float).
+    grey : bool
+        True for grey and grey+alpha images.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import split
+    >>> p = split(np.zeros((32, 48, 4), np.uint8))
+    >>> p.grey, p.levels, p.view.shape, p.alpha.shape
+    (False, 255, (32, 48, 3), (32, 48))
+    """
 
     image: np.ndarray
     view: FloatView
@@ -73,7 +114,32 @@ class Planes:
 
 def split(image) -> Planes:
     """Validate an image array and split it into a float view of its colour planes and a pass-through
-    alpha (no full-image copy)."""
+    alpha (no full-image copy).
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) grey, (H, W, 2) grey+alpha, (H, W, 3) RGB or (H, W, 4) RGBA; uint8, uint16 or float
+        in [0, 1].
+
+    Returns
+    -------
+    Planes
+        The float view, the alpha channel and what :func:`paste` needs to rebuild the format.
+
+    Raises
+    ------
+    InputError
+        For an empty image, an unsupported shape or dtype, or non-finite float values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import split
+    >>> p = split(np.full((32, 48), 1000, np.uint16))
+    >>> p.grey, p.levels, p.alpha is None, round(float(p.view[0, 0, 0]), 4)
+    (True, 65535, True, 0.0153)
+    """
     a = np.asarray(image)
     if a.size == 0 or a.ndim < 2 or 0 in a.shape[:2]:
         raise InputError(f"image is empty (shape {a.shape}); pass an image with at least one pixel")
@@ -109,7 +175,31 @@ def _to_dtype(planes: Planes, c: np.ndarray) -> np.ndarray:
 
 def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarray:
     """A copy of the input (its format, alpha untouched) with the restored colour ``crop`` (float,
-    (h, w, C)) written into ``box`` = (x0, y0, x1, y1); the rest stays bit-identical."""
+    (h, w, C)) written into ``box`` = (x0, y0, x1, y1); the rest stays bit-identical.
+
+    Parameters
+    ----------
+    planes : Planes
+        The split input (:func:`split`).
+    crop : np.ndarray, optional
+        Float colour values in [0, 1], (h, w, C); None returns a plain copy of the input.
+    box : tuple of int, optional
+        (x0, y0, x1, y1) where ``crop`` goes; required with ``crop``.
+
+    Returns
+    -------
+    np.ndarray
+        An array of the input's shape and dtype.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import paste, split
+    >>> p = split(np.zeros((32, 48, 3), np.uint8))
+    >>> out = paste(p, np.ones((2, 3, 3)), (10, 5, 13, 7))
+    >>> out.dtype, int(out.sum()), int(out[5, 10, 0])
+    (dtype('uint8'), 4590, 255)
+    """
     out = np.array(planes.image, copy=True)
     if crop is None:
         return out
@@ -125,12 +215,64 @@ def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarra
 
 
 def read_image(path) -> np.ndarray:
-    """Read an image file as an upright RGB/RGBA/grey/grey+alpha array of its own dtype (uint8 or uint16)."""
+    """Read an image file as an upright RGB/RGBA/grey/grey+alpha array of its own dtype (uint8 or uint16).
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG, JPEG, TIFF, WebP or BMP file.
+
+    Returns
+    -------
+    np.ndarray
+        (H, W), (H, W, 2), (H, W, 3) or (H, W, 4) pixels, RGB order, EXIF orientation applied.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import read_image, write_image
+    >>> a = np.zeros((32, 48, 3), np.uint8); a[..., 0] = 200
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     write_image(os.path.join(d, "x.png"), a)
+    ...     b = read_image(os.path.join(d, "x.png"))
+    >>> b.shape, b.dtype, bool(np.array_equal(a, b))
+    ((32, 48, 3), dtype('uint8'), True)
+    """
     return read_image_meta(path)[0]
 
 
 def read_image_meta(path):
-    """(pixels, :class:`io_meta.ImageMeta`) of an image file; the EXIF orientation is applied."""
+    """(pixels, :class:`io_meta.ImageMeta`) of an image file; the EXIF orientation is applied.
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG, JPEG, TIFF, WebP or BMP file (one frame).
+
+    Returns
+    -------
+    img : np.ndarray
+        Upright pixels as :func:`read_image` returns them.
+    meta : ImageMeta
+        EXIF, ICC profile, PNG text, applied orientation and Pillow mode of the file.
+
+    Raises
+    ------
+    FormatError
+        For an animated, empty or unreadable file.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import read_image_meta, write_image
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     write_image(os.path.join(d, "x.png"), np.zeros((32, 48), np.uint8))
+    ...     img, meta = read_image_meta(os.path.join(d, "x.png"))
+    >>> img.shape, meta.mode, meta.orientation
+    ((32, 48), 'L', 1)
+    """
     import cv2
 
     from odnn_sep.image.io_meta import apply_orientation, read_meta
@@ -186,7 +328,39 @@ def _encode_grey_alpha(a: np.ndarray, suffix: str):
 def write_image(path, image: np.ndarray, *inputs, jpeg_quality: int = 95, meta=None) -> None:
     """Write an RGB/RGBA/grey/grey+alpha array atomically; the format follows the extension; never an
     input. ``meta`` (from :func:`read_image_meta`): EXIF, ICC and PNG text written back where the format
-    holds them."""
+    holds them.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file; its extension (one of ``EXTENSIONS``) picks the format.
+    image : np.ndarray
+        (H, W), (H, W, 2), (H, W, 3) or (H, W, 4), uint8 or uint16 (16-bit is reduced to 8 bits for
+        JPEG, WebP and BMP).
+    *inputs : str or Path
+        Input files the output must not overwrite.
+    jpeg_quality : int, default 95
+        JPEG quality (WebP is written lossless).
+    meta : ImageMeta, optional
+        Metadata to write back.
+
+    Raises
+    ------
+    InputError
+        For an unknown extension or an output that is one of ``inputs``.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from odnn_sep.image.io import write_image
+    >>> from odnn_sep.image.io_meta import ImageMeta, read_meta
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     f = os.path.join(d, "x.png")
+    ...     write_image(f, np.zeros((32, 48, 3), np.uint8), meta=ImageMeta(text={"Author": "me"}))
+    ...     read_meta(f).text
+    {'Author': 'me'}
+    """
     import cv2
 
     from odnn_sep.image.io_meta import add_metadata

@@ -27,7 +27,16 @@ ICC_CHUNK = 65519  # ICC bytes per JPEG APP2 segment (64 KiB less the headers)
 class ImageMeta:
     """Metadata of a read image. ``exif``: TIFF-structure EXIF bytes with orientation reset to 1 (no
     ``Exif\\0\\0`` header); ``icc``: ICC profile bytes; ``text``: PNG text chunks; ``orientation``:
-    the EXIF orientation that was applied on read (1 = none); ``mode``: Pillow's mode of the file."""
+    the EXIF orientation that was applied on read (1 = none); ``mode``: Pillow's mode of the file;
+    ``frames``: number of frames (more than 1 for an animation).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.io_meta import ImageMeta
+    >>> m = ImageMeta(text={"Title": "x"})
+    >>> m.orientation, m.frames, m.exif is None
+    (1, 1, True)
+    """
 
     exif: bytes | None = None
     icc: bytes | None = None
@@ -39,7 +48,30 @@ class ImageMeta:
 
 def read_meta(path) -> ImageMeta:
     """The metadata of an image file (Pillow, pixels not decoded); an empty ``ImageMeta`` when
-    Pillow cannot open the file (OpenCV may still read its pixels)."""
+    Pillow cannot open the file (OpenCV may still read its pixels).
+
+    Parameters
+    ----------
+    path : str or Path
+        An image file.
+
+    Returns
+    -------
+    ImageMeta
+        EXIF (orientation reset to 1), ICC profile, PNG text, orientation, mode and frame count.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from PIL import Image
+    >>> from odnn_sep.image.io_meta import read_meta
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     Image.new("RGB", (48, 32)).save(os.path.join(d, "x.png"))
+    ...     m = read_meta(os.path.join(d, "x.png"))
+    ...     empty = read_meta(os.path.join(d, "missing.png"))
+    >>> m.mode, m.orientation, m.frames, empty.mode
+    ('RGB', 1, 1, '')
+    """
     try:
         from PIL import Image, UnidentifiedImageError
     except ImportError:  # pragma: no cover - Pillow ships with the image extra
@@ -64,7 +96,31 @@ def read_meta(path) -> ImageMeta:
 
 
 def apply_orientation(a: np.ndarray, orientation: int) -> np.ndarray:
-    """The pixels ``a`` (H, W[, C]) turned upright as EXIF ``orientation`` (1-8) says."""
+    """The pixels ``a`` (H, W[, C]) turned upright as EXIF ``orientation`` (1-8) says.
+
+    Parameters
+    ----------
+    a : np.ndarray
+        (H, W) or (H, W, C) pixels as stored in the file.
+    orientation : int
+        EXIF orientation, 1-8; other values leave the pixels as they are.
+
+    Returns
+    -------
+    np.ndarray
+        Contiguous upright pixels ((W, H[, C]) for orientations 5-8).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.io_meta import apply_orientation
+    >>> apply_orientation(np.arange(6).reshape(2, 3), 6)
+    array([[3, 0],
+           [4, 1],
+           [5, 2]])
+    >>> apply_orientation(np.zeros((32, 48, 3)), 8).shape
+    (48, 32, 3)
+    """
     ops = {1: lambda x: x, 2: lambda x: x[:, ::-1], 3: lambda x: x[::-1, ::-1], 4: lambda x: x[::-1],
            5: lambda x: np.swapaxes(x, 0, 1), 6: lambda x: np.rot90(x, -1),
            7: lambda x: np.rot90(x, 2).swapaxes(0, 1), 8: lambda x: np.rot90(x, 1)}
@@ -82,7 +138,30 @@ def _png_text(key: str, value: str) -> bytes:
 
 
 def add_to_png(buf: bytes, meta: ImageMeta) -> bytes:
-    """PNG bytes with iCCP, eXIf and text chunks inserted after IHDR."""
+    """PNG bytes with iCCP, eXIf and text chunks inserted after IHDR.
+
+    Parameters
+    ----------
+    buf : bytes
+        An encoded PNG stream.
+    meta : ImageMeta
+        Metadata to insert.
+
+    Returns
+    -------
+    bytes
+        The PNG stream with the metadata chunks.
+
+    Examples
+    --------
+    >>> import cv2
+    >>> import numpy as np
+    >>> from odnn_sep.image.io_meta import ImageMeta, add_to_png
+    >>> buf = cv2.imencode(".png", np.zeros((32, 48), np.uint8))[1].tobytes()
+    >>> out = add_to_png(buf, ImageMeta(text={"Title": "x"}))
+    >>> b"iTXtTitle" in out, out.startswith(b"\\x89PNG")
+    (True, True)
+    """
     if not buf.startswith(b"\x89PNG\r\n\x1a\n"):
         raise FormatError("internal: the encoder did not return a PNG stream")
     ihdr_end = 8 + 12 + struct.unpack(">I", buf[8:12])[0]
@@ -97,7 +176,30 @@ def add_to_png(buf: bytes, meta: ImageMeta) -> bytes:
 
 
 def add_to_jpeg(buf: bytes, meta: ImageMeta) -> bytes:
-    """JPEG bytes with the EXIF (APP1) and ICC (APP2) segments inserted after SOI and JFIF."""
+    """JPEG bytes with the EXIF (APP1) and ICC (APP2) segments inserted after SOI and JFIF.
+
+    Parameters
+    ----------
+    buf : bytes
+        An encoded JPEG stream.
+    meta : ImageMeta
+        Metadata to insert (PNG text is not held by JPEG and is ignored).
+
+    Returns
+    -------
+    bytes
+        The JPEG stream with the APP1/APP2 segments.
+
+    Examples
+    --------
+    >>> import cv2
+    >>> import numpy as np
+    >>> from odnn_sep.image.io_meta import ImageMeta, add_to_jpeg
+    >>> buf = cv2.imencode(".jpg", np.zeros((32, 48), np.uint8))[1].tobytes()
+    >>> out = add_to_jpeg(buf, ImageMeta(icc=b"profile"))
+    >>> len(out) - len(buf), b"ICC_PROFILE" in out
+    (25, True)
+    """
     if not buf.startswith(b"\xff\xd8"):
         raise FormatError("internal: the encoder did not return a JPEG stream")
     pos = 2
@@ -117,7 +219,29 @@ def add_to_jpeg(buf: bytes, meta: ImageMeta) -> bytes:
 
 def add_metadata(buf: bytes, suffix: str, meta: ImageMeta | None) -> bytes:
     """Encoded image bytes with ``meta`` added where the format holds it (PNG, JPEG); other formats
-    are returned unchanged, with a warning if metadata are dropped."""
+    are returned unchanged, with a warning if metadata are dropped.
+
+    Parameters
+    ----------
+    buf : bytes
+        Encoded image.
+    suffix : str
+        File extension of the format (``".png"``, ``".jpg"``, ...).
+    meta : ImageMeta or None
+        Metadata to add; None or empty metadata return ``buf`` unchanged.
+
+    Returns
+    -------
+    bytes
+
+    Examples
+    --------
+    >>> from odnn_sep.image.io_meta import ImageMeta, add_metadata
+    >>> add_metadata(b"data", ".webp", None)
+    b'data'
+    >>> add_metadata(b"data", ".bmp", ImageMeta(icc=b"p"))
+    b'data'
+    """
     if meta is None or not (meta.exif or meta.icc or meta.text):
         return buf
     s = suffix.lower()

@@ -45,6 +45,18 @@ FONT_PLACES = 3  # without a pinned font, the best places where every font is tr
 
 @dataclasses.dataclass
 class Match:
+    """One placement hypothesis of the search: font, em size (px), angle (degrees, counter-clockwise),
+    ink-box centre (x, y) and the band-pass match score.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from odnn_sep.image.locate import Match
+    >>> m = Match(Path("DejaVuSans-Bold.ttf"), 20.0, 0.0, (32.0, 24.0), 0.9)
+    >>> m.size, m.center
+    (20.0, (32.0, 24.0))
+    """
+
     font: Path
     size: float          # em size in px at full resolution
     angle: float         # degrees, counter-clockwise as displayed
@@ -91,6 +103,44 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     ``max_hypotheses`` (per font kept, at most two) get the last step. The coarse grid uses the
     templates of ``coarse_font`` (default: the first font), with glyphs ``coarse_height`` px tall
     (a finer grid costs more and tells faint marks from texture better).
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (H, W, C) float image in [0, 1].
+    text : str
+        The mark's text.
+    fonts : list of Path
+        Fonts to try.
+    angle_range : float, default 45.0
+        Largest rotation searched, degrees either way.
+    min_height_px : float, default 8.0
+        Smallest glyph height searched.
+    max_hypotheses : int, default 8
+        Hypotheses returned at most.
+    per_size_bin, peaks_per_map, coarse_factor : int
+        Options of the coarse grid (places kept per size, peaks per score map, coarse places per
+        hypothesis).
+    coarse_font : Path, optional
+        Font of the coarse grid's templates (default the first font).
+    coarse_height : float
+        Glyph height of the coarse grid, px.
+
+    Returns
+    -------
+    list of Match
+        Distinct hypotheses, best first (empty when no place fits).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.locate import search
+    >>> from odnn_sep.image.render import resolve_font
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> y, _ = add_text_watermark(np.full((64, 96, 3), 90, np.uint8), "Hi", size=20, center=(40, 30), alpha=0.5)
+    >>> best = search(y / 255.0, "Hi", [resolve_font("DejaVuSans-Bold")])[0]
+    >>> round(best.size), round(best.angle), [round(c) for c in best.center]
+    (20, 0, [40, 29])
     """
     pyr = Pyramid(img)
     f0 = str(coarse_font or fonts[0])
@@ -184,7 +234,28 @@ def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
 
 def least_alike(text: str, fonts: list[Path]) -> Path:
     """The font whose rendering of ``text`` correlates least with the first font's (both band-passed
-    and stretched to the same box): the coarse grid's templates of the first font match it worst."""
+    and stretched to the same box): the coarse grid's templates of the first font match it worst.
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    fonts : list of Path
+        Candidate fonts, the first the reference.
+
+    Returns
+    -------
+    Path
+        One of ``fonts[1:]`` (``fonts[0]`` when it is the only one).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.locate import least_alike
+    >>> from odnn_sep.image.render import resolve_font
+    >>> fonts = [resolve_font(n) for n in ("DejaVuSans-Bold", "DejaVuSans", "DejaVuSansMono-Bold")]
+    >>> least_alike("Hi", fonts).name, least_alike("Hi", fonts[:1]).name
+    ('DejaVuSansMono-Bold.ttf', 'DejaVuSans-Bold.ttf')
+    """
     import cv2
 
     def look(font):
@@ -200,6 +271,27 @@ def least_alike(text: str, fonts: list[Path]) -> Path:
 
 
 def same_place(a: Match, b: Match) -> bool:
+    """Whether two matches are the same place: centres within half the larger size, angles within 5 degrees.
+
+    Parameters
+    ----------
+    a, b : Match
+        The two placements.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from odnn_sep.image.locate import Match, same_place
+    >>> a = Match(Path("f.ttf"), 20.0, 0.0, (32.0, 24.0), 0.9)
+    >>> same_place(a, Match(Path("g.ttf"), 20.0, 2.0, (35.0, 24.0), 0.5))
+    True
+    >>> same_place(a, Match(Path("f.ttf"), 20.0, 0.0, (52.0, 24.0), 0.7))
+    False
+    """
     return bool(np.hypot(a.center[0] - b.center[0], a.center[1] - b.center[1]) < 0.5 * max(a.size, b.size)
                 and abs(a.angle - b.angle) < 5.0)
 
@@ -304,6 +396,38 @@ def repeats(img: np.ndarray, text: str, best: Match, *, max_marks: int = 64, rep
 
     Sign-free edge features here: once the template is known, a copy over a part of the photo
     lighter than the mark correlates as well as one over a darker part.
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (H, W, C) float image in [0, 1].
+    text : str
+        The mark's text.
+    best : Match
+        The copy found first.
+    max_marks : int, default 64
+        Most copies returned (``best`` included).
+    repeat_ratio : float, default 0.6
+        A copy's edge correlation must reach this share of ``best``'s.
+    min_score : float, default 0.0
+        Absolute floor of a copy's correlation.
+
+    Returns
+    -------
+    list of Match
+        ``best`` first, then the other copies.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.locate import repeats, search
+    >>> from odnn_sep.image.render import resolve_font
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> clean = np.full((64, 96, 3), 90, np.uint8)
+    >>> y, _ = add_text_watermark(clean, "Hi", size=16, center=(24, 20), alpha=0.5, tile=(48, 0))
+    >>> best = search(y / 255.0, "Hi", [resolve_font("DejaVuSans-Bold")])[0]
+    >>> sorted(round(m.center[0]) for m in repeats(y / 255.0, "Hi", best))
+    [23, 71]
     """
     pyr = Pyramid(img)
     wfull = _ink(text, best.font)[0] * best.size / REF_SIZE

@@ -21,7 +21,17 @@ MAX_LOGO_PX = 4096
 @dataclasses.dataclass(frozen=True)
 class Logo:
     """``M`` (h, w) coverage in [0, 1]; ``L`` (h, w, C) colours in [0, 1]; ``coloured``: the logo has
-    several colours (its own colours are used in the blend) rather than one (colour fitted)."""
+    several colours (its own colours are used in the blend) rather than one (colour fitted);
+    ``has_alpha``: ``M`` came from the reference image's alpha channel.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Logo
+    >>> lg = Logo(np.ones((10, 12)), np.ones((10, 12, 3)), has_alpha=False, coloured=False)
+    >>> lg.M.shape, lg.coloured
+    ((10, 12), False)
+    """
 
     M: np.ndarray
     L: np.ndarray
@@ -31,6 +41,16 @@ class Logo:
 
 @dataclasses.dataclass(frozen=True)
 class Placement:
+    """A similarity transform of the logo into the photo: centre (``cx``, ``cy``), ``scale``, ``angle``
+    (degrees, counter-clockwise) and the search ``score`` that found it.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.logo import Placement
+    >>> Placement(24.0, 16.0, 1.0, 0.0)
+    Placement(cx=24.0, cy=16.0, scale=1.0, angle=0.0, score=0.0)
+    """
+
     cx: float
     cy: float
     scale: float
@@ -57,6 +77,28 @@ def prepare_logo(logo, photo_shape: tuple[int, int], channels: int) -> Logo:
     logo : (h, w[, C]) array, grey, grey+alpha, RGB or RGBA
     photo_shape : (H, W) of the photo; a larger reference image is refused
     channels : colour channels of the photo (1 or 3); the logo's colours are converted to match
+
+    Returns
+    -------
+    Logo
+        Coverage and colours, cropped to the visible part with a 2-px margin.
+
+    Raises
+    ------
+    InputError
+        For an empty, oversized, fully transparent or uniform reference image.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import prepare_logo
+    >>> rgba = np.zeros((12, 16, 4), np.uint8); rgba[3:9, 4:12] = (255, 255, 255, 200)
+    >>> lg = prepare_logo(rgba, (32, 48), 3)
+    >>> lg.M.shape, lg.L.shape, lg.has_alpha, lg.coloured, round(float(lg.M.max()), 3)
+    ((10, 12), (10, 12, 3), True, False, 0.784)
+    >>> lg = np.zeros((12, 16), np.uint8); lg[3:9, 4:12] = 255
+    >>> prepare_logo(lg, (32, 48), 1).has_alpha       # cut out of its black background
+    False
     """
     a = np.asarray(logo)
     if a.size == 0 or a.ndim not in (2, 3) or 0 in a.shape[:2]:
@@ -117,7 +159,26 @@ def _cut_out(f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def affine(logo_shape, p: Placement) -> np.ndarray:
-    """2x3 matrix taking logo pixel coordinates to photo coordinates."""
+    """2x3 matrix taking logo pixel coordinates to photo coordinates.
+
+    Parameters
+    ----------
+    logo_shape : tuple of int
+        (h, w[, C]) of the logo.
+    p : Placement
+        Where the logo's centre goes, with scale and angle.
+
+    Returns
+    -------
+    np.ndarray
+        (2, 3) affine matrix, as OpenCV's warps take it.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.logo import Placement, affine
+    >>> affine((10, 12), Placement(24.0, 16.0, 1.0, 0.0))[:, 2].tolist()
+    [18.5, 11.5]
+    """
     h, w = logo_shape[:2]
     t = np.deg2rad(p.angle)
     c, s = p.scale * np.cos(t), p.scale * np.sin(t)
@@ -128,7 +189,38 @@ def affine(logo_shape, p: Placement) -> np.ndarray:
 
 def render(logo: Logo, p: Placement, shape: tuple[int, int]):
     """(M, L, box) of the logo placed at ``p`` in a photo of ``shape`` (H, W): coverage and colours
-    inside ``box`` = (x0, y0, x1, y1) (clipped to the photo; empty arrays when outside)."""
+    inside ``box`` = (x0, y0, x1, y1) (clipped to the photo; empty arrays when outside).
+
+    Parameters
+    ----------
+    logo : Logo
+        The prepared logo.
+    p : Placement
+        Its placement.
+    shape : tuple of int
+        (H, W) of the photo.
+
+    Returns
+    -------
+    M : np.ndarray
+        (h, w) coverage inside ``box``.
+    L : np.ndarray
+        (h, w, C) colours inside ``box``.
+    box : tuple of int
+        (x0, y0, x1, y1); (0, 0, 0, 0) when the logo is outside the photo.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> lg = np.zeros((12, 16), np.uint8); lg[3:9, 4:12] = 255
+    >>> logo = prepare_logo(lg, (32, 48), 1)
+    >>> M, L, box = render(logo, Placement(24.0, 16.0, 1.0, 0.0), (32, 48))
+    >>> M.shape, box, round(float(M.sum()), 1)
+    ((13, 15), (17, 10, 32, 23), 48.0)
+    >>> render(logo, Placement(200.0, 16.0, 1.0, 0.0), (32, 48))[2]
+    (0, 0, 0, 0)
+    """
     import cv2
 
     H, W = shape

@@ -27,7 +27,38 @@ def residual_mark(y: np.ndarray, out: np.ndarray, M: np.ndarray, L: np.ndarray, 
 
     All arrays cover the same box: ``y``, ``out`` (h, w, C) floats, ``M`` (h, w), ``L`` (h, w, C).
     Returns a JSON-ready dict: ``score`` (output), ``input_score``, ``chance`` and ``chance_sd``,
-    ``z`` and ``visible``."""
+    ``z`` and ``visible``.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float input crop.
+    out : np.ndarray
+        (h, w, C) float output crop.
+    M : np.ndarray
+        (h, w) coverage of the registered logo.
+    L : np.ndarray
+        (h, w, C) its colours.
+    random_state : int or Generator, default 0
+        Seed of the chance shifts.
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> from odnn_sep.image.logo_residual import residual_mark
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> M, L, _ = render(prepare_logo(a, (64, 96), 1), Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> I = 0.3 + 0.02 * np.random.default_rng(0).standard_normal(M.shape + (1,))
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None] * L
+    >>> r = residual_mark(y, I, M, L)
+    >>> r["visible"], r["input_score"] > 0.9, residual_mark(y, y, M, L)["visible"]
+    (False, True, True)
+    """
     from odnn_sep.image.logo_search import edges, logo_edges, luminance
 
     T = logo_edges(M, L, 1.0)

@@ -30,13 +30,53 @@ COPY_SHARE = 0.6
 
 
 def luminance(a: np.ndarray) -> np.ndarray:
-    """(h, w, C) float32 (colour kept: edges are summed over channels); (h, w) becomes (h, w, 1)."""
+    """(h, w, C) float32 (colour kept: edges are summed over channels); (h, w) becomes (h, w, 1).
+
+    Parameters
+    ----------
+    a : np.ndarray
+        (h, w) or (h, w, C) image.
+
+    Returns
+    -------
+    np.ndarray
+        (h, w, C) float32.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import luminance
+    >>> luminance(np.zeros((4, 5))).shape, luminance(np.zeros((4, 5, 3))).dtype
+    ((4, 5, 1), dtype('float32'))
+    """
     a = np.asarray(a, dtype=np.float32)
     return a[:, :, None] if a.ndim == 2 else a
 
 
 def edges(img: np.ndarray, sigma: float) -> np.ndarray:
-    """Gradient magnitude after a Gaussian blur of ``sigma`` px, summed over channels (float32 (h, w))."""
+    """Gradient magnitude after a Gaussian blur of ``sigma`` px, summed over channels (float32 (h, w)).
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (h, w) or (h, w, C) float image.
+    sigma : float
+        Gaussian blur in px (the band-pass's upper scale is ``BAND_SIGMA``).
+
+    Returns
+    -------
+    np.ndarray
+        (h, w) float32 edge magnitude.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import edges
+    >>> img = np.zeros((32, 48)); img[8:24, 10:30] = 1.0
+    >>> e = edges(img, 1.0)
+    >>> e.shape, bool(e[8, 20] > 10 * e[16, 20])
+    ((32, 48), True)
+    """
     import cv2
 
     a = np.asarray(img, np.float32)
@@ -52,7 +92,29 @@ def edges(img: np.ndarray, sigma: float) -> np.ndarray:
 def orientation(img: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
     """Doubled-angle gradient field (re, im) = |g| (cos 2t, sin 2t) of the band-passed image, summed
     over channels: an edge's orientation without its sign (a mark lighter or darker than the photo
-    under it gives the same field), and photo edges of random orientation cancel in a correlation."""
+    under it gives the same field), and photo edges of random orientation cancel in a correlation.
+
+    Parameters
+    ----------
+    img : np.ndarray
+        (h, w) or (h, w, C) float image.
+    sigma : float
+        Gaussian blur in px.
+
+    Returns
+    -------
+    re, im : np.ndarray
+        (h, w) float32 components of the doubled-angle field.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import orientation
+    >>> img = np.zeros((32, 48)); img[8:24, 10:30] = 1.0
+    >>> re, im = orientation(img, 1.0)
+    >>> bool(re[16, 10] > 0), bool(re[8, 20] < 0)      # vertical edge, horizontal edge
+    (True, True)
+    """
     import cv2
 
     a = np.asarray(img, np.float32)
@@ -70,7 +132,34 @@ def orientation(img: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def logo_orientation(M: np.ndarray, L: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
-    """Doubled-angle field of a placed logo: outline plus colour edges (as ``logo_edges``)."""
+    """Doubled-angle field of a placed logo: outline plus colour edges (as ``logo_edges``).
+
+    Parameters
+    ----------
+    M : np.ndarray
+        (h, w) coverage of the placed logo.
+    L : np.ndarray
+        (h, w[, C]) its colours.
+    sigma : float
+        Gaussian blur in px.
+
+    Returns
+    -------
+    re, im : np.ndarray
+        (h, w) float32 components of the field.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import logo_orientation
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M * (L[..., 0] - 0.3)
+    >>> [f.shape for f in logo_orientation(M, L, 1.0)]
+    [(19, 19), (19, 19)]
+    """
     r1, i1 = orientation(M, sigma)
     r2, i2 = orientation(M[:, :, None] * luminance(L), sigma)
     k = 1.0 / max(1, luminance(L).shape[2])
@@ -79,7 +168,33 @@ def logo_orientation(M: np.ndarray, L: np.ndarray, sigma: float) -> tuple[np.nda
 
 def match_orientation(G, T) -> np.ndarray:
     """Normalised correlation of template field T = (re, im) with image field G at every position:
-    Re(sum conj(T) G) / (|T| |G window|) (OpenCV's FFT correlation, window energy from a box sum)."""
+    Re(sum conj(T) G) / (|T| |G window|) (OpenCV's FFT correlation, window energy from a box sum).
+
+    Parameters
+    ----------
+    G : tuple of np.ndarray
+        (re, im) field of the image (:func:`orientation`).
+    T : tuple of np.ndarray
+        (re, im) field of the template (:func:`logo_orientation`).
+
+    Returns
+    -------
+    np.ndarray
+        Correlation at every top-left corner, (H - h + 1, W - w + 1).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import logo_orientation, match_orientation, orientation
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M * (L[..., 0] - 0.3)
+    >>> R = match_orientation(orientation(photo, 1.0), logo_orientation(M, L, 1.0))
+    >>> R.shape, tuple(int(v) for v in np.unravel_index(np.argmax(R), R.shape)), round(float(R.max()), 2)
+    ((46, 78), (21, 31), 0.98)
+    """
     import cv2
 
     num = cv2.matchTemplate(G[0], T[0], cv2.TM_CCORR) + cv2.matchTemplate(G[1], T[1], cv2.TM_CCORR)
@@ -93,7 +208,34 @@ def match_orientation(G, T) -> np.ndarray:
 
 def logo_edges(M: np.ndarray, L: np.ndarray, sigma: float) -> np.ndarray:
     """Edge map of a placed logo: its outline (whatever the photo's colour under it) plus the edges of
-    its colours."""
+    its colours.
+
+    Parameters
+    ----------
+    M : np.ndarray
+        (h, w) coverage of the placed logo.
+    L : np.ndarray
+        (h, w[, C]) its colours.
+    sigma : float
+        Gaussian blur in px.
+
+    Returns
+    -------
+    np.ndarray
+        (h, w) float32 edge magnitude.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import logo_edges
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M * (L[..., 0] - 0.3)
+    >>> logo_edges(M, L, 1.0).shape
+    (19, 19)
+    """
     return edges(M, sigma) + edges(M[:, :, None] * luminance(L), sigma) / max(1, luminance(L).shape[2])
 
 
@@ -114,13 +256,57 @@ def _template(logo: Logo, scale: float, angle: float, sigma: float):
 
 
 def rank_z(v, R, T) -> float:
-    """The peak over its map's spread: fair to small templates, which correlate highly by chance."""
+    """The peak over its map's spread: fair to small templates, which correlate highly by chance.
+
+    Parameters
+    ----------
+    v : float
+        The peak's correlation.
+    R : np.ndarray
+        The correlation map.
+    T : tuple of np.ndarray
+        The template (unused; the signature is shared with :func:`rank_neff`).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import rank_z
+    >>> R = np.zeros((10, 10)); R[5, 5] = 1.0
+    >>> round(rank_z(1.0, R, None), 2)
+    9.95
+    """
     return (v - float(R.mean())) / (float(R.std()) + 1e-9)
 
 
 def rank_neff(v, R, T) -> float:
     """The peak times the square root of the template's effective number of edge pixels: the z-score
-    of a correlation under random orientations; fair to large templates, whose maps are smooth."""
+    of a correlation under random orientations; fair to large templates, whose maps are smooth.
+
+    Parameters
+    ----------
+    v : float
+        The peak's correlation.
+    R : np.ndarray
+        The correlation map (unused; the signature is shared with :func:`rank_z`).
+    T : tuple of np.ndarray
+        (re, im) field of the template.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import rank_neff
+    >>> T = (np.ones((4, 4)), np.zeros((4, 4)))      # 16 equal edge pixels
+    >>> rank_neff(0.5, None, T)
+    2.0
+    """
     e = np.hypot(T[0], T[1]).ravel()
     return v * float(np.sqrt(e.sum() ** 2 / max(float(e @ e), 1e-12)))
 
@@ -130,7 +316,44 @@ def coarse(level, logo: Logo, f: float, scales, angle_range: float, sigma: float
     (scale, angle) of a grid. ``level(g)`` gives the photo reduced to ``g`` times full size; the search runs
     at ``f`` unless the logo's short side would be under ``MIN_SHORT_PX`` there, then at 2f, 4f, ...
     up to ``cap`` (a small logo's strokes vanish on the coarse copy). The two ranks favour small
-    and large templates respectively; candidates are taken from both."""
+    and large templates respectively; candidates are taken from both.
+
+    Parameters
+    ----------
+    level : callable
+        ``level(g)``: the photo (h, w[, C]) reduced to ``g`` times full size.
+    logo : Logo
+        The prepared logo.
+    f : float
+        Level of the coarse search.
+    scales : list of float
+        Scales of the grid.
+    angle_range : float
+        Largest rotation, degrees either way (0: upright only).
+    sigma : float, default 1.5
+        Gaussian blur in px.
+    cap : float, default 1.0
+        Finest level a small logo may use.
+
+    Returns
+    -------
+    list of tuple
+        (rank_z, rank_neff, Placement, level) per peak.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import coarse
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M * (L[..., 0] - 0.3)
+    >>> c = coarse(lambda g: photo, logo, 1.0, [1.0], 0.0)
+    >>> best = max(c, key=lambda t: t[0])[2]
+    >>> len(c), best.cx, best.cy, best.scale
+    (3, 39.5, 29.5, 1.0)
+    """
 
     fields: dict = {}
     out = []
@@ -176,7 +399,43 @@ def _peaks(R: np.ndarray, n: int, sep: int):
 def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, steps, maxiter: int = 200
            ) -> Placement:
     """Nelder-Mead on (x, y, log scale, angle) maximising the edge correlation in a crop of ``grey``
-    (the photo at ``g`` times full size); returns the placement in full-resolution coordinates."""
+    (the photo at ``g`` times full size); returns the placement in full-resolution coordinates.
+
+    Parameters
+    ----------
+    grey : np.ndarray
+        (H, W[, C]) photo at ``g`` times full size.
+    logo : Logo
+        The prepared logo.
+    p : Placement
+        Starting placement, full-resolution coordinates.
+    g : float
+        Scale of ``grey`` relative to full size.
+    sigma : float
+        Gaussian blur in px.
+    steps : sequence of float
+        Initial simplex steps of (x, y, log scale, angle).
+    maxiter : int, default 200
+        Most Nelder-Mead iterations.
+
+    Returns
+    -------
+    Placement
+        The refined placement; ``score`` is its edge correlation.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import refine
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M * (L[..., 0] - 0.3)
+    >>> q = refine(photo, logo, Placement(41, 31, 1.0, 0.0), 1.0, 1.5, [1, 1, 0.05, 2])
+    >>> round(q.cx), round(q.cy), round(q.scale, 1), round(q.score, 2)
+    (40, 30, 1.0, 0.99)
+    """
     from scipy.optimize import minimize
 
     H, W = grey.shape[:2]
@@ -205,7 +464,32 @@ def refine(grey: np.ndarray, logo: Logo, p: Placement, g: float, sigma: float, s
 
 def level_for(scale: float, logo: Logo, f: float, cap: float = 1.0) -> float:
     """The pyramid level (times full size) the coarse search uses for a scale: ``f``, or finer (up to
-    ``cap``) for a logo whose short side would be under ``MIN_SHORT_PX`` there."""
+    ``cap``) for a logo whose short side would be under ``MIN_SHORT_PX`` there.
+
+    Parameters
+    ----------
+    scale : float
+        Scale of the logo.
+    logo : Logo
+        The prepared logo.
+    f : float
+        Level of the coarse search.
+    cap : float, default 1.0
+        Finest level allowed.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Logo
+    >>> from odnn_sep.image.logo_search import level_for
+    >>> logo = Logo(np.ones((40, 40)), np.ones((40, 40, 1)), False, False)
+    >>> level_for(1.0, logo, 0.25), level_for(0.25, logo, 0.25), level_for(4.0, logo, 0.25)
+    (1.0, 1.0, 0.25)
+    """
     fl, short = f, min(logo.M.shape)
     while scale * fl * short < MIN_SHORT_PX and fl < cap:
         fl = min(cap, 2 * fl)
@@ -215,7 +499,43 @@ def level_for(scale: float, logo: Logo, f: float, cap: float = 1.0) -> float:
 def copies(level, logo: Logo, best: Placement, f: float, max_copies: int, sigma: float = 1.5, cap: float = 1.0):
     """Other copies of the best template (same scale and angle): peaks of its correlation map at its
     pyramid level at ``COPY_SHARE`` of the best peak, at least half a logo apart; full-resolution
-    centres."""
+    centres.
+
+    Parameters
+    ----------
+    level : callable
+        ``level(g)``: the photo reduced to ``g`` times full size.
+    logo : Logo
+        The prepared logo.
+    best : Placement
+        The best copy found.
+    f : float
+        Level of the coarse search.
+    max_copies : int
+        Most copies returned.
+    sigma : float, default 1.5
+        Gaussian blur in px.
+    cap : float, default 1.0
+        Finest level a small logo may use.
+
+    Returns
+    -------
+    list of Placement
+        The copies, strongest first (``best`` among them).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo_search import copies
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(24, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96), 0.3); tile = 0.3 + 0.5 * M * (L[..., 0] - 0.3)
+    >>> photo[b[1]:b[3], b[0]:b[2]] = tile; photo[b[1]:b[3], b[0] + 48:b[2] + 48] = tile
+    >>> sorted(round(c.cx) for c in copies(lambda g: photo, logo, Placement(24, 30, 1.0, 0.0), 1.0, 4))
+    [24, 72]
+    """
     import cv2
 
     f = level_for(best.scale, logo, f, cap)
@@ -241,7 +561,31 @@ def copies(level, logo: Logo, best: Placement, f: float, max_copies: int, sigma:
 
 
 def scale_grid(logo: Logo, shape, lo: float = 0.25, hi: float = 4.0) -> list[float]:
-    """Scales from ``lo`` to ``hi`` (geometric, ``SCALE_STEP``) at which the logo fits in the photo."""
+    """Scales from ``lo`` to ``hi`` (geometric, ``SCALE_STEP``) at which the logo fits in the photo.
+
+    Parameters
+    ----------
+    logo : Logo
+        The prepared logo.
+    shape : tuple of int
+        (H, W) of the photo.
+    lo, hi : float
+        Smallest and largest scale.
+
+    Returns
+    -------
+    list of float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Logo
+    >>> from odnn_sep.image.logo_search import scale_grid
+    >>> logo = Logo(np.ones((16, 16)), np.ones((16, 16, 1)), False, False)
+    >>> g = scale_grid(logo, (64, 96))
+    >>> len(g), round(g[0], 2), round(g[-1], 2)
+    (17, 0.25, 4.0)
+    """
     H, W = shape
     h, w = logo.M.shape
     n = int(np.floor(np.log(hi / lo) / np.log(SCALE_STEP) + 1e-9)) + 1

@@ -52,7 +52,44 @@ def estimate_shape(y: np.ndarray, region: np.ndarray, *, iterations: int = 3, de
     """Coverage ``m = alpha M`` (h, w) and colour (C,) of a mark inside ``region`` of crop ``y``.
 
     ``details`` (a dict, filled in): ``background`` (the interpolated photo B), ``explained`` (share of
-    the deviation ``y - B`` inside the region that the one-colour blend explains)."""
+    the deviation ``y - B`` inside the region that the one-colour blend explains), ``residual_sd``.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    region : np.ndarray
+        (h, w) bool, where the mark is.
+    iterations : int, default 3
+        Rounds of photo interpolation and shape estimation.
+    details : dict, optional
+        Filled in with the fields above.
+
+    Returns
+    -------
+    m : np.ndarray
+        (h, w) coverage times opacity, 0 outside the region.
+    color : np.ndarray
+        (C,) mark colour.
+
+    Raises
+    ------
+    InputError
+        When ``region`` is empty.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.maskmode import estimate_shape
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[0:32, 0:48] / 48.0
+    >>> I = np.stack([0.2 + 0.3 * xx, 0.3 + 0.2 * yy, 0.5 + 0.1 * xx], -1)
+    >>> M = np.zeros((32, 48)); M[10:22, 12:16] = 1; M[10:14, 12:36] = 1
+    >>> y = (1 - 0.4 * M[..., None]) * I + 0.4 * M[..., None]
+    >>> region = np.zeros((32, 48), bool); region[6:26, 8:40] = True
+    >>> m, color = estimate_shape(y, region)
+    >>> round(float(m.max()), 2), bool(color.min() > 0.9)
+    (0.46, True)
+    """
     import cv2
 
     R = region.astype(bool)
@@ -100,7 +137,42 @@ def mask_mode(y, prepared, random_state=0):
 
     ``y``: (H, W, C) float array or ``io.FloatView``; ``prepared``: ``maskprep.PreparedMask``. An
     opaque mark (or one the one-colour blend does not explain) comes back as ``M = 1`` over the
-    region with ``alpha = 1``: the blend inversion then inpaints all of it, and the report says so."""
+    region with ``alpha = 1``: the blend inversion then inpaints all of it, and the report says so.
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        (H, W, C) float image in [0, 1].
+    prepared : PreparedMask
+        The user's mask (:func:`odnn_sep.image.maskprep.prepare_mask`).
+    random_state : int or Generator, default 0
+        Seed of the blend fit.
+
+    Returns
+    -------
+    M : np.ndarray
+        (H, W) float32 coverage.
+    alpha : float
+        Opacity.
+    color : np.ndarray
+        (C,) mark colour.
+    info : dict
+        Report fields (``bbox``, ``mask_soft``, ``blend_explained``, ...).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.maskmode import mask_mode
+    >>> from odnn_sep.image.maskprep import prepare_mask
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[0:32, 0:48] / 48.0
+    >>> I = np.stack([0.2 + 0.3 * xx, 0.3 + 0.2 * yy, 0.5 + 0.1 * xx], -1)
+    >>> M = np.zeros((32, 48)); M[10:22, 12:16] = 1; M[10:14, 12:36] = 1
+    >>> y = (1 - 0.4 * M[..., None]) * I + 0.4 * M[..., None]
+    >>> region = np.zeros((32, 48), bool); region[6:26, 8:40] = True
+    >>> M_est, alpha, color, info = mask_mode(y, prepare_mask(region.astype(np.uint8) * 255, (32, 48)))
+    >>> round(alpha, 1), M_est.shape, info["bbox"], info["mask_soft"]
+    (0.4, (32, 48), [0, 0, 48, 32], False)
+    """
     from odnn_sep.errors import NotIdentifiableError
     from odnn_sep.image.estimate import fit_blend
 

@@ -30,7 +30,16 @@ SOFT_SUPPORT = 0.02
 class PreparedMask:
     """``prior``: (H, W) float in [0, 1] (1 = watermark); ``region``: its support (bool);
     ``soft``: a prior on M rather than a hard region; ``inverted``: the input was inverted;
-    ``note``: what was decided, for the report (empty if nothing)."""
+    ``note``: what was decided, for the report (empty if nothing).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.maskprep import PreparedMask
+    >>> p = PreparedMask(np.zeros((32, 48)), np.zeros((32, 48), bool), soft=False, inverted=False)
+    >>> p.prior.shape, p.note
+    ((32, 48), '')
+    """
 
     prior: np.ndarray
     region: np.ndarray
@@ -43,7 +52,32 @@ def mask_plane(mask) -> np.ndarray:
     """(H, W) float in [0, 1] from a grey, grey+alpha, RGB or RGBA mask array (uint8/uint16/float/bool).
 
     With an alpha channel that varies, the alpha channel is the mask (transparent = not marked);
-    otherwise the brightest colour channel. Scaled so that its largest value is 1."""
+    otherwise the brightest colour channel. Scaled so that its largest value is 1.
+
+    Parameters
+    ----------
+    mask : array_like
+        (H, W) or (H, W, C) mask image; bool, uint8, uint16 or float.
+
+    Returns
+    -------
+    np.ndarray
+        (H, W) float64 in [0, 1].
+
+    Raises
+    ------
+    InputError
+        For an empty mask, a mask of another rank, or non-finite values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.maskprep import mask_plane
+    >>> mk = np.zeros((32, 48), np.uint8); mk[10:20, 5:30] = 128
+    >>> p = mask_plane(np.dstack([mk, mk, mk]))
+    >>> p.shape, float(p.max()), float(p.sum())
+    ((32, 48), 1.0, 250.0)
+    """
     mk = np.asarray(mask)
     if mk.dtype == bool:
         mk = mk.astype(np.uint8)
@@ -78,6 +112,28 @@ def prepare_mask(mask, shape: tuple[int, int], *, invert: bool | None = None) ->
     shape : (H, W) of the image
     invert : True: the mask is black on white (invert it); False: use it as it is; None: decide
         from the marked share (more than ``INVERTED_SHARE`` of the image: inverted, with a warning)
+
+    Returns
+    -------
+    PreparedMask
+        The plane (1 = watermark), its region and what was decided.
+
+    Raises
+    ------
+    InputError
+        For a mask of another size, an empty or uniform mask, or one that marks no pixel or all of them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.maskprep import prepare_mask
+    >>> mk = np.zeros((32, 48), np.uint8); mk[10:20, 5:30] = 255
+    >>> p = prepare_mask(mk, (32, 48))
+    >>> p.soft, p.inverted, int(p.region.sum())
+    (False, False, 250)
+    >>> q = prepare_mask(255 - mk, (32, 48), invert=True)
+    >>> q.inverted, bool((q.region == p.region).all())
+    (True, True)
     """
     p = mask_plane(mask)
     H, W = shape

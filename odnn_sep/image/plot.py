@@ -14,7 +14,17 @@ def _show(img):
 
 
 def plot_unwatermark(image, res, out) -> None:
-    """Write a 2x2 figure: input, found mark coverage (with opacity), restored output, |difference|."""
+    """Write a 2x2 figure: input, found mark coverage (with opacity), restored output, |difference|.
+
+    Parameters
+    ----------
+    image : np.ndarray
+        The input image (uint or float in [0, 1]; grey, RGB or RGBA).
+    res : UnwatermarkResult
+        What :func:`odnn_sep.image.unwatermark` returned for ``image``.
+    out : str or Path
+        Figure file to write.
+    """
     from odnn_sep.report.figures import pyplot, save_figure
 
     plt = pyplot()

@@ -23,7 +23,28 @@ from odnn_sep.core.linalg import orthonormal_basis, solve_batched
 
 
 def design(size: int, degree: int) -> np.ndarray:
-    """(size*size, k) polynomial columns of total degree <= ``degree`` on a square patch."""
+    """(size*size, k) polynomial columns of total degree <= ``degree`` on a square patch.
+
+    Parameters
+    ----------
+    size : int
+        Patch side in px.
+    degree : int
+        Total degree, 0, 1 or 2 (1, 3 or 6 columns); coordinates run over [-1, 1].
+
+    Returns
+    -------
+    np.ndarray
+        (size * size, k) design matrix, pixels in row-major order.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.profile import design
+    >>> design(3, 0).shape, design(3, 1).shape, design(8, 2).shape
+    ((9, 1), (9, 3), (64, 6))
+    >>> design(3, 1)[0].tolist()
+    [1.0, -1.0, -1.0]
+    """
     u, v = np.meshgrid(np.linspace(-1, 1, size), np.linspace(-1, 1, size))
     u, v = u.ravel(), v.ravel()
     cols = [np.ones_like(u)]
@@ -36,13 +57,62 @@ def design(size: int, degree: int) -> np.ndarray:
 
 def plane_rss(Yp: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """(p,) residual sum of squares of the photo-only model: each patch of ``Yp`` (p, n, C) with its
-    plane (the orthonormal columns of ``Q`` (n, k)) projected out of every channel, no mark."""
+    plane (the orthonormal columns of ``Q`` (n, k)) projected out of every channel, no mark.
+
+    Parameters
+    ----------
+    Yp : np.ndarray
+        (p, n, C) image patches.
+    Q : np.ndarray
+        (n, k) orthonormal basis of the patch polynomials.
+
+    Returns
+    -------
+    np.ndarray
+        (p,) residual sum of squares per patch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.profile import design, plane_rss
+    >>> Q = np.linalg.qr(design(4, 1))[0]
+    >>> Yp = np.zeros((2, 16, 1)); Yp[0, :, 0] = design(4, 1)[:, 1]; Yp[1, 0, 0] = 1.0
+    >>> np.round(plane_rss(Yp, Q), 4).tolist()
+    [0.0, 0.7125]
+    """
     Yt = Yp - np.einsum("nk,pkc->pnc", Q, np.einsum("nk,pnc->pkc", Q, Yp))
     return np.sum(Yt * Yt, axis=(1, 2))
 
 
 class DataProfile:
-    """RSS(alpha) with the per-patch polynomials and the shared b projected out (image domain)."""
+    """RSS(alpha) with the per-patch polynomials and the shared b projected out (image domain).
+
+    Parameters
+    ----------
+    Yp : np.ndarray
+        (p, n, C) image patches.
+    Mp : np.ndarray
+        (p, n) coverage patches.
+    Phi : np.ndarray
+        (n, k) polynomial design of one patch (:func:`design`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import patch_grid, take_patches
+    >>> from odnn_sep.image.profile import DataProfile, design
+    >>> yy, xx = np.mgrid[0:32, 0:48] / 48.0
+    >>> I = np.stack([0.2 + 0.5 * xx, 0.3 + 0.4 * yy, 0.5 + 0.2 * xx], -1)
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> y = (1 - 0.4 * M[..., None]) * I + 0.4 * M[..., None] * np.array([1.0, 1.0, 0.0])
+    >>> py, px, s = patch_grid(M, 8, 1000, np.random.default_rng(0))
+    >>> Yp, Mp = take_patches(y, py, px, s), take_patches(M, py, px, s)[:, :, 0]
+    >>> prof = DataProfile(Yp, Mp, design(s, 1))
+    >>> bool(prof(0.4) < 1e-9), bool(prof(0.2) > 1.0)
+    (True, True)
+    >>> np.round(prof.parts(0.4)[0], 4).tolist()
+    [0.4, 0.4, 0.0]
+    """
 
     def __init__(self, Yp, Mp, Phi):
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
@@ -87,7 +157,32 @@ class DataProfile:
 
 
 class PhotoProfile:
-    """Negative log-likelihood(alpha) of the restored photo (noise variance profiled out)."""
+    """Negative log-likelihood(alpha) of the restored photo (noise variance profiled out).
+
+    Parameters
+    ----------
+    Yp : np.ndarray
+        (p, n, C) image patches.
+    Mp : np.ndarray
+        (p, n) coverage patches.
+    Phi : np.ndarray
+        (n, k) polynomial design of one patch (:func:`design`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.estimate import patch_grid, take_patches
+    >>> from odnn_sep.image.profile import PhotoProfile, design
+    >>> yy, xx = np.mgrid[0:32, 0:48] / 48.0
+    >>> I = np.stack([0.2 + 0.5 * xx, 0.3 + 0.4 * yy, 0.5 + 0.2 * xx], -1)
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> y = (1 - 0.4 * M[..., None]) * I + 0.4 * M[..., None] * np.array([1.0, 1.0, 0.0])
+    >>> py, px, s = patch_grid(M, 8, 1000, np.random.default_rng(0))
+    >>> Yp, Mp = take_patches(y, py, px, s), take_patches(M, py, px, s)[:, :, 0]
+    >>> prof = PhotoProfile(Yp, Mp, design(s, 1))
+    >>> bool(prof(0.4) < prof(0.2)), np.round(prof.parts(0.4)[0], 4).tolist()
+    (True, [0.4, 0.4, 0.0])
+    """
 
     def __init__(self, Yp, Mp, Phi):
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi

@@ -33,7 +33,30 @@ N_CANDIDATES = 6
 class ColouredProfile:
     """Negative log-likelihood(alpha) of the restored photo for a logo of known colours ``L``: the
     patches ``(y - alpha M L) / (1 - alpha M)`` with a plane per patch projected out (``plane_rss``),
-    plus the change of variables ``sum log(1 - alpha M)`` (as ``profile.PhotoProfile``)."""
+    plus the change of variables ``sum log(1 - alpha M)`` (as ``profile.PhotoProfile``).
+
+    Parameters
+    ----------
+    Yp : np.ndarray
+        (p, n, C) image patches.
+    Mp : np.ndarray
+        (p, n) coverage patches.
+    Lp : np.ndarray
+        (p, n, C) logo colour patches.
+    Phi : np.ndarray
+        (n, k) polynomial design of one patch.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.profile import design
+    >>> from odnn_sep.image.refmode import ColouredProfile
+    >>> Mp = np.zeros((4, 16)); Mp[:, :8] = 1.0
+    >>> Lp = np.ones((4, 16, 1)); Yp = 0.2 * (1 - 0.5 * Mp[..., None]) + 0.5 * Mp[..., None] * Lp
+    >>> prof = ColouredProfile(Yp, Mp, Lp, design(4, 1))
+    >>> bool(prof.rss(0.5).max() < 1e-20), bool(prof(0.5) < prof(0.3))
+    (True, True)
+    """
 
     def __init__(self, Yp, Mp, Lp, Phi):
         self.Yp, self.Mp, self.MLp = Yp, Mp, Mp[:, :, None] * Lp
@@ -54,7 +77,48 @@ class ColouredProfile:
 
 
 def fit_coloured(y, M, L, *, patch: int = 8, random_state=0) -> tuple[float, float]:
-    """(alpha, explained) of a logo with its own colours ``L`` (h, w, C) and coverage ``M`` in crop ``y``."""
+    """(alpha, explained) of a logo with its own colours ``L`` (h, w, C) and coverage ``M`` in crop ``y``.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    M : np.ndarray
+        (h, w) coverage of the placed logo.
+    L : np.ndarray
+        (h, w, C) its colours.
+    patch : int, default 8
+        Patch side in px.
+    random_state : int or Generator, default 0
+        Seed of the patch subset.
+
+    Returns
+    -------
+    alpha : float
+        Opacity.
+    explained : float
+        Share of the patches' photo-only residual the mark explains.
+
+    Raises
+    ------
+    NotIdentifiableError
+        With fewer than four edge patches.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.refmode import fit_coloured
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((24, 24, 4), np.uint8); a[4:20, 4:9] = (255, 40, 40, 255); a[4:9, 4:20] = (40, 40, 255, 255)
+    >>> logo = prepare_logo(a, (64, 96), 3)
+    >>> M, L, _ = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> yy, xx = np.mgrid[0:M.shape[0], 0:M.shape[1]] / 40.0
+    >>> I = np.stack([0.3 + 0.2 * xx, 0.4 + 0.1 * yy, 0.5 + 0.0 * xx], -1)
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None] * L
+    >>> alpha, explained = fit_coloured(y, M, L)
+    >>> round(alpha, 3), round(explained, 3)
+    (0.5, 1.0)
+    """
     from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, take_patches
     from odnn_sep.image.profile import DataProfile, design, plane_rss
 
@@ -75,7 +139,39 @@ def fit_coloured(y, M, L, *, patch: int = 8, random_state=0) -> tuple[float, flo
 def coloured_detection_score(y, M, L, *, random_state=0) -> float:
     """``detect.detection_score`` for a logo of known colours: the opacity fitted on one half of the
     edge patches (along the mark's principal axis) predicts the other half; the score is the mean
-    clipped log-ratio of photo-only to predicted residual, discounted for few patches."""
+    clipped log-ratio of photo-only to predicted residual, discounted for few patches.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    M : np.ndarray
+        (h, w) coverage of the placed logo.
+    L : np.ndarray
+        (h, w, C) its colours.
+    random_state : int or Generator, default 0
+        Seed of the patch subset.
+
+    Returns
+    -------
+    float
+        Score in [-CLIP, CLIP]; 0 with too few patches.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.detect import THRESHOLD
+    >>> from odnn_sep.image.refmode import coloured_detection_score
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((24, 24, 4), np.uint8); a[4:20, 4:9] = (255, 40, 40, 255); a[4:9, 4:20] = (40, 40, 255, 255)
+    >>> logo = prepare_logo(a, (64, 96), 3)
+    >>> M, L, _ = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> yy, xx = np.mgrid[0:M.shape[0], 0:M.shape[1]] / 40.0
+    >>> I = np.stack([0.3 + 0.2 * xx, 0.4 + 0.1 * yy, 0.5 + 0.0 * xx], -1)
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None] * L
+    >>> coloured_detection_score(y, M, L) > THRESHOLD, coloured_detection_score(I, M, L) < THRESHOLD
+    (True, True)
+    """
     from odnn_sep.image.detect import CLIP, FULL_WEIGHT_PATCHES, principal_halves
     from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, stroke_width, take_patches
     from odnn_sep.image.profile import DataProfile, design, plane_rss
@@ -119,7 +215,38 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
     """Placements of the logo in ``y`` (float array or ``io.FloatView``) with ``judge(placement)``
     (the blend's explained share), best first. The best ``N_CANDIDATES`` distinct coarse matches are
     refined and judged by the blend model, not by the edge correlation alone (small templates reach
-    high correlations by chance); tiled copies of the winner are refined and judged too."""
+    high correlations by chance); tiled copies of the winner are refined and judged too.
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        (H, W, C) float image in [0, 1].
+    logo : Logo
+        The prepared logo.
+    angle_range : float
+        Largest rotation, degrees either way.
+    max_copies : int
+        Most placements returned.
+    judge : callable
+        ``judge(placement)``: the detection score of a placement.
+
+    Returns
+    -------
+    list of tuple
+        (Placement, judged score), the best first, then its tiled copies.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> from odnn_sep.image.refmode import locate
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L, b = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> photo = np.full((64, 96, 1), 0.3); photo[b[1]:b[3], b[0]:b[2]] = 0.3 + 0.5 * M[..., None] * (L - 0.3)
+    >>> [(round(p.cx), round(p.cy), round(p.scale, 1)) for p, _ in locate(photo, logo, 0.0, 1, lambda p: p.score)]
+    [(40, 30, 1.0)]
+    """
     from odnn_sep.image import logo_search as ls
 
     H, W = y.shape[:2]
@@ -196,7 +323,35 @@ def _resize(y, f):
 
 
 def place_all(logo, placements, shape):
-    """(M (H, W), L (H, W, C)) of all placements (overlaps: the larger coverage wins)."""
+    """(M (H, W), L (H, W, C)) of all placements (overlaps: the larger coverage wins).
+
+    Parameters
+    ----------
+    logo : Logo
+        The prepared logo.
+    placements : list of Placement
+        Where it is.
+    shape : tuple of int
+        (H, W) of the photo.
+
+    Returns
+    -------
+    M : np.ndarray
+        (H, W) coverage.
+    L : np.ndarray
+        (H, W, C) colours (0 where no logo).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo
+    >>> from odnn_sep.image.refmode import place_all
+    >>> a = np.zeros((20, 20), np.uint8); a[4:16, 4:8] = 255; a[4:8, 4:16] = 255
+    >>> logo = prepare_logo(a, (64, 96), 1)
+    >>> M, L = place_all(logo, [Placement(20, 20, 1.0, 0.0), Placement(70, 40, 1.0, 0.0)], (64, 96))
+    >>> M.shape, L.shape, round(float(M.sum()), 1)
+    ((64, 96), (64, 96, 1), 160.0)
+    """
     H, W = shape
     M = np.zeros((H, W))
     L = np.zeros((H, W, logo.L.shape[2]))
@@ -214,7 +369,49 @@ def place_all(logo, placements, shape):
 def invert_logo(yc, Mc, Lc, alpha, colour, levels, inpaint_lost):
     """(restored crop, lost pixels, reported colour): the blend undone with the fitted colour, or with
     the logo's own colours ``Lc`` when ``colour`` is None (then the reported colour is their mean
-    over the logo's solid pixels)."""
+    over the logo's solid pixels).
+
+    Parameters
+    ----------
+    yc : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    Mc : np.ndarray
+        (h, w) coverage.
+    Lc : np.ndarray
+        (h, w, C) logo colours.
+    alpha : float
+        Opacity.
+    colour : np.ndarray or None
+        (C,) fitted colour, or None for the logo's own colours.
+    levels : int
+        Quantisation steps of the data.
+    inpaint_lost : bool
+        Inpaint the pixels whose data are gone.
+
+    Returns
+    -------
+    out : np.ndarray
+        (h, w, C) restored crop.
+    lost : np.ndarray
+        (h, w) bool.
+    colour : np.ndarray
+        (C,) reported colour.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.refmode import invert_logo
+    >>> import numpy as np
+    >>> from odnn_sep.image.logo import Placement, prepare_logo, render
+    >>> a = np.zeros((24, 24, 4), np.uint8); a[4:20, 4:9] = (255, 40, 40, 255); a[4:9, 4:20] = (40, 40, 255, 255)
+    >>> logo = prepare_logo(a, (64, 96), 3)
+    >>> M, L, _ = render(logo, Placement(40, 30, 1.0, 0.0), (64, 96))
+    >>> yy, xx = np.mgrid[0:M.shape[0], 0:M.shape[1]] / 40.0
+    >>> I = np.stack([0.3 + 0.2 * xx, 0.4 + 0.1 * yy, 0.5 + 0.0 * xx], -1)
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None] * L
+    >>> out, lost, colour = invert_logo(y, M, L, 0.5, None, 255, True)
+    >>> bool(np.allclose(out, I)), int(lost.sum()), np.round(colour, 2).tolist()
+    (True, 0, [0.5, 0.16, 0.66])
+    """
     from odnn_sep.image.estimate import invert
 
     if colour is not None:
@@ -231,7 +428,43 @@ def reference_mode(image, reference, *, angle_range: float = 45.0, max_copies: i
                    min_score: float | None = None, inpaint_lost: bool = True, random_state=0):
     """Find the logo ``reference`` in ``image`` and remove it; see ``api.unwatermark``.
 
-    Returns an ``api.UnwatermarkResult``; its report has ``residual_mark`` (``residual.residual_mark``)."""
+    Returns an ``api.UnwatermarkResult``; its report has ``residual_mark`` (``residual.residual_mark``).
+
+    Parameters
+    ----------
+    image : np.ndarray
+        (H, W[, C]) uint8, uint16 or float image.
+    reference : np.ndarray
+        The logo (grey, grey+alpha, RGB or RGBA), at most the photo's size.
+    angle_range : float, default 45.0
+        Largest rotation searched, degrees either way.
+    max_copies : int, default 64
+        Most copies removed.
+    min_score : float, optional
+        Detection threshold (default ``MIN_SCORE``).
+    inpaint_lost : bool, default True
+        Inpaint the pixels whose data are gone.
+    random_state : int or Generator, default 0
+        Seed of the fits.
+
+    Returns
+    -------
+    UnwatermarkResult
+
+    Raises
+    ------
+    InputError
+        For an unusable reference image, or when the logo is not found.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.refmode import reference_mode
+    >>> reference_mode(np.zeros((32, 48, 3), np.uint8), np.zeros((40, 40, 3), np.uint8))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: reference image 40x40 is larger than the photo 48x32; ...
+    """
     from odnn_sep.image.api import UnwatermarkResult, color_report
     from odnn_sep.image.io import paste, split
     from odnn_sep.image.logo_residual import residual_mark

@@ -20,6 +20,22 @@ from odnn_sep.image.render import place, render_text
 
 @dataclasses.dataclass
 class Placed:
+    """One mark registered on the image: font, size (px), angle (degrees), centre (x, y), the box
+    (x0, y0, x1, y1, exclusive) of the crop holding it, its coverage M inside the box and the blend
+    fit (opacity, colour) under that coverage.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from pathlib import Path
+    >>> from odnn_sep.image.estimate import BlendFit
+    >>> from odnn_sep.image.register import Placed
+    >>> fit = BlendFit(0.5, np.ones(3) * 0.5, 0.01, 0.0, 10, 8, 1.0)
+    >>> p = Placed(Path("DejaVuSans-Bold.ttf"), 20.0, 0.0, (32.0, 24.0), (12, 9, 52, 41), np.zeros((32, 40)), fit)
+    >>> p.coverage.shape, p.fit.alpha
+    ((32, 40), 0.5)
+    """
+
     font: Path
     size: float
     angle: float
@@ -30,12 +46,69 @@ class Placed:
 
 
 def render_at(text, font, size, angle, center, shape):
-    """Coverage of the text placed on an image of ``shape`` = (H, W); returns (M crop, box)."""
+    """Coverage of the text placed on an image of ``shape`` = (H, W); returns (M crop, box).
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    font : str or Path
+        Font file or name.
+    size : float
+        Font size (em) in px.
+    angle : float
+        Rotation in degrees, counter-clockwise.
+    center : tuple of float
+        (x, y) of the mark's centre.
+    shape : tuple of int
+        (H, W) of the image.
+
+    Returns
+    -------
+    crop : np.ndarray
+        Coverage in [0, 1] over ``box``.
+    box : tuple of int
+        (x0, y0, x1, y1) clipped to the image.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.register import render_at
+    >>> m, box = render_at("Hi", "DejaVuSans-Bold", 20, 0, (32, 24), (48, 64))
+    >>> m.shape, box
+    ((25, 33), (16, 12, 49, 37))
+    """
     return place(render_text(text, font, size), shape, center, angle)
 
 
 def nelder_mead(fun, x0, step, maxiter):
-    """(argmin, min) of ``fun`` by Nelder-Mead from the simplex ``x0``, ``x0 + diag(step)``."""
+    """(argmin, min) of ``fun`` by Nelder-Mead from the simplex ``x0``, ``x0 + diag(step)``.
+
+    Parameters
+    ----------
+    fun : callable
+        Objective of a 1-D array, returning a float.
+    x0 : np.ndarray
+        Starting point (n,).
+    step : np.ndarray
+        (n,) edge lengths of the initial simplex.
+    maxiter : int
+        Most iterations.
+
+    Returns
+    -------
+    x : np.ndarray
+        The minimiser found.
+    f : float
+        The objective there.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.register import nelder_mead
+    >>> x, f = nelder_mead(lambda v: float(((v - 1) ** 2).sum()), np.zeros(2), np.ones(2), 200)
+    >>> x.round(2).tolist(), round(f, 4)
+    ([1.0, 1.0], 0.0)
+    """
     from scipy.optimize import minimize
 
     sim = np.vstack([x0, x0 + np.diag(step)])
@@ -75,6 +148,41 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
 
     ``y`` is the whole image as float (H, W, C) in [0, 1] (or a view giving float crops).
     ``whole_sizes``: also try the whole font sizes next to the optimum (off on a resampled copy).
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        The whole image, float (H, W, C) in [0, 1].
+    text : str
+        The mark's text.
+    font : str or Path
+        Font file or name.
+    size, angle : float
+        Starting font size (px) and rotation (degrees).
+    center : tuple of float
+        Starting (x, y) of the mark's centre.
+    iterations : int, default 60
+        Most Nelder-Mead iterations.
+    whole_sizes : bool, default True
+        Also try the whole font sizes next to the optimum.
+    random_state : int or Generator, default 0
+        Seed of the patch grid.
+
+    Returns
+    -------
+    Placed
+        The refined placement with its blend fit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.register import refine
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> clean = np.repeat(np.linspace(70, 110, 48)[:, None, None], 64, 1).repeat(3, 2).astype(np.uint8)
+    >>> y, _ = add_text_watermark(clean, "Hi", size=20, center=(32, 24), alpha=0.5)
+    >>> p = refine(y / 255.0, "Hi", "DejaVuSans-Bold", 19.5, 0.0, (31.5, 24.5))
+    >>> round(p.size), round(p.angle), abs(p.fit.alpha - 0.5) < 0.02
+    (20, 0, True)
     """
     H, W = y.shape[:2]
     M0, box = render_at(text, font, size, angle, center, (H, W))

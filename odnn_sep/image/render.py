@@ -25,7 +25,20 @@ DEFAULT_FONT_NAMES = (
 
 
 def font_dirs() -> list[Path]:
-    """Folders searched for fonts given by name: matplotlib's, the system's, Pillow's and OpenCV's."""
+    """Folders searched for fonts given by name: matplotlib's, the system's, Pillow's and OpenCV's.
+
+    Returns
+    -------
+    list of Path
+        The folders that exist on this system, in search order.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.render import font_dirs
+    >>> dirs = font_dirs()
+    >>> all(d.is_dir() for d in dirs)
+    True
+    """
     import importlib.util
 
     dirs: list[Path] = []
@@ -81,7 +94,19 @@ def resolve_font(font) -> Path:
 
 
 def default_fonts() -> list[Path]:
-    """The candidate fonts tried when the user does not pin one (those present on this system)."""
+    """The candidate fonts tried when the user does not pin one (those present on this system).
+
+    Returns
+    -------
+    list of Path
+        Font files of ``DEFAULT_FONT_NAMES`` that were found, in that order, without repeats.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.render import default_fonts
+    >>> default_fonts()[0].name
+    'DejaVuSans-Bold.ttf'
+    """
     out = []
     for name in DEFAULT_FONT_NAMES:
         try:
@@ -124,7 +149,23 @@ def spaced(font, tracking: float) -> str:
 
 
 def split_tracking(font) -> tuple[str, float]:
-    """(font name or path, tracking in em) of a font written by ``spaced`` (tracking 0 otherwise)."""
+    """(font name or path, tracking in em) of a font written by ``spaced`` (tracking 0 otherwise).
+
+    Parameters
+    ----------
+    font : str or Path
+        A font name or path, possibly with a ``@tracking=<em>`` suffix.
+
+    Returns
+    -------
+    tuple of (str, float)
+
+    Examples
+    --------
+    >>> from odnn_sep.image.render import split_tracking
+    >>> split_tracking("DejaVuSans@tracking=0.1"), split_tracking("Arial")
+    (('DejaVuSans', 0.1), ('Arial', 0.0))
+    """
     s = str(font)
     if TRACKING_TAG in s:
         base, _, t = s.rpartition(TRACKING_TAG)
@@ -200,6 +241,36 @@ def place(coverage: np.ndarray, shape: tuple[int, int], center: tuple[float, flo
 
     Returns the coverage crop and its box (x0, y0, x1, y1) clipped to the image (x1, y1 exclusive);
     an empty box means the mark lies outside the image.
+
+    Parameters
+    ----------
+    coverage : np.ndarray
+        (h, w) upright coverage in [0, 1].
+    shape : tuple of int
+        (H, W) of the image grid.
+    center : tuple of float
+        (x, y) of the mark's centre on the grid.
+    angle : float
+        Rotation in degrees, counter-clockwise as displayed.
+    scale : float, default 1.0
+        Scale factor.
+
+    Returns
+    -------
+    crop : np.ndarray
+        float32 coverage in [0, 1] over ``box``.
+    box : tuple of int
+        (x0, y0, x1, y1), clipped to the image; (0, 0, 0, 0) when the mark is outside.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.render import place
+    >>> crop, box = place(np.ones((5, 9)), (32, 48), (24, 16), 0)
+    >>> crop.shape, box
+    ((11, 15), (17, 11, 32, 22))
+    >>> place(np.ones((5, 9)), (32, 48), (200, 16), 0)[1]
+    (0, 0, 0, 0)
     """
     import cv2
 
@@ -228,7 +299,29 @@ def place(coverage: np.ndarray, shape: tuple[int, int], center: tuple[float, flo
 
 
 def rotated(coverage: np.ndarray, angle: float, scale: float = 1.0) -> np.ndarray:
-    """The whole coverage rotated about its centre with the canvas expanded to hold it."""
+    """The whole coverage rotated about its centre with the canvas expanded to hold it.
+
+    Parameters
+    ----------
+    coverage : np.ndarray
+        (h, w) upright coverage in [0, 1].
+    angle : float
+        Rotation in degrees, counter-clockwise.
+    scale : float, default 1.0
+        Scale factor.
+
+    Returns
+    -------
+    np.ndarray
+        float32 coverage on a canvas that holds the whole rotated (and scaled) mark.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.render import rotated
+    >>> rotated(np.ones((5, 9)), 90).shape
+    (11, 8)
+    """
     h, w = coverage.shape
     th = np.deg2rad(angle)
     W = int(np.ceil(abs(np.cos(th)) * w * scale + abs(np.sin(th)) * h * scale)) + 2

@@ -35,7 +35,31 @@ EDGE_EXCESS = 0.5
 
 
 def contrast_levels(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
-    """RMS contrast (8-bit levels) over the glyph pixels (M > 0.5) of the blend fitted to ``y``."""
+    """RMS contrast (8-bit levels) over the glyph pixels (M > 0.5) of the blend fitted to ``y``.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    M : np.ndarray
+        (h, w) coverage of the mark.
+    random_state : int or Generator, default 0
+        Seed of the blend fit's patch subset.
+
+    Returns
+    -------
+    float
+        Contrast in 8-bit grey levels; 0 when no blend can be fitted.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.residual import contrast_levels
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> I = np.full((32, 48, 3), 0.4); y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> round(contrast_levels(y, M), 1), contrast_levels(I, M) < 1e-6
+    (76.5, True)
+    """
     from odnn_sep.image.estimate import fit_blend, invert
 
     try:
@@ -64,7 +88,29 @@ def _edge_energy(y: np.ndarray) -> np.ndarray:
 def edge_excess(y: np.ndarray, cov: np.ndarray) -> float:
     """Mean edge energy in the mark's band (glyphs of ``cov`` dilated by most of a stroke width) over
     that of a ring around it, minus 1: about 0 when there is as much detail under the mark as beside
-    it, more when the mark (or the rim of a mark removed with the wrong glyph shape) is still there."""
+    it, more when the mark (or the rim of a mark removed with the wrong glyph shape) is still there.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float image in [0, 1].
+    cov : np.ndarray
+        (h, w) coverage of the mark.
+
+    Returns
+    -------
+    float
+        Band-over-ring edge energy minus 1; 0 when the band or ring has fewer than 20 pixels.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.residual import edge_excess
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> I = np.full((32, 48, 3), 0.4); y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> edge_excess(y, M) > 10, round(edge_excess(I, M), 1)
+    (True, -1.0)
+    """
     import cv2
 
     from odnn_sep.image.estimate import stroke_width

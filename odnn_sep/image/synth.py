@@ -51,7 +51,33 @@ def photo_like(shape=(320, 480), *, random_state=0) -> np.ndarray:
 
 
 def text_coverage(text: str, font, size: int, angle: float) -> np.ndarray:
-    """Coverage of ``text`` drawn by Pillow at integer ``size`` and rotated by Pillow (bicubic, expand)."""
+    """Coverage of ``text`` drawn by Pillow at integer ``size`` and rotated by Pillow (bicubic, expand).
+
+    Parameters
+    ----------
+    text : str
+        The text to draw.
+    font : str or Path
+        Font file or name (see :func:`odnn_sep.image.render.resolve_font`).
+    size : int
+        Font size in pixels.
+    angle : float
+        Rotation in degrees, counter-clockwise; the canvas grows to hold the rotated text.
+
+    Returns
+    -------
+    np.ndarray
+        (h, w) float coverage in [0, 1]: the ink box plus a 2-px border.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.synth import text_coverage
+    >>> c = text_coverage("Hi", "DejaVuSans-Bold", 16, 0)
+    >>> c.shape, float(c.max())
+    ((16, 23), 1.0)
+    >>> text_coverage("Hi", "DejaVuSans-Bold", 16, 30).shape
+    (26, 29)
+    """
     from PIL import Image, ImageDraw, ImageFont
 
     from odnn_sep.image.render import resolve_font
@@ -74,6 +100,45 @@ def add_text_watermark(clean, text: str, *, font="DejaVuSans-Bold", size: int = 
 
     ``center`` (x, y) defaults to a random point that keeps the mark inside; ``tile=(dx, dy)`` repeats
     it on a grid with that spacing. Returns ``(watermarked, M)`` with ``M`` the full-size coverage.
+
+    Parameters
+    ----------
+    clean : array_like
+        (H, W) grey, (H, W, 3) RGB or (H, W, 4) RGBA image, uint8/uint16 (or float in [0, 1]).
+    text : str
+        The watermark's text.
+    font : str or Path, default "DejaVuSans-Bold"
+        Font file or name.
+    size : int, default 40
+        Font size in pixels.
+    angle : float, default 0.0
+        Rotation in degrees, counter-clockwise.
+    center : tuple of float, optional
+        (x, y) of the mark's centre; random (mark inside the image) when None.
+    alpha : float, default 0.5
+        Opacity in (0, 1].
+    color : tuple of int, default (255, 255, 255)
+        Mark colour, 0-255 (its mean for grey images).
+    tile : tuple of int, optional
+        (dx, dy) spacing of a repeated mark.
+    random_state : int or Generator, default 0
+        Seed for the random centre.
+
+    Returns
+    -------
+    watermarked : np.ndarray
+        The blended image, same shape and dtype as ``clean``.
+    M : np.ndarray
+        (H, W) float coverage of the mark.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> clean = np.full((32, 48, 3), 100, np.uint8)
+    >>> y, M = add_text_watermark(clean, "Hi", size=16, center=(24, 16), alpha=0.5)
+    >>> y.shape, y.dtype, int(y.max()), float(M.max())
+    ((32, 48, 3), dtype('uint8'), 178, 1.0)
     """
     clean = np.asarray(clean)
     if not 0 < alpha <= 1:

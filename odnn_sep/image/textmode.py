@@ -36,7 +36,58 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     """(M (H, W), alpha, colour, report fields) of the text's mark(s) in ``y`` (float array or view).
 
     ``reduced``: ``y`` is a reduced copy of a large image (coarser registration, no whole sizes).
-    Why long (9 parameters): ``unwatermark``'s text-mode options, passed on."""
+    Why long (9 parameters): ``unwatermark``'s text-mode options, passed on.
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        (H, W, C) float image in [0, 1].
+    text : str
+        The mark's text.
+    font : str or Path or None
+        Pinned font; None tries the default fonts (and estimates the coverage from the data).
+    region : np.ndarray or None
+        (H, W) bool, where to search; None for everywhere.
+    min_score : float
+        Detection threshold.
+    angle_range : float
+        Largest rotation searched, degrees either way.
+    max_marks : int
+        Most copies of the mark.
+    random_state : int or Generator
+        Seed of the fits.
+    reduced : bool, default False
+        ``y`` is a reduced copy of a large image.
+
+    Returns
+    -------
+    M : np.ndarray
+        (H, W) float32 coverage of all copies.
+    alpha : float
+        Opacity.
+    color : np.ndarray
+        (C,) mark colour.
+    info : dict
+        Report fields (font, size, angle, centre, match score, ...).
+    prior : np.ndarray
+        (H, W) registered rendering the coverage started from.
+
+    Raises
+    ------
+    InputError
+        When the text is not found (best score below ``min_score``).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.textmode import text_mode
+    >>> import numpy as np
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> y, _ = add_text_watermark(np.full((40, 56, 3), 90, np.uint8), "Hi", size=18, center=(28, 20), alpha=0.5)
+    >>> y = y / 255.0
+    >>> M, alpha, color, info, prior = text_mode(y, "Hi", "DejaVuSans-Bold", None, 0.19, 0.0, 1, 0)
+    >>> M.shape, round(alpha, 2), np.round(color, 2).tolist(), info["font_size_px"] > 17
+    ((40, 56), 0.5, [1.0, 1.0, 1.0], True)
+    """
     from odnn_sep.image.render import default_fonts, resolve_font
 
     H, W = y.shape[:2]
@@ -96,7 +147,44 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
     finer one about three), but only when nothing was found.
 
     More looks give chance more tries, so a later look's mark must score ``SECOND_LOOK_FACTOR``
-    times ``min_score``."""
+    times ``min_score``.
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        (H, W, C) float image in [0, 1].
+    text : str
+        The mark's text.
+    fonts : list of Path
+        Fonts to try.
+    region : np.ndarray or None
+        (H, W) bool, where to search.
+    angle_range : float
+        Largest rotation searched, degrees either way.
+    random_state : int or Generator
+        Seed of the fits.
+    min_score : float
+        Detection threshold.
+    reduced : bool, default False
+        ``y`` is a reduced copy of a large image.
+
+    Returns
+    -------
+    tuple
+        As :func:`best_match`.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.render import resolve_font
+    >>> from odnn_sep.image.textmode import find
+    >>> import numpy as np
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> y, _ = add_text_watermark(np.full((40, 56, 3), 90, np.uint8), "Hi", size=18, center=(28, 20), alpha=0.5)
+    >>> y = y / 255.0
+    >>> best, match, score, off, ys = find(y, "Hi", [resolve_font("DejaVuSans-Bold")], None, 0.0, 0, 0.19)
+    >>> round(best.size), score > 0.19
+    (18, True)
+    """
     from odnn_sep.image.locate import least_alike
     from odnn_sep.image.render import spaced
 
@@ -120,7 +208,52 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
 def best_match(y, text, fonts, region, angle_range, random_state, reduced=False, **coarse):
     """(best registered placement or None, its search match, its detection score, offset, searched view).
 
-    ``coarse``: ``coarse_font`` and ``coarse_height`` of the search's coarse grid (``locate.search``)."""
+    ``coarse``: ``coarse_font`` and ``coarse_height`` of the search's coarse grid (``locate.search``).
+
+    Parameters
+    ----------
+    y : np.ndarray or FloatView
+        (H, W, C) float image in [0, 1].
+    text : str
+        The mark's text.
+    fonts : list of Path
+        Fonts to try.
+    region : np.ndarray or None
+        (H, W) bool, where to search.
+    angle_range : float
+        Largest rotation searched, degrees either way.
+    random_state : int or Generator
+        Seed of the fits.
+    reduced : bool, default False
+        ``y`` is a reduced copy of a large image.
+    **coarse
+        Options of the coarse grid.
+
+    Returns
+    -------
+    best : Placed or None
+        The best registered placement.
+    match : Match or None
+        Its search hypothesis.
+    score : float
+        Its detection score (0 when nothing was registered).
+    off : tuple of int
+        (x, y) offset of the searched view in ``y``.
+    ys : np.ndarray or FloatView
+        The searched view (``y``, or its crop around ``region``).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.render import resolve_font
+    >>> from odnn_sep.image.textmode import best_match
+    >>> import numpy as np
+    >>> from odnn_sep.image.synth import add_text_watermark
+    >>> y, _ = add_text_watermark(np.full((40, 56, 3), 90, np.uint8), "Hi", size=18, center=(28, 20), alpha=0.5)
+    >>> y = y / 255.0
+    >>> best, match, score, off, ys = best_match(y, "Hi", [resolve_font("DejaVuSans-Bold")], None, 0.0, 0)
+    >>> round(best.size), [round(c) for c in best.center], score > 0.19, off
+    (18, [28, 20], True, (0, 0))
+    """
     from odnn_sep.image.choose import most_likely
     from odnn_sep.image.locate import search
     from odnn_sep.image.register import refine
