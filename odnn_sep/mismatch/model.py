@@ -14,6 +14,27 @@ from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, integrate_
 
 
 def suggest_name(word, options):
+    """A "did you mean ...? " hint for a misspelt name, or an empty string when nothing is close.
+
+    Parameters
+    ----------
+    word : str
+        The name the user gave.
+    options : iterable of str
+        The valid names.
+
+    Returns
+    -------
+    str
+        ``"did you mean 'x'? "`` for the closest option, else ``""``.
+
+    Examples
+    --------
+    >>> suggest_name("osciallator", ["oscillator", "pendulum"])
+    "did you mean 'oscillator'? "
+    >>> suggest_name("zzz", ["oscillator"])
+    ''
+    """
     close = difflib.get_close_matches(str(word), list(options), n=1, cutoff=0.5)
     return f"did you mean {close[0]!r}? " if close else ""
 
@@ -24,6 +45,17 @@ class Model:
 
     Build one with :func:`make_model` (preset name), :func:`custom_model` (a callable
     ``f(t, **params)``) or :func:`ode_model` (a right-hand side ``rhs(t, state, **params)``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = make_model("freefall", {"g": 10.0, "h0": 5.0})
+    >>> m.name, m.family, m.free
+    ('freefall', 'freefall', ['g', 'h0'])
+    >>> m.predict(np.array([0.0, 1.0])).tolist()
+    [5.0, 0.0]
+    >>> m.with_effect("quadratic_drag").effects
+    ('quadratic_drag',)
     """
 
     name: str
