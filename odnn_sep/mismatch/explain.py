@@ -49,7 +49,22 @@ SMALL_DATA = 60   # below this many samples the held-out test has little power (
 
 @dataclass
 class MismatchResult:
-    """What explain() found: ``named`` physics effects (in order), ``disturbances``, failed fits."""
+    """What explain() found: ``named`` physics effects (in order), ``disturbances``, failed fits.
+
+    ``effect``/``effects`` give the names, ``verdict`` the first named Candidate, ``as_dict()`` the
+    JSON report (see :func:`~odnn_sep.mismatch.report.result_dict`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 100, 300)
+    >>> y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    >>> res = explain("cooling", t, y)
+    >>> res.effect, res.effects, res.verdict, res.disturbances
+    (None, [], None, [])
+    >>> round(res.calibration.fit.params["h"], 3), sorted(res.final_intervals)
+    (0.03, ['T0', 'T_ambient', 'h'])
+    """
 
     t: np.ndarray = field(repr=False)
     y: np.ndarray = field(repr=False)
