@@ -230,7 +230,34 @@ def summary_text(res) -> str:
 
 
 def plot(res, out) -> None:
-    """Figure: data with both fits, residual before/after, and the flagged locations."""
+    """Figure: data with both fits, residual before/after, and the flagged locations.
+
+    A series gets three panels (data and fits; residual before and after; residual RMS over the
+    noise per window), a 2D field three maps (data, residual before, residual after).
+
+    Parameters
+    ----------
+    res : MismatchResult
+        What :func:`~odnn_sep.mismatch.explain.explain` returned.
+    out : str or Path
+        Output image (the extension picks the format: .png, .svg, .pdf).
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch import explain
+    >>> t = np.linspace(0, 100, 300)
+    >>> y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    >>> out = os.path.join(tempfile.mkdtemp(), "mismatch.png")
+    >>> plot(explain("cooling", t, y), out)
+    >>> open(out, "rb").read(4)
+    b'\\x89PNG'
+    """
     from odnn_sep.report.figures import pyplot, save_figure
 
     plt = pyplot()
