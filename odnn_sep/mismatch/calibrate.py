@@ -243,6 +243,23 @@ class Calibration:
 def calibrate(model, t, y, *, user_params=None, G=None, max_nfev=400) -> Calibration:
     """Refit the model's parameters from the user's starts and from data-driven starts; keep the best.
 
+    Parameters
+    ----------
+    model : Model
+        The model to calibrate.
+    t, y : ndarray
+        Sample times (or 2D coordinates) and samples.
+    user_params : dict, optional
+        Starting values the user gave (they win over the data-driven ones).
+    G : ndarray, optional
+        Disturbance columns (:func:`disturbance_columns`).
+    max_nfev : int, optional
+        Most model evaluations per start.
+
+    Returns
+    -------
+    Calibration
+
     Examples
     --------
     >>> import numpy as np

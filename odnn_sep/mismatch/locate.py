@@ -248,6 +248,22 @@ def locate_regions(xy, residual, *, sigma=None, tiles=4, alpha=0.05):
 def locate(t, residual, *, sigma=None, alpha=0.05):
     """All locations: time windows + frequency bands for 1-D data, regions for 2D fields.
 
+    Parameters
+    ----------
+    t : ndarray, shape (n,) or (n, 2)
+        Sample times, or 2D coordinates.
+    residual : ndarray, shape (n,)
+        The calibrated residual.
+    sigma : float, optional
+        Noise level (default: :func:`noise_sigma`).
+    alpha : float, optional
+        False-discovery (windows, regions) or family-wise (bands) rate.
+
+    Returns
+    -------
+    list of dict
+        :func:`locate_time` then :func:`locate_frequency` results, or :func:`locate_regions`'.
+
     Examples
     --------
     >>> import numpy as np

@@ -128,6 +128,25 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
     ``inputs`` ({name: (t, u)}, see :mod:`odnn_sep.mismatch.inputs`) drive the oscillator,
     pendulum or cooling preset; each gets a gain ``kd_<name>``.
 
+    Parameters
+    ----------
+    name : str or Model
+        Preset name (``oscillator``, ``pendulum``, ``cooling``, ``hum``, ``heat2d``, ``freefall``);
+        a Model gets ``params`` as new starts.
+    params : dict, optional
+        Starting values (or structural settings such as ``harmonics``, ``sources``).
+    inputs : dict, optional
+        Measured inputs ``{name: (t, u)}``.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    InputError
+        For an unknown preset or parameter, or inputs to a preset that takes none.
+
     Examples
     --------
     >>> m = make_model("oscillator", {"k": 4.0})
@@ -224,6 +243,23 @@ def _check_user_params(func, params, what):
 def custom_model(func, params: dict, *, bounds: dict | None = None, fixed=(), name="user") -> Model:
     """Wrap ``func(t, **params) -> y`` as a model; the generic effects apply to it.
 
+    Parameters
+    ----------
+    func : callable
+        ``func(t, **params) -> y`` with ``y`` of the shape of ``t``.
+    params : dict
+        Starting values of the parameters to calibrate.
+    bounds : dict, optional
+        ``{name: (lo, hi)}``.
+    fixed : iterable of str, optional
+        Parameters kept at their start.
+    name : str, optional
+        Model name in reports.
+
+    Returns
+    -------
+    Model
+
     Examples
     --------
     >>> import numpy as np
@@ -254,6 +290,29 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
     ``state0`` lists the initial state: numbers, or names of entries of ``params`` (refitted).
     ``inputs`` ({name: (t, u)}) are measured inputs: ``rhs`` receives each one's value at the
     current time as a keyword argument of that name (linear interpolation between samples).
+
+    Parameters
+    ----------
+    rhs : callable
+        ``rhs(t, state, **params) -> dstate/dt``.
+    params : dict
+        Starting values of the parameters to calibrate (initial-state names included).
+    state0 : sequence of float or str
+        Initial state.
+    output : int, optional
+        Observed state component.
+    bounds : dict, optional
+        ``{name: (lo, hi)}``.
+    fixed : iterable of str, optional
+        Parameters kept at their start.
+    name : str, optional
+        Model name in reports.
+    inputs : dict, optional
+        Measured inputs ``{name: (t, u)}``.
+
+    Returns
+    -------
+    Model
 
     Examples
     --------
