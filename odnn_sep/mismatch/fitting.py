@@ -54,6 +54,17 @@ class Fit:
 
     @property
     def n_params(self) -> float:
+        """Parameter count of the BIC: free parameters plus the cost of discrete choices.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> f.n_params
+        2.0
+        """
         k = float(len(self.free))
         # a discrete choice (which harmonic) costs log(choices) instead of log(n)
         for e in self.model.effects:
@@ -63,11 +74,33 @@ class Fit:
 
     @property
     def bic(self) -> float:
+        """Bayesian information criterion ``n log(RSS / n) + k log(n)`` on the effective sample count.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> round(f.bic, 1)
+        -559.0
+        """
         n = max(self.n_eff, 1)
         return float(n * np.log(max(self.rss, 1e-300) / n) + self.n_params * np.log(n))
 
     @property
     def rms(self) -> float:
+        """Root mean square of the residual (after the disturbance).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> round(f.rms, 4)
+        0.0089
+        """
         return float(np.sqrt(np.mean(self.residual ** 2)))
 
     def intervals(self) -> dict:
@@ -75,6 +108,20 @@ class Fit:
 
         Cutting a Wald interval at a physical bound (a damping or drag >= 0) keeps its coverage
         (the true value is inside the bounds) and never reports impossible values.
+
+        Returns
+        -------
+        dict
+            ``{name: (lo, hi)}`` per free parameter.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> {k: (round(lo, 2), round(hi, 2)) for k, (lo, hi) in f.intervals().items()}
+        {'g': (9.75, 9.83), 'h0': (4.99, 5.01)}
         """
         names = list(self.stderr)
         # a sandwich over nb blocks has about nb - 1 degrees of freedom: Student-t, not normal, quantiles
