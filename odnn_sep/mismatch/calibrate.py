@@ -224,6 +224,7 @@ class Calibration:
     identifiability: dict | None = None
 
     def as_dict(self) -> dict:
+        """JSON-ready record: model, parameters with intervals, fixed values, disturbance, residual."""
         f = self.fit
         iv = f.intervals()
         return {

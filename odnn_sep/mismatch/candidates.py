@@ -55,14 +55,17 @@ class Candidate:
 
     @property
     def effect_params(self) -> dict:
+        """The effect's own fitted parameters ``{name: value}`` (see the class example)."""
         return {k: self.fit.params[k] for k in effect_param_names(self.effect, self.fit.params)}
 
     @property
     def intervals(self) -> dict:
+        """95 % intervals of the effect's parameters ``{name: (lo, hi) or None}``."""
         iv = self.fit.intervals()
         return {k: iv.get(k) for k in self.effect_params}
 
     def as_dict(self) -> dict:
+        """JSON-ready record: effect, score, parameters, intervals, held-out test, note, equivalents."""
         iv = self.intervals
         return {"effect": self.effect, "score": self.score, "parameters": self.effect_params,
                 "stderr": {k: self.fit.stderr.get(k) for k in self.effect_params},
@@ -88,6 +91,7 @@ class FailedFit:
     step: int = 1
 
     def as_dict(self) -> dict:
+        """JSON-ready record ``{effect, reason, step}``."""
         return {"effect": self.effect, "reason": self.reason, "step": self.step}
 
 

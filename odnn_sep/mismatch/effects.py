@@ -44,6 +44,7 @@ class Effect:
     discrete: dict = field(default_factory=dict)  # parameter -> number of discrete choices searched
 
     def n_params(self) -> int:
+        """Number of extra parameters the effect adds (see the class example)."""
         return len(self.params)
 
 

@@ -93,17 +93,21 @@ class MismatchResult:
 
     @property
     def effect(self):
+        """Name of the first named effect, or None when nothing is missing (see the class example)."""
         return None if not self.named else self.named[0].effect
 
     @property
     def effects(self) -> list:
+        """Names of every named physics effect, in the order they were added (see the class example)."""
         return [c.effect for c in self.named]
 
     @property
     def final_intervals(self) -> dict:
+        """95 % intervals of the final fit (the calibration when nothing was added): ``{name: (lo, hi)}``."""
         return (self.final_fit or self.calibration.fit).intervals()
 
     def as_dict(self) -> dict:
+        """The JSON-ready report, :func:`~odnn_sep.mismatch.report.result_dict` of this result."""
         from odnn_sep.mismatch.report import result_dict
         return result_dict(self)
 
