@@ -108,10 +108,35 @@ class Preset:
     inputs: dict = {}   # measured inputs {name: (t, u)}: set on a per-model copy (see make_model)
 
     def build(self, effects):
+        """The prediction function of the preset with ``effects`` folded in.
+
+        Parameters
+        ----------
+        effects : iterable of str
+            Effects of the model; those in ``native`` enter the equations, the others are ignored
+            here (the generic wrapper adds them).
+
+        Returns
+        -------
+        callable
+            ``predict(t, p) -> y``.
+        """
         raise NotImplementedError
 
     def initial_guess(self, t, y, p):
-        """Data-driven starting values for parameters the user did not give (dict, may be partial)."""
+        """Data-driven starting values for parameters the user did not give (dict, may be partial).
+
+        Parameters
+        ----------
+        t, y : ndarray
+            Sample times (or 2D coordinates) and samples.
+        p : dict
+            Current starts (user values included).
+
+        Returns
+        -------
+        dict
+        """
         return {}
 
     def canonical(self, effects, p):

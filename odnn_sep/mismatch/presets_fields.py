@@ -144,6 +144,7 @@ class Hum(Preset):
     native = frozenset({"missing_harmonic", "frequency_drift"})
 
     def amplitude_names(self, harmonics):
+        """Amplitude parameters ``a1, b1, a2, b2, ...`` of ``harmonics`` harmonics (see the class example)."""
         return [f"{ab}{h}" for h in range(1, int(harmonics) + 1) for ab in ("a", "b")]
 
     def build(self, effects):
