@@ -31,6 +31,25 @@ def slow_cutoff(t, y, model=None):
 
     With a preset, the frequency is read off the preset's data-driven starting model (for hum,
     the mains frequency, not whatever dominates the recording); otherwise off the data.
+
+    Parameters
+    ----------
+    t, y : ndarray
+        Sample times and samples.
+    model : Model, optional
+        The model; a preset's starting model gives the frequency.
+
+    Returns
+    -------
+    float
+        Cut-off frequency (Hz, i.e. cycles per unit of ``t``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 20, 400)
+    >>> round(float(slow_cutoff(t, np.cos(2.0 * t))), 3)   # (2 / 2 pi) / 2
+    0.158
     """
     if model is not None and model.preset is not None:
         try:
@@ -42,7 +61,31 @@ def slow_cutoff(t, y, model=None):
 
 
 def slow_disturbance(t, *, cutoff_hz=None, y=None, model=None):
-    """Orthonormal columns spanning a constant, a line and cosine modes below ``cutoff_hz``. Shape (n, q)."""
+    """Orthonormal columns spanning a constant, a line and cosine modes below ``cutoff_hz``. Shape (n, q).
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times.
+    cutoff_hz : float, optional
+        Highest mode frequency; found with :func:`slow_cutoff` from ``y`` when not given.
+    y : ndarray, optional
+        Samples (only to find the cut-off).
+    model : Model, optional
+        The model (only to find the cut-off).
+
+    Returns
+    -------
+    ndarray, shape (n, q)
+        Orthonormal columns, at most 2 + 10 of them.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> G = slow_disturbance(np.linspace(0, 20, 400), cutoff_hz=0.2)
+    >>> G.shape, bool(np.allclose(G.T @ G, np.eye(G.shape[1])))
+    ((400, 10), True)
+    """
     t = np.asarray(t, float)
     T = float(t[-1] - t[0])
     if cutoff_hz is None:
@@ -58,7 +101,32 @@ def slow_disturbance(t, *, cutoff_hz=None, y=None, model=None):
 
 
 def disturbance_columns(disturbance, model, t, y):
-    """Resolve the ``disturbance`` option into a column matrix (or None)."""
+    """Resolve the ``disturbance`` option into a column matrix (or None).
+
+    Parameters
+    ----------
+    disturbance : {"auto", "slow", "none"} or ndarray
+        The option, or user columns of shape (n, q).
+    model : Model
+        The model; ``"auto"`` is ``"slow"`` for oscillatory families, else ``"none"``.
+    t, y : ndarray
+        Sample times and samples.
+
+    Returns
+    -------
+    ndarray or None
+        Disturbance columns, or None for no disturbance class.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 20, 400); y = np.cos(2.0 * t)
+    >>> disturbance_columns("auto", make_model("oscillator"), t, y).shape
+    (400, 8)
+    >>> disturbance_columns("auto", make_model("cooling"), t, y) is None
+    True
+    """
     if isinstance(disturbance, np.ndarray):
         G = np.asarray(disturbance, float)
         if G.ndim != 2 or G.shape[0] != len(y):
@@ -82,6 +150,33 @@ def tangent_separation(model, t, y, params, G):
     ``odnn_sep.core.Separator`` checks that the class cannot imitate the physics (the fraction of
     each sensitivity outside the class, the conditioning after projecting the class out) and that
     no further parameter change is asked for (the Gauss-Newton correction, ~0 at convergence).
+
+    Parameters
+    ----------
+    model : Model
+        The calibrated model.
+    t, y : ndarray
+        Sample times and samples.
+    params : dict
+        Calibrated parameters.
+    G : ndarray or None
+        Disturbance columns (None: no class).
+
+    Returns
+    -------
+    dict
+        ``outside_fraction``, ``projected_condition``, ``disturbance_in_basis_span`` and
+        ``gauss_newton_step`` (per free parameter); empty when nothing is free.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = make_model("oscillator", {"k": 4.0})
+    >>> t = np.linspace(0, 20, 400)
+    >>> d = tangent_separation(m, t, m.predict(t), m.start, None)
+    >>> sorted(d), max(abs(v) for v in d["gauss_newton_step"].values()) < 1e-6
+    (['disturbance_in_basis_span', 'gauss_newton_step', 'outside_fraction', 'projected_condition'], True)
     """
     from odnn_sep.core import Basis, Orthogonal, Separator, Subspace
 
@@ -111,11 +206,25 @@ def tangent_separation(model, t, y, params, G):
 
 @dataclass
 class Calibration:
+    """Result of :func:`calibrate`: the best fit, the disturbance columns and identifiability checks.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 50)
+    >>> cal = calibrate(make_model("freefall"), t, 5.0 - 4.9 * t ** 2)
+    >>> d = cal.as_dict()
+    >>> d["model"], round(d["parameters"]["g"]["value"], 6), d["disturbance"]["class"], cal.G is None
+    ('freefall', 9.8, 'none', True)
+    """
+
     fit: Fit
     G: np.ndarray | None
     identifiability: dict | None = None
 
     def as_dict(self) -> dict:
+        """JSON-ready record: model, parameters with intervals, fixed values, disturbance, residual."""
         f = self.fit
         iv = f.intervals()
         return {
@@ -134,6 +243,23 @@ class Calibration:
 
 def calibrate(model, t, y, *, user_params=None, G=None, max_nfev=400) -> Calibration:
     """Refit the model's parameters from the user's starts and from data-driven starts; keep the best.
+
+    Parameters
+    ----------
+    model : Model
+        The model to calibrate.
+    t, y : ndarray
+        Sample times (or 2D coordinates) and samples.
+    user_params : dict, optional
+        Starting values the user gave (they win over the data-driven ones).
+    G : ndarray, optional
+        Disturbance columns (:func:`disturbance_columns`).
+    max_nfev : int, optional
+        Most model evaluations per start.
+
+    Returns
+    -------
+    Calibration
 
     Examples
     --------

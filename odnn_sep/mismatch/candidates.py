@@ -23,6 +23,23 @@ log = logging.getLogger(__name__)
 
 @dataclass
 class Candidate:
+    """One effect added to the current model: its refit, BIC score and held-out test.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 - 0.3 * t   # free fall + a drift
+    >>> cur = fit(make_model("freefall"), t, y)
+    >>> f2, why = refit_robust("drift", cur.model.with_effect("drift"), [], cur, t, y, None)
+    >>> c = Candidate("drift", cur.bic - f2.bic, f2)
+    >>> c.effect, {k: round(v, 6) for k, v in c.effect_params.items()}, c.score > 10
+    ('drift', {'drift': -0.3}, True)
+    >>> sorted(c.as_dict())[:4]
+    ['bic', 'effect', 'equivalent_to', 'heldout_gain']
+    """
+
     effect: str
     score: float                 # BIC(current) - BIC(current + effect)
     fit: object = field(repr=False)
@@ -38,14 +55,17 @@ class Candidate:
 
     @property
     def effect_params(self) -> dict:
+        """The effect's own fitted parameters ``{name: value}`` (see the class example)."""
         return {k: self.fit.params[k] for k in effect_param_names(self.effect, self.fit.params)}
 
     @property
     def intervals(self) -> dict:
+        """95 % intervals of the effect's parameters ``{name: (lo, hi) or None}``."""
         iv = self.fit.intervals()
         return {k: iv.get(k) for k in self.effect_params}
 
     def as_dict(self) -> dict:
+        """JSON-ready record: effect, score, parameters, intervals, held-out test, note, equivalents."""
         iv = self.intervals
         return {"effect": self.effect, "score": self.score, "parameters": self.effect_params,
                 "stderr": {k: self.fit.stderr.get(k) for k in self.effect_params},
@@ -58,11 +78,20 @@ class Candidate:
 
 @dataclass
 class FailedFit:
+    """An effect fit that failed (it could not be evaluated, or ended worse than its base model).
+
+    Examples
+    --------
+    >>> FailedFit("radiation", "the model could not be evaluated from any start").as_dict()
+    {'effect': 'radiation', 'reason': 'the model could not be evaluated from any start', 'step': 1}
+    """
+
     effect: str
     reason: str
     step: int = 1
 
     def as_dict(self) -> dict:
+        """JSON-ready record ``{effect, reason, step}``."""
         return {"effect": self.effect, "reason": self.reason, "step": self.step}
 
 
@@ -72,6 +101,28 @@ def with_data_bounds(m, t, slow_hz=0.0):
     A 'modulation' slower than the record is a trend, which the calibration already covers; letting
     it through would make amplitude modulation imitate damping. For oscillatory models the
     modulation must also be slower than half the oscillation frequency (``slow_hz``).
+
+    Parameters
+    ----------
+    m : Model
+        Model with effects.
+    t : ndarray
+        Sample times (a 2D field is returned unchanged).
+    slow_hz : float, optional
+        Cut-off of the slow disturbance class (Hz).
+
+    Returns
+    -------
+    Model
+        The model with the frequency bounds of its effects set.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = make_model("oscillator").with_effect("amplitude_modulation")
+    >>> with_data_bounds(m, np.linspace(0, 10, 101), slow_hz=0.2).bounds["f_am"]
+    (0.15, 0.2)
     """
     if np.ndim(t) != 1:
         return m
@@ -95,7 +146,41 @@ def _quiet_fit(model, t, y, start, G, max_nfev):
 
 
 def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
-    """Best fit of ``model`` over ``starts`` plus the current model's own start; (fit, None) or (None, reason)."""
+    """Best fit of ``model`` over ``starts`` plus the current model's own start; (fit, None) or (None, reason).
+
+    Parameters
+    ----------
+    name : str
+        Effect name (for messages).
+    model : Model
+        Current model plus the effect.
+    starts : list of dict
+        Starting values to try.
+    cur : Fit
+        Fit of the current model (the refit must end at least as good).
+    t, y : ndarray
+        Sample times and samples.
+    G : ndarray or None
+        Disturbance columns.
+    max_nfev : int, optional
+        Evaluations per start.
+
+    Returns
+    -------
+    tuple
+        ``(Fit, None)``, or ``(None, reason)`` when every start failed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 - 0.3 * t   # free fall + a drift
+    >>> cur = fit(make_model("freefall"), t, y)
+    >>> f2, why = refit_robust("drift", cur.model.with_effect("drift"), [], cur, t, y, None)
+    >>> why, round(f2.params["drift"], 6), f2.rss < cur.rss
+    (None, -0.3, True)
+    """
     base_start = {**model.start, **{k: v for k, v in cur.params.items() if k in model.start}}
     best, errors = None, []
     for s in list(starts) + [base_start]:
@@ -123,7 +208,45 @@ def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
 
 
 def heldout(c, cur_mse, t, y, G, block_id, folds):
-    """Cross-validate candidate ``c`` against the current model's held-out errors ``cur_mse``."""
+    """Cross-validate candidate ``c`` against the current model's held-out errors ``cur_mse``.
+
+    Sets ``c.heldout_mse``, ``heldout_rmse``, ``cv_improvement``, ``heldout_gain`` and
+    ``cv_p_value`` in place (left unset when the held-out fits fail).
+
+    Parameters
+    ----------
+    c : Candidate
+        The candidate.
+    cur_mse : ndarray
+        Held-out MSE per block of the current model.
+    t, y : ndarray
+        Sample times and samples.
+    G : ndarray or None
+        Disturbance columns.
+    block_id : ndarray of int
+        Block of every sample (:func:`~odnn_sep.mismatch.fitting.cv_folds`).
+    folds : int
+        Number of folds.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 - 0.3 * t   # free fall + a drift
+    >>> cur = fit(make_model("freefall"), t, y)
+    >>> from odnn_sep.mismatch.fitting import cross_validate, cv_folds
+    >>> f2, _ = refit_robust("drift", cur.model.with_effect("drift"), [], cur, t, y, None)
+    >>> c = Candidate("drift", cur.bic - f2.bic, f2)
+    >>> b = cv_folds(60, folds=2)
+    >>> heldout(c, cross_validate(cur.model, t, y, cur.params, block_id=b, folds=2), t, y, None, b, 2)
+    >>> c.heldout_gain > 6, round(c.cv_p_value, 4), passes(c, 10.0, 6.0)
+    (True, 0.0039, True)
+    """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
         try:
@@ -148,4 +271,25 @@ def heldout(c, cur_mse, t, y, G, block_id, folds):
 
 
 def passes(c, bic_threshold, heldout_threshold):
+    """Whether candidate ``c`` beats both thresholds: BIC drop and held-out gain.
+
+    Parameters
+    ----------
+    c : Candidate
+        The candidate (``heldout_gain`` None fails).
+    bic_threshold, heldout_threshold : float
+        Thresholds on ``c.score`` and ``c.heldout_gain``.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> passes(SimpleNamespace(score=12.0, heldout_gain=7.0), 10.0, 6.0)
+    True
+    >>> passes(SimpleNamespace(score=12.0, heldout_gain=None), 10.0, 6.0)
+    False
+    """
     return c.score > bic_threshold and c.heldout_gain is not None and c.heldout_gain > heldout_threshold

@@ -6,6 +6,22 @@ from __future__ import annotations
 
 
 def register(subparsers) -> None:
+    """Add the ``mismatch`` subcommand and its options to an argparse ``subparsers`` object.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers()`` returned.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> args = parser.parse_args(["mismatch", "run.csv", "--model", "cooling", "--param", "h=0.1"])
+    >>> args.command, args.model, args.param, args.disturbance
+    ('mismatch', 'cooling', ['h=0.1'], 'auto')
+    """
     p = subparsers.add_parser(
         "mismatch", help="find where a simulation and data disagree and name the missing physics",
         description="Calibrate a model (preset) to the data, locate where the residual exceeds the noise, "
@@ -74,6 +90,27 @@ def _pick_inputs(names, columns, info):
 
 
 def run(args) -> int:
+    """Run ``odnn-sep mismatch``: load the data, explain the mismatch, print and write the report.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed options of the subcommand (see :func:`register`).
+
+    Returns
+    -------
+    int
+        Exit status (0 on success).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> args = parser.parse_args(["mismatch", "run.csv", "--model", "freefall", "--effects", "quadratic_drag"])
+    >>> args.data, args.effects, callable(run)
+    ('run.csv', 'quadratic_drag', True)
+    """
     import sys
 
     from odnn_sep.errors import InputError

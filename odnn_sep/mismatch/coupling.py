@@ -36,7 +36,26 @@ NOTCH_CYCLES = 3.0
 
 
 def check_aux(aux, n):
-    """Validate ``aux`` (dict name -> (n,) array, or an (n, k) array) into a dict of float arrays."""
+    """Validate ``aux`` (dict name -> (n,) array, or an (n, k) array) into a dict of float arrays.
+
+    Parameters
+    ----------
+    aux : dict, ndarray or None
+        Other channels; the columns of an array are named ``ch1``, ``ch2``, ...
+    n : int
+        Number of samples of the analysed channel.
+
+    Returns
+    -------
+    dict
+        ``{name: (n,) float array}`` (empty for None).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> list(check_aux(np.zeros((3, 2)), 3)), check_aux(None, 3)
+    (['ch1', 'ch2'], {})
+    """
     if aux is None:
         return {}
     if isinstance(aux, np.ndarray) or not hasattr(aux, "items"):
@@ -61,6 +80,31 @@ def hum_free(t, a, *, f0, harmonics):
 
     ``f0`` is the analysed channel's calibrated mains frequency (the start of the aux channel's own
     refinement: the grid frequency is common to all channels).
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times (s).
+    a : ndarray
+        The aux channel.
+    f0 : float
+        Mains frequency (Hz).
+    harmonics : int
+        Harmonics of the hum model (more are removed when the sample rate allows).
+
+    Returns
+    -------
+    c, q : ndarray
+        In-phase content and its Hilbert transform.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(400) / 200.0   # 2 s at 200 Hz
+    >>> b = np.sin(2 * np.pi * 50 * t) + 0.5 * np.sin(2 * np.pi * 7 * t)   # hum + its own 7 Hz content
+    >>> c, q = hum_free(t, b, f0=50.0, harmonics=1)
+    >>> round(float(np.corrcoef(c, np.sin(2 * np.pi * 7 * t))[0, 1]), 3), c.shape == q.shape
+    (1.0, True)
     """
     from odnn_sep.mismatch.presets_fields import Hum, hum_columns
 
@@ -89,16 +133,81 @@ def hum_free(t, a, *, f0, harmonics):
 
 
 def coupling_regressors(t, aux, *, f0, harmonics):
-    """{name: (in-phase, quadrature)} non-hum content of every aux channel."""
+    """{name: (in-phase, quadrature)} non-hum content of every aux channel.
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times (s).
+    aux : dict
+        ``{name: samples}`` (:func:`check_aux`).
+    f0 : float
+        Mains frequency (Hz).
+    harmonics : int
+        Harmonics of the hum model.
+
+    Returns
+    -------
+    dict
+        ``{name: (c, q)}`` from :func:`hum_free`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(400) / 200.0   # 2 s at 200 Hz
+    >>> b = np.sin(2 * np.pi * 50 * t) + 0.5 * np.sin(2 * np.pi * 7 * t)   # hum + its own 7 Hz content
+    >>> regs = coupling_regressors(t, {"B": b}, f0=50.0, harmonics=1)
+    >>> list(regs), len(regs["B"])
+    (['B'], 2)
+    """
     return {name: hum_free(t, a, f0=f0, harmonics=harmonics) for name, a in aux.items()}
 
 
 def param_names(regressors):
+    """Coupling gains of the aux channels: ``kappa_<name>`` and ``kappaq_<name>`` each.
+
+    Parameters
+    ----------
+    regressors : dict
+        ``{name: (c, q)}`` (only the names are used).
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> param_names({"B": None, "C": None})
+    ['kappa_B', 'kappaq_B', 'kappa_C', 'kappaq_C']
+    """
     return [p for name in regressors for p in (f"kappa_{name}", f"kappaq_{name}")]
 
 
 def with_coupling(model, regressors):
-    """``model`` with the ``channel_coupling`` effect: kappa_j c_j + kappaq_j H[c_j] per aux channel."""
+    """``model`` with the ``channel_coupling`` effect: kappa_j c_j + kappaq_j H[c_j] per aux channel.
+
+    Parameters
+    ----------
+    model : Model
+        The hum model.
+    regressors : dict
+        ``{name: (c, q)}`` from :func:`coupling_regressors`.
+
+    Returns
+    -------
+    Model
+        The model with the effect and its gains (start 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(400) / 200.0   # 2 s at 200 Hz
+    >>> b = np.sin(2 * np.pi * 50 * t) + 0.5 * np.sin(2 * np.pi * 7 * t)   # hum + its own 7 Hz content
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = with_coupling(make_model("hum"), coupling_regressors(t, {"B": b}, f0=50.0, harmonics=1))
+    >>> m.effects, [k for k in m.start if k.startswith("kappa")], m.predict(t).shape
+    (('channel_coupling',), ['kappa_B', 'kappaq_B'], (400,))
+    """
     regs = {k: (np.asarray(c), np.asarray(q)) for k, (c, q) in regressors.items()}
     n = len(next(iter(regs.values()))[0])
     inner_builder = model.builder
@@ -128,7 +237,40 @@ def with_coupling(model, regressors):
 
 
 def coupling_start(model, base, t, y, G, regressors):
-    """Least-squares kappas on the calibrated residual (the effect is linear in them)."""
+    """Least-squares kappas on the calibrated residual (the effect is linear in them).
+
+    Parameters
+    ----------
+    model : Model
+        The model with the coupling (:func:`with_coupling`).
+    base : Fit
+        Calibration without it.
+    t, y : ndarray
+        Sample times and samples.
+    G : ndarray or None
+        Disturbance columns.
+    regressors : dict
+        ``{name: (c, q)}``.
+
+    Returns
+    -------
+    dict
+        Starting values: the calibrated parameters plus the least-squares gains.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(400) / 200.0   # 2 s at 200 Hz
+    >>> b = np.sin(2 * np.pi * 50 * t) + 0.5 * np.sin(2 * np.pi * 7 * t)   # hum + its own 7 Hz content
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> regs = coupling_regressors(t, {"B": b}, f0=50.0, harmonics=1)
+    >>> m = make_model("hum", {"a1": 1.0})
+    >>> y = np.cos(2 * np.pi * 50 * t) + 0.1 * regs["B"][0]   # 10 % crosstalk from B
+    >>> s = coupling_start(with_coupling(m, regs), fit(m, t, y), t, y, None, regs)
+    >>> round(s["kappa_B"], 3), round(s["kappaq_B"], 3)
+    (0.1, 0.0)
+    """
     cols = [v for c, q in regressors.values() for v in (c, q)]
     A = np.column_stack(cols)
     r = base.residual

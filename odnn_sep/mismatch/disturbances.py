@@ -21,6 +21,23 @@ def parse_disturbance(spec):
 
     ``class`` is "auto", "slow" or "none" (the wander class); ``periodic:HZ`` items add known
     line frequencies; ``lines`` asks to absorb every significant spectral line of the residual.
+
+    Parameters
+    ----------
+    spec : str, ndarray or None
+        The option; an array (user columns) or None is passed through.
+
+    Returns
+    -------
+    tuple
+        ``(class, declared frequencies in Hz, lines)``.
+
+    Examples
+    --------
+    >>> parse_disturbance("slow,periodic:3.7")
+    ('slow', [3.7], False)
+    >>> parse_disturbance("lines")
+    ('auto', [], True)
     """
     if isinstance(spec, np.ndarray) or spec is None:
         return spec, [], False
@@ -50,7 +67,27 @@ def parse_disturbance(spec):
 
 
 def periodic_columns(t, freqs):
-    """cos/sin columns at each frequency (Hz) that lies below the Nyquist frequency. Shape (n, 2k)."""
+    """cos/sin columns at each frequency (Hz) that lies below the Nyquist frequency. Shape (n, 2k).
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times (s).
+    freqs : list of float
+        Frequencies (Hz); one above the Nyquist frequency raises :class:`InputError`.
+
+    Returns
+    -------
+    ndarray or None
+        The columns, or None without frequencies.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(8) / 8.0
+    >>> periodic_columns(t, [1.0, 2.0]).shape, periodic_columns(t, [])
+    ((8, 4), None)
+    """
     t = np.asarray(t, float)
     nyq = 0.5 / float(np.median(np.diff(t)))
     cols = []
@@ -64,7 +101,30 @@ def periodic_columns(t, freqs):
 
 def residual_lines(t, r, *, alpha=0.01, max_lines=MAX_DECLARED_LINES):
     """Frequencies (Hz) of the spectral lines of a residual: periodogram ordinates above the noise
-    floor with a Bonferroni-corrected exponential test, strongest first, one per resolution cell."""
+    floor with a Bonferroni-corrected exponential test, strongest first, one per resolution cell.
+
+    Parameters
+    ----------
+    t, r : ndarray
+        Sample times (s) and residual.
+    alpha : float, optional
+        Family-wise false-alarm rate.
+    max_lines : int, optional
+        Most lines returned.
+
+    Returns
+    -------
+    list of float
+        Line frequencies (Hz).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(1000) / 100.0
+    >>> r = np.sin(2 * np.pi * 3.7 * t) + 0.1 * np.random.default_rng(0).normal(size=1000)
+    >>> [round(f, 2) for f in residual_lines(t, r)]
+    [3.7]
+    """
     t = np.asarray(t, float)
     r = np.asarray(r, float) - np.mean(r)
     n = len(r)
@@ -92,7 +152,32 @@ def residual_lines(t, r, *, alpha=0.01, max_lines=MAX_DECLARED_LINES):
 
 
 def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
-    """One plain sentence for a disturbance that was absorbed (see module docstring)."""
+    """One plain sentence for a disturbance that was absorbed (see module docstring).
+
+    Parameters
+    ----------
+    effect : str
+        ``periodic_pickup``, ``offset`` or ``drift`` (any other name is returned as is).
+    params : dict
+        Fitted parameters.
+    model_family : str
+        Family of the model (the reason given depends on it).
+    linear : bool
+        Whether the model is linear (:func:`linear_model`).
+    unit : str, optional
+        Unit of the data.
+    t0 : float, optional
+        First time stamp.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> describe("offset", {"offset": 0.25}, model_family="cooling", linear=True, unit="degC")
+    'a constant offset of 0.25 degC; a sensor bias and a constant disturbance give the same data'
+    """
     u = f" {unit}" if unit else ""
     if effect == "periodic_pickup":
         f = params["omega_pk"] / (2 * np.pi)
@@ -114,7 +199,24 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
 
 
 def linear_model(model):
-    """True when no nonlinear effect is in the model (then forcing and pickup are equivalent)."""
+    """True when no nonlinear effect is in the model (then forcing and pickup are equivalent).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = make_model("oscillator")
+    >>> linear_model(m), linear_model(m.with_effect("quadratic_drag"))
+    (True, False)
+    """
     nonlinear = {"quadratic_drag", "coulomb_friction", "cubic_stiffness", "large_angle", "radiation",
                  "evaporation"}
     return not (set(model.effects) & nonlinear)

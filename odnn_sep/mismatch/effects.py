@@ -22,7 +22,18 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Effect:
-    """One named effect: extra parameters, their neutral values and bounds."""
+    """One named effect: extra parameters, their neutral values and bounds.
+
+    The registry :data:`EFFECTS` maps every effect name to its record.
+
+    Examples
+    --------
+    >>> e = EFFECTS["offset"]
+    >>> e.name, e.params, e.generic, e.n_params()
+    ('offset', {'offset': 0.0}, True, 1)
+    >>> "cooling" in EFFECTS["radiation"].families
+    True
+    """
 
     name: str
     description: str
@@ -33,6 +44,7 @@ class Effect:
     discrete: dict = field(default_factory=dict)  # parameter -> number of discrete choices searched
 
     def n_params(self) -> int:
+        """Number of extra parameters the effect adds (see the class example)."""
         return len(self.params)
 
 
@@ -104,19 +116,73 @@ EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),)
 
 
 def compatible(effect: str, present) -> bool:
-    """False when ``effect`` is an alternative to one already in the model."""
+    """False when ``effect`` is an alternative to one already in the model.
+
+    Parameters
+    ----------
+    effect : str
+        Candidate effect name.
+    present : iterable of str
+        Effects already in the model.
+
+    Returns
+    -------
+    bool
+        Whether ``effect`` may be added beside ``present``.
+
+    Examples
+    --------
+    >>> compatible("quadratic_drag", ["linear_damping"]), compatible("quadratic_drag", ["offset"])
+    (False, True)
+    """
     return not any(effect in g and (g - {effect}) & set(present) for g in EXCLUSIVE)
 
 
 def effect_param_names(effect: str, params: dict) -> list[str]:
-    """The parameters of ``effect`` present in ``params`` (coupling gains are named per channel)."""
+    """The parameters of ``effect`` present in ``params`` (coupling gains are named per channel).
+
+    Parameters
+    ----------
+    effect : str
+        Effect name.
+    params : dict
+        Parameter values of a fit.
+
+    Returns
+    -------
+    list of str
+        Names of the effect's parameters found in ``params``.
+
+    Examples
+    --------
+    >>> effect_param_names("offset", {"k": 1.0, "offset": 0.2})
+    ['offset']
+    >>> effect_param_names("channel_coupling", {"k": 1.0, "kappa_ref": 0.3})
+    ['kappa_ref']
+    """
     if effect == "channel_coupling":
         return [k for k in params if k.startswith(("kappa_", "kappaq_"))]
     return [k for k in EFFECTS[effect].params if k in params]
 
 
 def applicable(family: str) -> list[str]:
-    """Names of the effects that apply to a model family (``"user"`` for callables)."""
+    """Names of the effects that apply to a model family (``"user"`` for callables).
+
+    Parameters
+    ----------
+    family : str
+        Model family (``"oscillator"``, ``"cooling"``, ..., ``"user"``).
+
+    Returns
+    -------
+    list of str
+        Effect names, in the order of :data:`EFFECTS`.
+
+    Examples
+    --------
+    >>> applicable("freefall")
+    ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'drift', 'time_delay']
+    """
     return [name for name, e in EFFECTS.items() if family in e.families]
 
 
@@ -126,6 +192,27 @@ def apply_generic(names, predict_fn, *, t0: float):
     The caller passes only the generic effects its model does not implement natively (a preset
     folds periodic forcing into its equation of motion, for instance). ``t0`` is the first time
     stamp, so drift is anchored at the start of the record.
+
+    Parameters
+    ----------
+    names : iterable of str
+        Generic effects to add.
+    predict_fn : callable
+        ``predict_fn(t, p) -> y``, the model without them.
+    t0 : float
+        First time stamp.
+
+    Returns
+    -------
+    callable
+        ``wrapped(t, p) -> y`` (``predict_fn`` itself when ``names`` is empty).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = apply_generic(["offset", "drift"], lambda t, p: 0 * t, t0=1.0)
+    >>> f(np.array([1.0, 3.0]), {"offset": 2.0, "drift": 0.5}).tolist()
+    [2.0, 3.0]
     """
     names = list(names)
     if not names:

@@ -49,7 +49,22 @@ SMALL_DATA = 60   # below this many samples the held-out test has little power (
 
 @dataclass
 class MismatchResult:
-    """What explain() found: ``named`` physics effects (in order), ``disturbances``, failed fits."""
+    """What explain() found: ``named`` physics effects (in order), ``disturbances``, failed fits.
+
+    ``effect``/``effects`` give the names, ``verdict`` the first named Candidate, ``as_dict()`` the
+    JSON report (see :func:`~odnn_sep.mismatch.report.result_dict`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 100, 300)
+    >>> y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    >>> res = explain("cooling", t, y)
+    >>> res.effect, res.effects, res.verdict, res.disturbances
+    (None, [], None, [])
+    >>> round(res.calibration.fit.params["h"], 3), sorted(res.final_intervals)
+    (0.03, ['T0', 'T_ambient', 'h'])
+    """
 
     t: np.ndarray = field(repr=False)
     y: np.ndarray = field(repr=False)
@@ -78,17 +93,21 @@ class MismatchResult:
 
     @property
     def effect(self):
+        """Name of the first named effect, or None when nothing is missing (see the class example)."""
         return None if not self.named else self.named[0].effect
 
     @property
     def effects(self) -> list:
+        """Names of every named physics effect, in the order they were added (see the class example)."""
         return [c.effect for c in self.named]
 
     @property
     def final_intervals(self) -> dict:
+        """95 % intervals of the final fit (the calibration when nothing was added): ``{name: (lo, hi)}``."""
         return (self.final_fit or self.calibration.fit).intervals()
 
     def as_dict(self) -> dict:
+        """The JSON-ready report, :func:`~odnn_sep.mismatch.report.result_dict` of this result."""
         from odnn_sep.mismatch.report import result_dict
         return result_dict(self)
 

@@ -26,6 +26,20 @@ log = logging.getLogger(__name__)
 
 @dataclass
 class Fit:
+    """A least-squares fit of a model: parameters, robust standard errors, residual and BIC.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60)
+    >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2)
+    >>> {k: round(v, 6) for k, v in f.params.items()}, f.free, f.n_eff, f.n_params
+    ({'g': 9.8, 'h0': 5.0}, ['g', 'h0'], 60, 2.0)
+    >>> sorted(f.intervals()), f.rms < 1e-9
+    (['g', 'h0'], True)
+    """
+
     model: object
     params: dict
     free: list
@@ -40,6 +54,17 @@ class Fit:
 
     @property
     def n_params(self) -> float:
+        """Parameter count of the BIC: free parameters plus the cost of discrete choices.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> f.n_params
+        2.0
+        """
         k = float(len(self.free))
         # a discrete choice (which harmonic) costs log(choices) instead of log(n)
         for e in self.model.effects:
@@ -49,11 +74,33 @@ class Fit:
 
     @property
     def bic(self) -> float:
+        """Bayesian information criterion ``n log(RSS / n) + k log(n)`` on the effective sample count.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> round(f.bic, 1)
+        -559.0
+        """
         n = max(self.n_eff, 1)
         return float(n * np.log(max(self.rss, 1e-300) / n) + self.n_params * np.log(n))
 
     @property
     def rms(self) -> float:
+        """Root mean square of the residual (after the disturbance).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> round(f.rms, 4)
+        0.0089
+        """
         return float(np.sqrt(np.mean(self.residual ** 2)))
 
     def intervals(self) -> dict:
@@ -61,6 +108,20 @@ class Fit:
 
         Cutting a Wald interval at a physical bound (a damping or drag >= 0) keeps its coverage
         (the true value is inside the bounds) and never reports impossible values.
+
+        Returns
+        -------
+        dict
+            ``{name: (lo, hi)}`` per free parameter.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> {k: (round(lo, 2), round(hi, 2)) for k, (lo, hi) in f.intervals().items()}
+        {'g': (9.75, 9.83), 'h0': (4.99, 5.01)}
         """
         names = list(self.stderr)
         # a sandwich over nb blocks has about nb - 1 degrees of freedom: Student-t, not normal, quantiles
@@ -78,14 +139,52 @@ _BASIS_RULE = {"method": "qr", "rtol": 1e-10, "min_scale": 1.0}
 
 
 def orthonormal(G, rows=None):
-    """Orthonormal basis (n, r) of the disturbance columns ``G`` (rows ``rows``), or None without columns."""
+    """Orthonormal basis (n, r) of the disturbance columns ``G`` (rows ``rows``), or None without columns.
+
+    Parameters
+    ----------
+    G : ndarray or None
+        Disturbance columns, shape (n, q).
+    rows : array_like of int, optional
+        Rows to keep.
+
+    Returns
+    -------
+    ndarray or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> G = np.column_stack([np.ones(4), np.arange(4.0), 2 * np.arange(4.0)])   # rank 2
+    >>> orthonormal(G).shape, orthonormal(None)
+    ((4, 2), None)
+    """
     if G is None or G.shape[1] == 0:
         return None
     return orthonormal_basis(G if rows is None else G[rows], **_BASIS_RULE)
 
 
 def disturbance_projector(G, rows=None):
-    """The core's :class:`~odnn_sep.core.linalg.Projector` onto span(G) (rows ``rows``), or None without columns."""
+    """The core's :class:`~odnn_sep.core.linalg.Projector` onto span(G) (rows ``rows``), or None without columns.
+
+    Parameters
+    ----------
+    G : ndarray or None
+        Disturbance columns, shape (n, q).
+    rows : array_like of int, optional
+        Rows to keep.
+
+    Returns
+    -------
+    Projector or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> P = disturbance_projector(np.column_stack([np.ones(4), np.arange(4.0)]))
+    >>> P.project_out(np.array([1.0, 2.0, 3.0, 5.0])).round(3).tolist()   # minus the best line
+    [0.2, -0.1, -0.4, 0.3]
+    """
     if G is None or G.shape[1] == 0:
         return None
     return Projector(G if rows is None else G[rows], **_BASIS_RULE)
@@ -133,6 +232,36 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
 
     A model whose parameters have two labellings of the same curve (two exponentials) is refitted
     from its canonical one (:meth:`Model.canonical`), so intervals always describe the same parameter.
+
+    Parameters
+    ----------
+    model : Model
+        The model; its free parameters are fitted.
+    t, y : ndarray
+        Sample times and samples.
+    start : dict, optional
+        Starting values (default: ``model.start``).
+    G : ndarray, optional
+        Disturbance columns, projected out of the residual.
+    rows : array_like of int, optional
+        Samples to fit (default: all).
+    max_nfev : int, optional
+        Most model evaluations.
+    warn : bool, optional
+        Warn (:class:`ConvergenceWarning`) when the fit did not converge.
+
+    Returns
+    -------
+    Fit
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60)
+    >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2, rows=np.arange(30))
+    >>> round(f.params["g"], 6), f.n_eff, f.converged
+    (9.8, 30, True)
     """
     free = model.free
     idx = np.arange(len(y)) if rows is None else np.asarray(rows)
@@ -165,7 +294,25 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
 
 
 def t_over_normal(dof, level=0.95):
-    """Ratio of the Student-t to the normal two-sided quantile (1 for infinite ``dof``)."""
+    """Ratio of the Student-t to the normal two-sided quantile (1 for infinite ``dof``).
+
+    Parameters
+    ----------
+    dof : float
+        Degrees of freedom.
+    level : float, optional
+        Two-sided coverage.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t_over_normal(np.inf), round(t_over_normal(9), 3)
+    (1.0, 1.154)
+    """
     if not np.isfinite(dof):
         return 1.0
     from scipy import stats  # on use: the package is imported by every subcommand
@@ -178,6 +325,27 @@ def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):
 
     Short records get fewer blocks per fold (at least 2, so the held-out test has at least
     2 x folds paired blocks).
+
+    Parameters
+    ----------
+    n : int
+        Number of samples.
+    folds : int, optional
+        Number of folds.
+    blocks_per_fold : int, optional
+        Blocks per fold (fewer for short records).
+    min_block : int, optional
+        Fewest samples per block.
+
+    Returns
+    -------
+    ndarray of int, shape (n,)
+        Block id of every sample.
+
+    Examples
+    --------
+    >>> cv_folds(24, folds=2).tolist()
+    [0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4, 5, 5, 5, 6, 6, 6, 7, 7, 7]
     """
     bpf = min(blocks_per_fold, n // (folds * min_block))
     if bpf < 2:
@@ -194,6 +362,38 @@ def cross_validate(model, t, y, start, *, G=None, block_id, folds=4, max_nfev=30
     The first and last blocks are always in the training set (their entry is NaN): holding them
     out would test extrapolation beyond the record, where an initial transient (the first minutes
     of a cooling curve) cannot be pinned down by any model, right or wrong.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    t, y : ndarray
+        Sample times and samples.
+    start : dict
+        Starting values of every refit.
+    G : ndarray, optional
+        Disturbance columns.
+    block_id : ndarray of int
+        Block of every sample (:func:`cv_folds`).
+    folds : int, optional
+        Number of folds.
+    max_nfev : int, optional
+        Most evaluations per refit.
+
+    Returns
+    -------
+    ndarray
+        Held-out MSE per block (NaN for the first and last).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2
+    >>> m = make_model("freefall")
+    >>> mse = cross_validate(m, t, y, m.start, block_id=cv_folds(60, folds=2), folds=2)
+    >>> len(mse), bool(np.isnan(mse[0]) and np.isnan(mse[-1])), bool(np.nanmax(mse) < 1e-12)
+    (10, True, True)
     """
     n_blocks = int(block_id.max()) + 1
     mse = np.full(n_blocks, np.nan)

@@ -24,7 +24,31 @@ MAX_INPUTS = 8
 
 
 def check_inputs(inputs, t):
-    """Validate ``inputs`` (dict name -> array aligned with ``t``) into {name: (t, u)} float arrays."""
+    """Validate ``inputs`` (dict name -> array aligned with ``t``) into {name: (t, u)} float arrays.
+
+    Parameters
+    ----------
+    inputs : dict
+        ``{name: u}`` aligned with ``t``, or ``{name: (tu, u)}`` with their own time stamps.
+    t : ndarray or None
+        Time stamps of the data.
+
+    Returns
+    -------
+    dict
+        ``{name: (tu, u)}`` float arrays.
+
+    Raises
+    ------
+    InputError
+        On a length mismatch, a non-finite value, a bad name or too many inputs.
+
+    Examples
+    --------
+    >>> ins = check_inputs({"P": [0, 1, 1]}, [0.0, 1.0, 2.0])
+    >>> ins["P"][0].tolist(), ins["P"][1].tolist()
+    ([0.0, 1.0, 2.0], [0.0, 1.0, 1.0])
+    """
     if not inputs:
         return {}
     if len(inputs) > MAX_INPUTS:
@@ -52,11 +76,44 @@ def check_inputs(inputs, t):
 
 
 def gain_names(inputs) -> list[str]:
+    """Names of the gain parameters of the inputs: ``kd_<name>`` each.
+
+    Parameters
+    ----------
+    inputs : dict or iterable of str
+        The inputs (their names).
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> gain_names({"P": None, "angle": None})
+    ['kd_P', 'kd_angle']
+    """
     return [f"kd_{name}" for name in inputs]
 
 
 def interpolator(tu, u):
-    """Fast scalar linear interpolation (LSODA calls it thousands of times per integration)."""
+    """Fast scalar linear interpolation (LSODA calls it thousands of times per integration).
+
+    Parameters
+    ----------
+    tu, u : array_like
+        Time stamps (increasing) and values; held constant outside the record.
+
+    Returns
+    -------
+    callable
+        ``at(tt) -> float`` for a scalar time.
+
+    Examples
+    --------
+    >>> at = interpolator([0.0, 1.0, 2.0], [0.0, 10.0, 0.0])
+    >>> at(0.25), at(1.5), at(-1.0), at(5.0)
+    (2.5, 5.0, 0.0, 0.0)
+    """
     tl, ul = [float(v) for v in tu], [float(v) for v in u]
     n = len(tl)
     d = np.diff(tu)
@@ -88,7 +145,26 @@ def interpolator(tu, u):
 
 
 def drive_function(inputs, p):
-    """f(tt) = sum_j kd_j u_j(tt), or None without inputs."""
+    """f(tt) = sum_j kd_j u_j(tt), or None without inputs.
+
+    Parameters
+    ----------
+    inputs : dict
+        ``{name: (tu, u)}`` (:func:`check_inputs`).
+    p : dict
+        Parameters, with the gains ``kd_<name>``.
+
+    Returns
+    -------
+    callable or None
+        ``drive(tt) -> float`` for a scalar time.
+
+    Examples
+    --------
+    >>> ins = {"P": ([0.0, 1.0], [0.0, 1.0])}
+    >>> drive_function(ins, {"kd_P": 2.0})(0.5), drive_function({}, {})
+    (1.0, None)
+    """
     if not inputs:
         return None
     parts = [(float(p[f"kd_{name}"]), interpolator(tu, u)) for name, (tu, u) in inputs.items()]
@@ -100,7 +176,28 @@ def drive_function(inputs, p):
 
 
 def drive_on_grid(inputs, p, t):
-    """The drive sum_j kd_j u_j evaluated on an array of times."""
+    """The drive sum_j kd_j u_j evaluated on an array of times.
+
+    Parameters
+    ----------
+    inputs : dict
+        ``{name: (tu, u)}`` (:func:`check_inputs`).
+    p : dict
+        Parameters, with the gains ``kd_<name>``.
+    t : ndarray
+        Times.
+
+    Returns
+    -------
+    ndarray, shape (len(t),)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ins = {"P": (np.array([0.0, 1.0]), np.array([0.0, 1.0]))}
+    >>> drive_on_grid(ins, {"kd_P": 2.0}, np.array([0.0, 0.5, 1.0])).tolist()
+    [0.0, 1.0, 2.0]
+    """
     out = np.zeros(len(t))
     for name, (tu, u) in inputs.items():
         out += float(p[f"kd_{name}"]) * np.interp(t, tu, u)
@@ -111,6 +208,29 @@ def regression_start(t, y, inputs, order):
     """Least-squares start from smoothed derivatives: y'' (order 2) or y' (order 1) on y, y', inputs.
 
     Returns (coefficients of [y, (y'), 1, u_j ...], ok). A start only: the ODE fit refines it.
+
+    Parameters
+    ----------
+    t, y : ndarray
+        Sample times and samples.
+    inputs : dict
+        ``{name: (tu, u)}``.
+    order : {1, 2}
+        Order of the ODE: ``y' = -a y + b + sum g_j u_j`` or ``y'' = -a y - b y' + sum g_j u_j``.
+
+    Returns
+    -------
+    ndarray
+        The coefficients ``[a, b, g_1, ...]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 20, 401); u = np.where(t > 5, 1.0, 0.0)   # a heater switched on at t = 5
+    >>> m = make_model("cooling", {"h": 0.5, "T_ambient": 20.0, "T0": 20.0, "kd_P": 2.0}, inputs={"P": (t, u)})
+    >>> np.round(regression_start(t, m.predict(t), {"P": (t, u)}, 1), 1).tolist()   # h, h T_amb, kd_P
+    [0.5, 9.9, 2.0]
     """
     from scipy.signal import savgol_filter
     n = len(y)
@@ -130,7 +250,25 @@ def regression_start(t, y, inputs, order):
 
 
 def physical_warnings(params) -> list[str]:
-    """Plain warnings for fitted values outside what the physics allows (kept, not clipped)."""
+    """Plain warnings for fitted values outside what the physics allows (kept, not clipped).
+
+    Parameters
+    ----------
+    params : dict
+        Fitted parameters.
+
+    Returns
+    -------
+    list of str
+        One sentence per suspicious value; empty when all are physical.
+
+    Examples
+    --------
+    >>> physical_warnings({"k": 4.0, "c": 0.1})
+    []
+    >>> [w.split(":")[0] for w in physical_warnings({"c": -0.2, "h": 0.0})]
+    ['negative damping c = -0.2', 'heat-transfer rate h = 0 sits at its physical bound (0)']
+    """
     out = []
     c = params.get("c")
     if c is not None and not isinstance(c, str) and c < 0:
@@ -150,6 +288,30 @@ def linear_response(A, B, x0, t, drive):
 
     ``scipy.signal.lsim`` steps with matrix exponentials, exact for a piecewise-linear input: a
     driven linear oscillator or cooling law costs one call instead of an ODE integration.
+
+    Parameters
+    ----------
+    A : array_like, shape (k, k)
+        System matrix.
+    B : array_like, shape (k,)
+        Input vector.
+    x0 : array_like, shape (k,)
+        State at ``t[0]``.
+    t : ndarray
+        Times (increasing).
+    drive : ndarray
+        ``d(t)`` on ``t``.
+
+    Returns
+    -------
+    ndarray, shape (len(t), k)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = linear_response([[-0.5]], [1.0], [0.0], np.array([0.0, 1.0, 2.0]), np.ones(3))
+    >>> x.shape, np.round(x[:, 0], 4).tolist()   # 2 (1 - exp(-t / 2))
+    ((3, 1), [0.0, 0.7869, 1.2642])
     """
     from scipy.signal import StateSpace, lsim
     A = np.atleast_2d(np.asarray(A, float))

@@ -35,6 +35,34 @@ def read_csv(path, column=None, *, aux=False):
     """Return (t, y, info) from a CSV with a header row; time is the first column.
 
     With ``aux=True`` return (t, y, info, aux): ``aux`` holds every other all-numeric column.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file with a header row.
+    column : str or int, optional
+        Value column: header name, or index where 0 is time (default: the first after time).
+    aux : bool, optional
+        Also return the other numeric columns.
+
+    Returns
+    -------
+    t, y : ndarray
+        Time and value columns.
+    info : dict
+        ``format``, ``column`` and ``time`` (the header names used).
+    aux : dict, optional
+        ``{header: values}`` of the other numeric columns (only with ``aux=True``).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "run.csv")
+    >>> with open(path, "w") as fh:
+    ...     _ = fh.write("t,T,ref\\n0,90,1\\n1,85,2\\n")
+    >>> t, y, info, others = read_csv(path, "T", aux=True)
+    >>> t.tolist(), y.tolist(), info["column"], list(others)
+    ([0.0, 1.0], [90.0, 85.0], 'T', ['ref'])
     """
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
@@ -58,6 +86,36 @@ def read_csv(path, column=None, *, aux=False):
 
 
 def read_wav(path, column=None, *, aux=False):
+    """Return (t, y, info) from an audio file (WAV, FLAC); ``t`` is the sample index over the rate.
+
+    Parameters
+    ----------
+    path : str or Path
+        Audio file.
+    column : int or str, optional
+        Channel to analyse (default: the first).
+    aux : bool, optional
+        Also return the other channels as ``{"ch<k>": samples}``.
+
+    Returns
+    -------
+    t, y : ndarray
+        Times (s) and samples of the channel.
+    info : dict
+        ``format``, ``sr`` (sample rate) and ``channel``.
+    aux : dict, optional
+        The other channels (only with ``aux=True``).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np, soundfile as sf
+    >>> path = os.path.join(tempfile.mkdtemp(), "hum.wav")
+    >>> sf.write(path, np.zeros((8, 2)), 8000, subtype="FLOAT")
+    >>> t, y, info, others = read_wav(path, aux=True)
+    >>> len(t), float(t[1]), info, list(others)
+    (8, 0.000125, {'format': 'wav', 'sr': 8000, 'channel': 0}, ['ch1'])
+    """
     import soundfile as sf
 
     from odnn_sep.io_utils import ensure_readable
@@ -74,6 +132,32 @@ def read_wav(path, column=None, *, aux=False):
 
 
 def read_npz(path):
+    """Return (xy, z, info) from an .npz holding a 2D field: arrays ``x``, ``y`` and ``z[len(y), len(x)]``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The .npz file.
+
+    Returns
+    -------
+    xy : ndarray, shape (n, 2)
+        Coordinates of every grid point (row-major over ``z``).
+    z : ndarray, shape (n,)
+        Field values.
+    info : dict
+        ``format`` and ``shape`` (of ``z``).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> path = os.path.join(tempfile.mkdtemp(), "field.npz")
+    >>> np.savez(path, x=np.arange(3.0), y=np.arange(2.0), z=np.arange(6.0).reshape(2, 3))
+    >>> xy, z, info = read_npz(path)
+    >>> xy.shape, xy[4].tolist(), float(z[4]), info
+    ((6, 2), [1.0, 1.0], 4.0, {'format': 'npz', 'shape': [2, 3]})
+    """
     from odnn_sep.io_read import load_npz_arrays
     d = load_npz_arrays(path, max_points=True)  # shapes and types checked before loading
     x, yy, z = (d[k] for k in ("x", "y", "z"))
@@ -89,6 +173,38 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
     With ``with_aux=True`` return (t, y, info, aux): ``aux`` maps the file's other channels (WAV
     channels ``ch<k>``, other numeric CSV columns by header) to arrays aligned with ``y``, for the
     ``channel_coupling`` effect; ``info["aux_channels"]`` lists their names.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.csv``, ``.wav``/``.flac`` or ``.npz`` file.
+    column : str or int, optional
+        CSV column or audio channel.
+    start, duration : float, optional
+        Time range to keep (seconds; series only).
+    with_aux : bool, optional
+        Also return the other channels.
+
+    Returns
+    -------
+    t : ndarray
+        Times (series) or (n, 2) coordinates (field).
+    y : ndarray
+        Values.
+    info : dict
+        What was read (format, column or channel, ...).
+    aux : dict, optional
+        The other channels (only with ``with_aux=True``).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "run.csv")
+    >>> with open(path, "w") as fh:
+    ...     _ = fh.write("t,T\\n" + "".join(f"{i},{90 - i}\\n" for i in range(10)))
+    >>> t, y, info = load_data(path, start=2, duration=3)
+    >>> t.tolist(), y.tolist(), info["column"]
+    ([2.0, 3.0, 4.0], [88.0, 87.0, 86.0], 'T')
     """
     p = check_input_path(path, what="data file")
     ext = Path(p).suffix.lower()

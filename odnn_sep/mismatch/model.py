@@ -14,6 +14,27 @@ from odnn_sep.mismatch.presets import PRESETS, ModelIntegrationError, integrate_
 
 
 def suggest_name(word, options):
+    """A "did you mean ...? " hint for a misspelt name, or an empty string when nothing is close.
+
+    Parameters
+    ----------
+    word : str
+        The name the user gave.
+    options : iterable of str
+        The valid names.
+
+    Returns
+    -------
+    str
+        ``"did you mean 'x'? "`` for the closest option, else ``""``.
+
+    Examples
+    --------
+    >>> suggest_name("osciallator", ["oscillator", "pendulum"])
+    "did you mean 'oscillator'? "
+    >>> suggest_name("zzz", ["oscillator"])
+    ''
+    """
     close = difflib.get_close_matches(str(word), list(options), n=1, cutoff=0.5)
     return f"did you mean {close[0]!r}? " if close else ""
 
@@ -24,6 +45,17 @@ class Model:
 
     Build one with :func:`make_model` (preset name), :func:`custom_model` (a callable
     ``f(t, **params)``) or :func:`ode_model` (a right-hand side ``rhs(t, state, **params)``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = make_model("freefall", {"g": 10.0, "h0": 5.0})
+    >>> m.name, m.family, m.free
+    ('freefall', 'freefall', ['g', 'h0'])
+    >>> m.predict(np.array([0.0, 1.0])).tolist()
+    [5.0, 0.0]
+    >>> m.with_effect("quadratic_drag").effects
+    ('quadratic_drag',)
     """
 
     name: str
@@ -40,10 +72,41 @@ class Model:
 
     @property
     def free(self) -> list:
+        """Names of the parameters a fit adjusts (every start that is not fixed), in order.
+
+        Examples
+        --------
+        >>> make_model("pendulum").free
+        ['w2', 'c', 'theta0', 'omega0']
+        """
         return [k for k in self.start if k not in self.fixed]
 
     def predict(self, t, p=None):
-        """Evaluate the model at ``t`` with parameters ``p`` (defaults: the starts)."""
+        """Evaluate the model at ``t`` with parameters ``p`` (defaults: the starts).
+
+        Parameters
+        ----------
+        t : ndarray
+            Sample times (or (n, 2) coordinates for a 2D field).
+        p : dict, optional
+            Parameters (default: ``self.start``).
+
+        Returns
+        -------
+        ndarray, shape (len(t),)
+
+        Raises
+        ------
+        ModelIntegrationError
+            When the model returns non-finite values.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> m = make_model("cooling", {"h": 0.1, "T_ambient": 20.0, "T0": 90.0})
+        >>> m.predict(np.array([0.0, 10.0])).round(3).tolist()
+        [90.0, 45.752]
+        """
         p = dict(self.start if p is None else p)
         t = np.asarray(t, dtype=float)
         t0 = float(t[0]) if t.ndim == 1 else 0.0
@@ -59,15 +122,65 @@ class Model:
         return out
 
     def canonical(self, p: dict) -> dict | None:
-        """The same curve's parameters in the preset's canonical labelling, or None when ``p`` is canonical."""
+        """The same curve's parameters in the preset's canonical labelling, or None when ``p`` is canonical.
+
+        Parameters
+        ----------
+        p : dict
+            Parameters.
+
+        Returns
+        -------
+        dict or None
+
+        Examples
+        --------
+        >>> m = make_model("cooling").with_effect("two_body_heat")
+        >>> p = {"h": 0.5, "T_ambient": 20.0, "T0": 90.0, "B_2": 10.0, "lam_2": 0.1}   # slow second body
+        >>> m.canonical(p)
+        {'h': 0.1, 'T_ambient': 20.0, 'T0': 90.0, 'B_2': 60.0, 'lam_2': 0.5}
+        >>> m.canonical(m.canonical(p)) is None
+        True
+        """
         if self.preset is None:
             return None
         return self.preset.canonical(self.effects, p)
 
     def applicable_effects(self) -> list:
+        """Effects of the vocabulary that apply to this model's family and are not in it yet.
+
+        Examples
+        --------
+        >>> make_model("freefall").with_effect("drift").applicable_effects()
+        ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'time_delay']
+        """
         return [e for e in applicable(self.family) if e not in self.effects]
 
     def with_effect(self, name: str, start: dict | None = None) -> "Model":
+        """A copy of the model with effect ``name`` added (its parameters start at their neutral values).
+
+        Parameters
+        ----------
+        name : str
+            Effect name (see :data:`~odnn_sep.mismatch.effects.EFFECTS`).
+        start : dict, optional
+            Starting values overriding the neutral ones.
+
+        Returns
+        -------
+        Model
+
+        Raises
+        ------
+        InputError
+            For an unknown effect, or ``channel_coupling`` (which needs the other channels).
+
+        Examples
+        --------
+        >>> m = make_model("freefall").with_effect("quadratic_drag", {"q_drag": 0.02})
+        >>> m.effects, m.start["q_drag"]
+        (('quadratic_drag',), 0.02)
+        """
         if name not in EFFECTS:
             raise InputError(f"unknown effect {name!r}; {suggest_name(name, EFFECTS)}"
                              f"known effects: {', '.join(EFFECTS)}")
@@ -85,6 +198,22 @@ class Model:
         return replace(self, start=new_start, bounds=bounds, fixed=fixed, effects=self.effects + (name,))
 
     def with_start(self, values: dict) -> "Model":
+        """A copy of the model with some starting values replaced.
+
+        Parameters
+        ----------
+        values : dict
+            New starting values.
+
+        Returns
+        -------
+        Model
+
+        Examples
+        --------
+        >>> make_model("freefall").with_start({"g": 9.0}).start
+        {'g': 9.0, 'h0': 1.0}
+        """
         s = dict(self.start)
         s.update(values)
         return replace(self, start=s)
@@ -95,6 +224,25 @@ def make_model(name, params: dict | None = None, *, inputs: dict | None = None) 
 
     ``inputs`` ({name: (t, u)}, see :mod:`odnn_sep.mismatch.inputs`) drive the oscillator,
     pendulum or cooling preset; each gets a gain ``kd_<name>``.
+
+    Parameters
+    ----------
+    name : str or Model
+        Preset name (``oscillator``, ``pendulum``, ``cooling``, ``hum``, ``heat2d``, ``freefall``);
+        a Model gets ``params`` as new starts.
+    params : dict, optional
+        Starting values (or structural settings such as ``harmonics``, ``sources``).
+    inputs : dict, optional
+        Measured inputs ``{name: (t, u)}``.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    InputError
+        For an unknown preset or parameter, or inputs to a preset that takes none.
 
     Examples
     --------
@@ -192,6 +340,23 @@ def _check_user_params(func, params, what):
 def custom_model(func, params: dict, *, bounds: dict | None = None, fixed=(), name="user") -> Model:
     """Wrap ``func(t, **params) -> y`` as a model; the generic effects apply to it.
 
+    Parameters
+    ----------
+    func : callable
+        ``func(t, **params) -> y`` with ``y`` of the shape of ``t``.
+    params : dict
+        Starting values of the parameters to calibrate.
+    bounds : dict, optional
+        ``{name: (lo, hi)}``.
+    fixed : iterable of str, optional
+        Parameters kept at their start.
+    name : str, optional
+        Model name in reports.
+
+    Returns
+    -------
+    Model
+
     Examples
     --------
     >>> import numpy as np
@@ -222,6 +387,29 @@ def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None
     ``state0`` lists the initial state: numbers, or names of entries of ``params`` (refitted).
     ``inputs`` ({name: (t, u)}) are measured inputs: ``rhs`` receives each one's value at the
     current time as a keyword argument of that name (linear interpolation between samples).
+
+    Parameters
+    ----------
+    rhs : callable
+        ``rhs(t, state, **params) -> dstate/dt``.
+    params : dict
+        Starting values of the parameters to calibrate (initial-state names included).
+    state0 : sequence of float or str
+        Initial state.
+    output : int, optional
+        Observed state component.
+    bounds : dict, optional
+        ``{name: (lo, hi)}``.
+    fixed : iterable of str, optional
+        Parameters kept at their start.
+    name : str, optional
+        Model name in reports.
+    inputs : dict, optional
+        Measured inputs ``{name: (t, u)}``.
+
+    Returns
+    -------
+    Model
 
     Examples
     --------

@@ -12,6 +12,33 @@ INF = np.inf
 
 
 def integrate_ode(name, rhs, state0, t, p):
+    """Integrate ``rhs(t, state)`` with LSODA; any failure raises one :class:`ModelIntegrationError`.
+
+    Parameters
+    ----------
+    name : str
+        Model name, quoted in the error message.
+    rhs : callable
+        ``rhs(t, state) -> dstate/dt``.
+    state0 : sequence of float
+        Initial state at ``t[0]``.
+    t : ndarray
+        Output times (increasing).
+    p : dict
+        Parameters, shown in the error message.
+
+    Returns
+    -------
+    ndarray, shape (len(t), len(state0))
+        The state at every time.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sol = integrate_ode("decay", lambda t, s: [-s[0]], [1.0], np.array([0.0, 1.0]), {})
+    >>> sol.shape, round(float(sol[1, 0]), 4)
+    ((2, 1), 0.3679)
+    """
     from scipy.integrate import odeint  # on use: the package is imported by every subcommand
 
     with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -28,12 +55,46 @@ def integrate_ode(name, rhs, state0, t, p):
 
 
 def friction_scale(v_scale):
+    """Velocity scale ``eps`` of the smoothed Coulomb friction ``tanh(v / eps)``: 3 % of ``v_scale``.
+
+    Parameters
+    ----------
+    v_scale : float
+        Typical speed of the motion.
+
+    Returns
+    -------
+    float
+        The smoothing scale (at least 3e-11).
+
+    Examples
+    --------
+    >>> round(friction_scale(2.0), 6)
+    0.06
+    """
     # tanh(v/eps) replaces sign(v): LSODA cannot step through a discontinuous force.
     return 3e-2 * max(float(v_scale), 1e-9)
 
 
 class Preset:
-    """Base class: ``params`` (name -> default), ``bounds``, ``fixed`` (structural, never refit)."""
+    """Base class: ``params`` (name -> default), ``bounds``, ``fixed`` (structural, never refit).
+
+    A subclass implements ``build(effects)``, returning ``predict(t, p) -> y``; it may override
+    ``initial_guess`` (data-driven starts) and ``canonical`` (one labelling of symmetric fits).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Line(Preset):
+    ...     name = family = "line"
+    ...     params = {"a": 1.0, "b": 0.0}
+    ...     def build(self, effects):
+    ...         return lambda t, p: p["a"] * t + p["b"]
+    >>> Line().build(())(np.array([0.0, 2.0]), {"a": 3.0, "b": 1.0}).tolist()
+    [1.0, 7.0]
+    >>> Line().initial_guess(None, None, {}), Line().canonical((), {})
+    ({}, None)
+    """
 
     name = ""
     family = ""
@@ -47,10 +108,35 @@ class Preset:
     inputs: dict = {}   # measured inputs {name: (t, u)}: set on a per-model copy (see make_model)
 
     def build(self, effects):
+        """The prediction function of the preset with ``effects`` folded in.
+
+        Parameters
+        ----------
+        effects : iterable of str
+            Effects of the model; those in ``native`` enter the equations, the others are ignored
+            here (the generic wrapper adds them).
+
+        Returns
+        -------
+        callable
+            ``predict(t, p) -> y``.
+        """
         raise NotImplementedError
 
     def initial_guess(self, t, y, p):
-        """Data-driven starting values for parameters the user did not give (dict, may be partial)."""
+        """Data-driven starting values for parameters the user did not give (dict, may be partial).
+
+        Parameters
+        ----------
+        t, y : ndarray
+            Sample times (or 2D coordinates) and samples.
+        p : dict
+            Current starts (user values included).
+
+        Returns
+        -------
+        dict
+        """
         return {}
 
     def canonical(self, effects, p):
@@ -59,7 +145,27 @@ class Preset:
 
 
 def dominant_omega(t, y):
-    """Angular frequency of the largest periodogram peak (zero-padded, mean removed)."""
+    """Angular frequency of the largest periodogram peak (zero-padded, mean removed).
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times (uniform).
+    y : ndarray
+        Samples.
+
+    Returns
+    -------
+    float
+        Angular frequency (rad per unit of ``t``) of the peak.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 20, 400)
+    >>> round(float(dominant_omega(t, np.cos(3.0 * t))), 1)
+    3.0
+    """
     n = len(t)
     dt = float(np.median(np.diff(t)))
     nfft = int(2 ** np.ceil(np.log2(8 * n)))
@@ -70,7 +176,30 @@ def dominant_omega(t, y):
 
 
 def sinusoid_start(t, y, omega):
-    """Amplitudes (x0, v0) of a pure oscillation at omega matched to the data by least squares."""
+    """Amplitudes (x0, v0) of a pure oscillation at omega matched to the data by least squares.
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times.
+    y : ndarray
+        Samples.
+    omega : float
+        Angular frequency of the oscillation.
+
+    Returns
+    -------
+    tuple of float
+        Initial position ``x0`` and velocity ``v0`` at ``t[0]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 10, 200)
+    >>> x0, v0 = sinusoid_start(t, 2.0 * np.cos(t) + 3.0 * np.sin(t), 1.0)
+    >>> round(x0, 6), round(v0, 6)
+    (2.0, 3.0)
+    """
     tau = t - t[0]
     F = np.column_stack([np.cos(omega * tau), np.sin(omega * tau), np.ones_like(tau)])
     coef = solve(F, y, method="lstsq")

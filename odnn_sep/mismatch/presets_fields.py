@@ -36,6 +36,23 @@ def _newton_fit(t, y):
 
 
 class Cooling(Preset):
+    """Newton cooling ``dT/dt = -h (T - T_ambient)`` from ``T0`` at the first sample (deg C).
+
+    Radiation and evaporation are integrated inside the equation; measured inputs add a drive.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pre = Cooling()
+    >>> t = np.array([0.0, 10.0])
+    >>> np.round(pre.build(())(t, {"h": 0.1, "T_ambient": 20.0, "T0": 90.0}), 3).tolist()
+    [90.0, 45.752]
+    >>> t = np.linspace(0, 50, 100)
+    >>> g = pre.initial_guess(t, 20 + 70 * np.exp(-0.05 * t), {})   # a grid search over h
+    >>> sorted(g), abs(g["T_ambient"] - 20) < 2, abs(g["T0"] - 90) < 2
+    (['T0', 'T_ambient', 'h'], True, True)
+    """
+
     name = "cooling"
     family = "cooling"
     description = "Newton cooling dT/dt = -h (T - T_ambient), T(t_start) = T0 (temperatures in deg C)"
@@ -105,6 +122,19 @@ class Cooling(Preset):
 
 
 class Hum(Preset):
+    """Mains hum: ``sum_h a_h cos(2 pi h f0 t) + b_h sin(2 pi h f0 t)`` over ``harmonics`` terms.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pre = Hum()
+    >>> pre.amplitude_names(2)
+    ['a1', 'b1', 'a2', 'b2']
+    >>> p = {"f0": 50.0, "harmonics": 1, "a1": 1.0, "b1": 0.0}
+    >>> np.round(pre.build(())(np.array([0.0, 0.01]), p), 6).tolist()
+    [1.0, -1.0]
+    """
+
     name = "hum"
     family = "hum"
     description = "mains hum: sum over harmonics h=1..H of a_h cos(2 pi h f0 t) + b_h sin(2 pi h f0 t)"
@@ -114,6 +144,7 @@ class Hum(Preset):
     native = frozenset({"missing_harmonic", "frequency_drift"})
 
     def amplitude_names(self, harmonics):
+        """Amplitude parameters ``a1, b1, a2, b2, ...`` of ``harmonics`` harmonics (see the class example)."""
         return [f"{ab}{h}" for h in range(1, int(harmonics) + 1) for ab in ("a", "b")]
 
     def build(self, effects):
@@ -154,6 +185,28 @@ class Hum(Preset):
 
 
 def hum_columns(t, f0, H):
+    """Design matrix of the hum: cos and sin columns of the harmonics 1..H of ``f0``.
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times (s).
+    f0 : float
+        Fundamental frequency (Hz).
+    H : int
+        Number of harmonics.
+
+    Returns
+    -------
+    ndarray, shape (len(t), 2 H)
+        Columns ``cos(2 pi h f0 t), sin(2 pi h f0 t)`` for h = 1..H.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> hum_columns(np.array([0.0, 0.005]), 50.0, 2).round(6).tolist()
+    [[1.0, 0.0, 1.0, 0.0], [0.0, 1.0, -1.0, 0.0]]
+    """
     cols = []
     for h in range(1, H + 1):
         cols += [np.cos(2 * np.pi * h * f0 * t), np.sin(2 * np.pi * h * f0 * t)]
@@ -161,6 +214,20 @@ def hum_columns(t, f0, H):
 
 
 class Heat2D(Preset):
+    """2D heat field at time ``t`` from point sources, sampled at points ``xy`` (shape (n, 2)).
+
+    Each source ``i`` adds ``S_i exp(-r_i^2 / (4 alpha t)) / (4 pi alpha t)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pre = Heat2D()
+    >>> p = {"alpha": 0.01, "t": 1.0, "sources": "0.5:0.5", "S1": 1.0}
+    >>> z = pre.build(())(np.array([[0.5, 0.5], [0.9, 0.5]]), p)
+    >>> z.shape, round(float(z[0]), 4)
+    ((2,), 7.9577)
+    """
+
     name = "heat2d"
     family = "heat2d"
     description = ("2D heat field at time t from point sources: "
@@ -209,7 +276,28 @@ class Heat2D(Preset):
 
 
 def parse_sources(spec):
-    """Parse ``"x:y;x:y"`` into a list of (x, y) floats."""
+    """Parse ``"x:y;x:y"`` into a list of (x, y) floats.
+
+    Parameters
+    ----------
+    spec : str or sequence of pairs
+        Source positions, ``"x:y"`` pairs separated by ``;`` (or already a list of pairs).
+
+    Returns
+    -------
+    list of tuple of float
+        The source positions.
+
+    Raises
+    ------
+    InputError
+        When ``spec`` is malformed or empty.
+
+    Examples
+    --------
+    >>> parse_sources("0.3:0.4; 0.6:0.5")
+    [(0.3, 0.4), (0.6, 0.5)]
+    """
     if isinstance(spec, (list, tuple)):
         return [(float(a), float(b)) for a, b in spec]
     out = []

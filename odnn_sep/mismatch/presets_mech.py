@@ -25,7 +25,34 @@ from odnn_sep.mismatch.presets_base import (
 
 
 def linear_oscillator(tau, k, c, m, x0, v0, *, with_velocity=False):
-    """Closed-form solution of m x'' + c x' + k x = 0 (complex roots cover every damping regime)."""
+    """Closed-form solution of m x'' + c x' + k x = 0 (complex roots cover every damping regime).
+
+    Parameters
+    ----------
+    tau : ndarray
+        Time since the start.
+    k, c, m : float
+        Stiffness, damping and mass.
+    x0, v0 : float
+        Initial position and velocity.
+    with_velocity : bool, optional
+        Also return the velocity.
+
+    Returns
+    -------
+    ndarray or tuple of ndarray or None
+        The position (and velocity); None at critical damping (repeated root), where the caller
+        integrates numerically instead.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = linear_oscillator(np.array([0.0, np.pi / 2]), 1.0, 0.0, 1.0, 1.0, 0.0)
+    >>> np.round(x, 6).tolist()
+    [1.0, 0.0]
+    >>> linear_oscillator(np.array([0.0]), 1.0, 2.0, 1.0, 1.0, 0.0) is None   # critical damping
+    True
+    """
     disc = complex(c * c - 4 * m * k)
     r = np.sqrt(disc)
     l1, l2 = (-c + r) / (2 * m), (-c - r) / (2 * m)
@@ -42,6 +69,23 @@ def linear_oscillator(tau, k, c, m, x0, v0, *, with_velocity=False):
 
 
 class Oscillator(Preset):
+    """Mass-spring oscillator ``m x'' + c x' + k x = 0``, observed as the position ``x``.
+
+    Closed form when no effect is added; the effects quadratic drag, Coulomb friction, cubic
+    stiffness and periodic forcing are integrated inside the equation of motion.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pre = Oscillator()
+    >>> f = pre.build(())
+    >>> np.round(f(np.array([0.0, np.pi / 2]), dict(pre.params, k=1.0)), 6).tolist()
+    [1.0, 0.0]
+    >>> t = np.linspace(0, 20, 400)
+    >>> round(float(pre.initial_guess(t, np.cos(2.0 * t), pre.params)["k"]), 1)
+    4.0
+    """
+
     name = "oscillator"
     family = "oscillator"
     description = "mass-spring oscillator m x'' + c x' + k x = 0 (free, damped; driven via periodic_forcing)"
@@ -153,6 +197,21 @@ class Oscillator(Preset):
 
 
 class Pendulum(Oscillator):
+    """Linear small-angle pendulum ``theta'' + c theta' + w2 theta = 0`` (``w2 = g / L``).
+
+    Observed as the angle, or as the tangential acceleration ``L theta''`` when ``L > 0``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pre = Pendulum()
+    >>> p = dict(pre.params, w2=4.0, theta0=0.1)
+    >>> np.round(pre.build(())(np.array([0.0, np.pi / 2]), p), 6).tolist()
+    [0.1, -0.1]
+    >>> np.round(pre.build(())(np.array([0.0]), dict(p, L=2.0)), 6).tolist()   # L theta''
+    [-0.8]
+    """
+
     name = "pendulum"
     family = "pendulum"
     description = ("pendulum, linear small-angle model theta'' + c theta' + w2 theta = 0 (w2 = g/L); "
@@ -213,6 +272,21 @@ class Pendulum(Oscillator):
 
 
 class Freefall(Preset):
+    """Free fall from rest at ``t = 0``: ``h(t) = h0 - g t^2 / 2`` (held at ``h0`` before).
+
+    Linear damping or quadratic drag (one at a time) are solved in closed form.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pre = Freefall()
+    >>> pre.build(())(np.array([-1.0, 0.0, 1.0]), {"g": 10.0, "h0": 5.0}).tolist()
+    [5.0, 5.0, 0.0]
+    >>> t = np.linspace(0, 1, 50)
+    >>> {k: round(v, 6) for k, v in pre.initial_guess(t, 2.0 - 4.9 * t ** 2, {}).items()}
+    {'h0': 2.0, 'g': 9.8}
+    """
+
     name = "freefall"
     family = "freefall"
     description = "free fall from rest at t = 0: height h(t) = h0 - g t^2 / 2"

@@ -13,7 +13,37 @@ MAX_SAMPLES = 40_000
 
 
 def reduce_rate(model, t, y, aux):
-    """Return (t, y, aux, note): decimated when the hum record is long, else unchanged (note None)."""
+    """Return (t, y, aux, note): decimated when the hum record is long, else unchanged (note None).
+
+    Parameters
+    ----------
+    model : Model
+        The model; only the ``hum`` family is decimated.
+    t, y : ndarray
+        Sample times (s) and samples.
+    aux : dict or None
+        Other channels, decimated alike.
+
+    Returns
+    -------
+    t, y : ndarray
+        The (possibly decimated) record.
+    aux : dict
+        The (possibly decimated) other channels.
+    note : str or None
+        What was done, in words; None when the record is unchanged.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.arange(48000) / 16000.0
+    >>> t2, y2, aux2, note = reduce_rate(make_model("hum"), t, np.cos(2 * np.pi * 50 * t), {})
+    >>> len(y2), note.split(";")[0]
+    (3200, 'long record: analysed at 1067 Hz (low-pass and decimation by 15)')
+    >>> reduce_rate(make_model("cooling"), t[:10], t[:10], None)[3] is None
+    True
+    """
     if model.family != "hum" or np.ndim(t) != 1 or len(y) <= MAX_SAMPLES:
         return t, y, aux, None
     fs = 1.0 / float(np.median(np.diff(t)))

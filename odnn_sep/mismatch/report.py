@@ -27,7 +27,25 @@ def _effect_entry(c, final, base):
 
 
 def equivalence_sentence(c):
-    """"radiation or evaporation: the data cannot tell them apart", or None when the data can."""
+    """"radiation or evaporation: the data cannot tell them apart", or None when the data can.
+
+    Parameters
+    ----------
+    c : Candidate
+        A named effect, with ``effect`` and ``equivalent`` (the effects it cannot be told from).
+
+    Returns
+    -------
+    str or None
+        The sentence, or None when ``c.equivalent`` is empty.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> equivalence_sentence(SimpleNamespace(effect="radiation", equivalent=()))
+    >>> equivalence_sentence(SimpleNamespace(effect="radiation", equivalent=("evaporation",)))
+    'radiation or evaporation: the data cannot tell them apart (...); radiation is the one fitted'
+    """
     if not c.equivalent:
         return None
     return (f"{' or '.join([c.effect] + list(c.equivalent))}: the data cannot tell them apart "
@@ -42,6 +60,28 @@ def result_dict(res) -> dict:
     it) describe the first one, or null, as before. ``verdict.disturbances`` lists what was found
     and absorbed as a disturbance, ``verdict.declared`` what the user declared, ``failed_fits``
     the effect fits that failed (never ranked).
+
+    Parameters
+    ----------
+    res : MismatchResult
+        What :func:`~odnn_sep.mismatch.explain.explain` returned.
+
+    Returns
+    -------
+    dict
+        JSON-ready report.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch import explain
+    >>> t = np.linspace(0, 100, 300)
+    >>> y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    >>> d = result_dict(explain("cooling", t, y))
+    >>> list(d)
+    ['verdict', 'candidates', 'failed_fits', 'calibration', 'where', 'fit', 'noise_sigma', 'n_samples']
+    >>> d["verdict"]["effect"], round(d["calibration"]["parameters"]["h"]["value"], 3)
+    (None, 0.03)
     """
     base = res.calibration.fit
     final = res.final_fit or base
@@ -158,7 +198,27 @@ def _fit_lines(d):
 
 
 def summary_text(res) -> str:
-    """Human-readable summary (what the CLI prints)."""
+    """Human-readable summary (what the CLI prints).
+
+    Parameters
+    ----------
+    res : MismatchResult
+        What :func:`~odnn_sep.mismatch.explain.explain` returned.
+
+    Returns
+    -------
+    str
+        Several lines: verdict, calibration, where the residual exceeds the noise, candidates.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch import explain
+    >>> t = np.linspace(0, 100, 300)
+    >>> y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    >>> print(summary_text(explain("cooling", t, y)).splitlines()[0])
+    Verdict: nothing missing that the data can show: ...
+    """
     d = result_dict(res)
     v = d["verdict"]
     lines = _verdict_lines(v) + _context_lines(v, d["failed_fits"])
@@ -170,7 +230,34 @@ def summary_text(res) -> str:
 
 
 def plot(res, out) -> None:
-    """Figure: data with both fits, residual before/after, and the flagged locations."""
+    """Figure: data with both fits, residual before/after, and the flagged locations.
+
+    A series gets three panels (data and fits; residual before and after; residual RMS over the
+    noise per window), a 2D field three maps (data, residual before, residual after).
+
+    Parameters
+    ----------
+    res : MismatchResult
+        What :func:`~odnn_sep.mismatch.explain.explain` returned.
+    out : str or Path
+        Output image (the extension picks the format: .png, .svg, .pdf).
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch import explain
+    >>> t = np.linspace(0, 100, 300)
+    >>> y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    >>> out = os.path.join(tempfile.mkdtemp(), "mismatch.png")
+    >>> plot(explain("cooling", t, y), out)
+    >>> open(out, "rb").read(4)
+    b'\\x89PNG'
+    """
     from odnn_sep.report.figures import pyplot, save_figure
 
     plt = pyplot()

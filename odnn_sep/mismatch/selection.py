@@ -29,6 +29,25 @@ def variance_inflation(resid, t) -> float:
 
     Effect shapes are smooth, so the BIC gap between two of them is driven by the noise at low
     frequencies, whose power AR(1) noise raises by this factor over white noise of the same variance.
+
+    Parameters
+    ----------
+    resid : ndarray
+        Residual.
+    t : ndarray
+        Sample times (1.0 is returned for a 2D field).
+
+    Returns
+    -------
+    float
+        At least 1 (white or anti-correlated noise), at most 39 (rho capped at 0.95).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(20.0)
+    >>> variance_inflation(np.array([1.0, -1.0] * 10), t), round(variance_inflation(np.array([1.0, 1, -1, -1] * 5), t), 3)
+    (1.0, 1.105)
     """
     if np.ndim(t) != 1 or len(resid) < 3:
         return 1.0
@@ -40,7 +59,36 @@ def variance_inflation(resid, t) -> float:
 
 
 def attach_equivalents(chosen, eligible, bic_threshold, t, gap=EQUIVALENCE_GAP):
-    """Record on ``chosen`` the passing physics candidates within ``gap`` (inflation-adjusted) of it."""
+    """Record on ``chosen`` the passing physics candidates within ``gap`` (inflation-adjusted) of it.
+
+    Appends to ``chosen.rivals`` (every passing physics rival) and ``chosen.equivalent`` in place.
+
+    Parameters
+    ----------
+    chosen : Candidate
+        The effect selected at this step.
+    eligible : list of Candidate
+        The step's eligible candidates.
+    bic_threshold : float
+        A rival must score above it.
+    t : ndarray or None
+        Sample times (for the variance inflation).
+    gap : float, optional
+        Largest inflation-adjusted BIC gap reported as equivalent.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> chosen = NS(effect="radiation", score=30.0, fit=NS(residual=[0.0]), rivals=[], equivalent=[])
+    >>> eligible = [chosen, NS(effect="evaporation", score=27.0), NS(effect="two_body_heat", score=12.0)]
+    >>> attach_equivalents(chosen, eligible, 10.0, None)
+    >>> chosen.equivalent, [r["effect"] for r in chosen.rivals]
+    (['evaporation'], ['evaporation', 'two_body_heat'])
+    """
     if chosen.effect in DISTURBANCE_EFFECTS:
         return
     vif = variance_inflation(chosen.fit.residual, t)
@@ -56,7 +104,28 @@ def attach_equivalents(chosen, eligible, bic_threshold, t, gap=EQUIVALENCE_GAP):
 @dataclass(frozen=True)
 class SelectionSetup:
     """What every selection step needs besides the current model: the data, the disturbance columns
-    ``G``, the candidate-model factory, the held-out split and the thresholds fixed in advance."""
+    ``G``, the candidate-model factory, the held-out split and the thresholds fixed in advance.
+
+    ``make_model(effect, cur)`` returns ``(model, starts)``, and the model alone with
+    ``with_starts=False``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import cross_validate, cv_folds, fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60)
+    >>> y = 5.0 - 4.9 * t ** 2 + 0.5 * t + 0.001 * np.random.default_rng(0).normal(size=60)
+    >>> base = fit(make_model("freefall"), t, y)
+    >>> blocks = cv_folds(60, folds=2)
+    >>> mse0 = cross_validate(base.model, t, y, base.params, block_id=blocks, folds=2)
+    >>> def factory(effect, cur, with_starts=True):
+    ...     m = cur.model.with_effect(effect)
+    ...     return (m, []) if with_starts else m
+    >>> setup = SelectionSetup(t, y, None, factory, blocks, 2, 10.0, 6.0, 2, 3)
+    >>> setup.folds, setup.bic_threshold, setup.max_steps
+    (2, 10.0, 3)
+    """
 
     t: np.ndarray
     y: np.ndarray
@@ -73,6 +142,15 @@ class SelectionSetup:
 
 @dataclass
 class Selection:
+    """Result of :func:`forward_backward`: final fit, accepted candidates, first-step ranking, failures.
+
+    Examples
+    --------
+    >>> sel = Selection(fit=None)
+    >>> sel.accepted, sel.first_step, sel.failed, sel.dropped, sel.heldout_rmse
+    ([], [], [], [], None)
+    """
+
     fit: object
     accepted: list = field(default_factory=list)
     first_step: list = field(default_factory=list)
@@ -151,7 +229,41 @@ def _choose(eligible, cur_mse, setup):
 
 
 def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
-    """Add the best supported effect while one passes both thresholds; then check each named one."""
+    """Add the best supported effect while one passes both thresholds; then check each named one.
+
+    Parameters
+    ----------
+    base : Fit
+        Calibrated model without effects.
+    mse0 : ndarray
+        Its held-out MSE per block.
+    names : list of str
+        Effects to try.
+    setup : SelectionSetup
+        Data, factory, split and thresholds.
+
+    Returns
+    -------
+    Selection
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import cross_validate, cv_folds, fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60)
+    >>> y = 5.0 - 4.9 * t ** 2 + 0.5 * t + 0.001 * np.random.default_rng(0).normal(size=60)
+    >>> base = fit(make_model("freefall"), t, y)
+    >>> blocks = cv_folds(60, folds=2)
+    >>> mse0 = cross_validate(base.model, t, y, base.params, block_id=blocks, folds=2)
+    >>> def factory(effect, cur, with_starts=True):
+    ...     m = cur.model.with_effect(effect)
+    ...     return (m, []) if with_starts else m
+    >>> setup = SelectionSetup(t, y, None, factory, blocks, 2, 10.0, 6.0, 2, 3)
+    >>> sel = forward_backward(base, mse0, ["drift", "linear_damping"], setup)
+    >>> [c.effect for c in sel.accepted], [c.effect for c in sel.first_step], round(sel.fit.params["drift"], 2)
+    (['drift'], ['drift', 'linear_damping'], 0.5)
+    """
     sel = Selection(fit=base)
     cur, cur_mse = base, mse0
     remaining = list(names)

@@ -41,6 +41,36 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
     Needed because a trust-region solver started exactly on a bound (drag = 0) barely moves that
     parameter: the step is scaled by the distance to the bound. The one-step estimate is the score
     direction, i.e. how much of the effect the calibrated residual asks for.
+
+    Parameters
+    ----------
+    model : Model
+        The model (with the effect).
+    start : dict
+        Parameters to step from.
+    t, y : ndarray
+        Sample times and samples.
+    G : ndarray, optional
+        Disturbance columns, projected out.
+    rel_step : float, optional
+        Relative finite-difference step.
+
+    Returns
+    -------
+    dict or None
+        The stepped parameters (kept strictly inside the bounds).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 - 0.3 * t   # free fall + a drift
+    >>> base = fit(make_model("freefall"), t, y)
+    >>> m = base.model.with_effect("drift")
+    >>> s = one_step(m, {**m.start, **base.params}, t, y)
+    >>> {k: round(v, 4) for k, v in s.items()}   # exact: the model is linear in its parameters
+    {'g': 9.8, 'h0': 5.0, 'drift': -0.3}
     """
     free = model.free
     try:
@@ -172,6 +202,35 @@ def effect_starts(effect, base, t, y, model=None, G=None):
     Effects with a rule in ``_START_RULES`` start from the calibrated residual (periodogram peaks,
     residual maxima, least-squares amplitudes); the others, and any rule that finds nothing, from
     one Gauss-Newton step off the calibrated model.
+
+    Parameters
+    ----------
+    effect : str
+        Effect name.
+    base : Fit
+        Calibrated current model.
+    t, y : ndarray
+        Sample times (or 2D coordinates) and samples.
+    model : Model, optional
+        The model with the effect (needed for the Gauss-Newton fallback).
+    G : ndarray, optional
+        Disturbance columns.
+
+    Returns
+    -------
+    list of dict
+        Starting values, at least one.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 - 0.3 * t   # free fall + a drift
+    >>> base = fit(make_model("freefall"), t, y)
+    >>> m = base.model.with_effect("drift")
+    >>> [{k: round(v, 4) for k, v in s.items()} for s in effect_starts("drift", base, t, y, m)]
+    [{'g': 9.8, 'h0': 5.0, 'drift': -0.3}]
     """
     p = dict(base.params)
     tt = t if np.ndim(t) == 1 else None
@@ -192,6 +251,31 @@ def near_system_line(f, fit, t, *, harmonics=8):
     lines at its harmonics; an additive disturbance at those frequencies would claim physics the
     model should be tested for, so it is not offered there (hum: the harmonics are the
     missing_harmonic effect's).
+
+    Parameters
+    ----------
+    f : float
+        Frequency (Hz).
+    fit : Fit
+        Calibrated fit (oscillator, pendulum or hum; other families give False).
+    t : ndarray
+        Sample times (the resolution is 1 / record length).
+    harmonics : int, optional
+        Harmonics checked.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 20, 400)
+    >>> f = fit(make_model("oscillator", {"k": 4.0}), t, np.cos(2.0 * t))   # 2 rad/s = 0.318 Hz
+    >>> [bool(near_system_line(hz, f, t)) for hz in (0.318, 0.637, 0.5)]
+    [True, True, False]
     """
     p = fit.params
     fam = fit.model.family

@@ -11,10 +11,28 @@ LOOKS_LIKE_KELVIN = 200.0
 def to_celsius(y, units):
     """Return (values in deg C, unit label, note or None). ``units`` None: guess only to warn.
 
+    Parameters
+    ----------
+    y : array_like
+        Temperatures.
+    units : {"degC", "degF", "K"} or None
+        Their unit; None leaves the values as they are and warns when they look like degF or K.
+
+    Returns
+    -------
+    values : ndarray
+        Temperatures in deg C (unchanged when ``units`` is None).
+    label : str
+        ``"degC"``, or ``""`` when the unit was not given.
+    note : str or None
+        What was converted, or a warning.
+
     Examples
     --------
     >>> to_celsius([212.0, 32.0], "degF")[0].tolist()
     [100.0, 0.0]
+    >>> to_celsius([300.0, 350.0], None)[2].split(";")[0]
+    'warning: temperatures 300-350 look like kelvin'
     """
     y = np.asarray(y, float)
     if units == "degF":
