@@ -22,6 +22,7 @@ NEEDS = {
     "odnn_sep.core.baselines.pinn_penalty": "torch",
     "odnn_sep.core.baselines.sindy": "pysindy",
     "odnn_sep.core.solvers.NetworkSolver": "torch",
+    "odnn_sep.audio.fit.solve_block_network": "torch",
     "odnn_sep.signals.humanoid.humanoid": "gymnasium,mujoco",
     "odnn_sep.signals.humanoid.HumanoidDataset": "gymnasium,mujoco",
     "odnn_sep.signals.humanoid.collect": "gymnasium,mujoco",

@@ -385,6 +385,14 @@ def solve_block_network(F, Y, w, names, random_state=None, epochs: int = 300):
     -------
     (p, C) float array
         As :func:`solve_block` gives, within optimisation tolerance.
+
+    Examples
+    --------
+    >>> t = np.arange(400) / 400
+    >>> F = np.c_[np.cos(2 * np.pi * 50 * t), np.sin(2 * np.pi * 50 * t)]
+    >>> Y = (F @ [0.3, -0.2])[:, None]
+    >>> solve_block_network(F, Y, np.ones(400), ["c", "s"], random_state=0, epochs=100).round(2).ravel().tolist()
+    [0.3, -0.2]
     """
     from odnn_sep.core import Basis, Orthogonal, Separator
 

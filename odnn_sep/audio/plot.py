@@ -38,6 +38,18 @@ def plot_denoise(result, before, after, out, *, max_seconds: float = 120.0) -> N
         The figure file (.png, .pdf, .svg or .jpg).
     max_seconds : float
         Longest stretch shown in the spectrograms (s).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.audio import denoise
+    >>> from odnn_sep.audio.synth import make_hum_demo
+    >>> y, sr, _ = make_hum_demo(duration_s=2.0, sr=2000)
+    >>> r = denoise(y, sr)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     plot_denoise(r, y, r.y, os.path.join(d, "hum.png"))
+    ...     os.path.getsize(os.path.join(d, "hum.png")) > 10_000
+    True
     """
     from scipy import signal
 

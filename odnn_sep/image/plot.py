@@ -24,6 +24,17 @@ def plot_unwatermark(image, res, out) -> None:
         What :func:`odnn_sep.image.unwatermark` returned for ``image``.
     out : str or Path
         Figure file to write.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from types import SimpleNamespace
+    >>> img = np.full((24, 32), 0.5)
+    >>> res = SimpleNamespace(image=img, alpha=0.4, mask=np.zeros((24, 32)), report={})
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     plot_unwatermark(img, res, os.path.join(d, "mark.png"))
+    ...     os.path.getsize(os.path.join(d, "mark.png")) > 5_000
+    True
     """
     from odnn_sep.report.figures import pyplot, save_figure
 
