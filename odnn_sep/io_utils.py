@@ -291,6 +291,23 @@ def remove_temporaries_of(pids, folders) -> None:
     A writer killed before its clean-up ran (SIGKILL, or SIGTERM while a long numerical call held
     the interpreter) leaves its ``.odnn-tmp-PID-XXXX`` folder; only the process that stopped it
     knows it is dead, so that process sweeps. Other processes' temporaries are left alone.
+
+    Parameters
+    ----------
+    pids : iterable of int
+        Process ids of the stopped writers.
+    folders : iterable of str or path-like
+        Folders the writers wrote into (not searched recursively; missing ones are skipped).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     for name in (".odnn-tmp-41-a1b2", ".odnn-tmp-42-c3d4", "results"):
+    ...         os.mkdir(os.path.join(d, name))
+    ...     remove_temporaries_of([41], [d])
+    ...     sorted(os.listdir(d))
+    ['.odnn-tmp-42-c3d4', 'results']
     """
     prefixes = tuple(f"{TMP_PREFIX}{int(pid)}-" for pid in pids)
     if not prefixes:

@@ -107,7 +107,29 @@ def intervals(theta: ArrayLike, stderr: ArrayLike, level: float = 0.95) -> np.nd
 
 
 class SandwichErrors(NamedTuple):
-    """Result of :func:`sandwich_standard_errors`."""
+    """Result of :func:`sandwich_standard_errors`.
+
+    Attributes
+    ----------
+    stderr : ndarray, shape (q,)
+        The larger of the classical and the block-sandwich standard error, per parameter.
+    classical : ndarray, shape (q,)
+        Gauss-Newton ``sqrt(diag(s^2 (J^T J)^-1))``.
+    block : int
+        Samples per block.
+    n_blocks : int
+        Number of blocks (the sandwich's own degrees of freedom are ``n_blocks - 1``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = np.repeat([1.0, -1.0], 4)                  # residual correlated in runs of four
+    >>> out = sandwich_standard_errors(np.c_[np.ones(8)], r, 7, block=4)
+    >>> out.block, out.n_blocks
+    (4, 2)
+    >>> bool((out.stderr >= out.classical).all())
+    True
+    """
 
     stderr: np.ndarray     # the larger of the classical and the block-sandwich standard error
     classical: np.ndarray  # Gauss-Newton ``sqrt(diag(s^2 (J^T J)^-1))``
