@@ -57,12 +57,14 @@ class FormatError(OdnnSepError, ValueError):
     --------
     >>> import os, tempfile
     >>> from odnn_sep.fit.data import load_signal
-    >>> path = os.path.join(tempfile.mkdtemp(), "data.xyz")
-    >>> _ = open(path, "w").write("1 2")
-    >>> try:
-    ...     load_signal(path)
-    ... except FormatError as exc:
-    ...     print("FormatError")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "data.xyz")
+    ...     with open(path, "w") as fh:
+    ...         _ = fh.write("1 2")
+    ...     try:
+    ...         load_signal(path)
+    ...     except FormatError as exc:
+    ...         print("FormatError")
     FormatError
     """
 

@@ -82,9 +82,11 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
     --------
     >>> import os, tempfile
     >>> import numpy as np
-    >>> path = os.path.join(tempfile.mkdtemp(), "field.npz")
-    >>> np.savez(path, x=np.arange(3.0), y=np.arange(2.0), z=np.zeros((2, 3)))
-    >>> {k: v.shape for k, v in load_npz_arrays(path).items()}
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "field.npz")
+    ...     np.savez(path, x=np.arange(3.0), y=np.arange(2.0), z=np.zeros((2, 3)))
+    ...     arrays = load_npz_arrays(path)
+    >>> {k: v.shape for k, v in arrays.items()}
     {'x': (3,), 'y': (2,), 'z': (2, 3)}
     """
     import zipfile
@@ -138,10 +140,12 @@ def looks_binary(path, nbytes: int = 8192) -> bool:
     Examples
     --------
     >>> import os, tempfile
-    >>> d = tempfile.mkdtemp()
-    >>> _ = open(os.path.join(d, "a.csv"), "w").write("t,v")
-    >>> _ = open(os.path.join(d, "b.wav"), "wb").write(bytes(16))
-    >>> looks_binary(os.path.join(d, "a.csv")), looks_binary(os.path.join(d, "b.wav"))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     with open(os.path.join(d, "a.csv"), "w") as fh:
+    ...         _ = fh.write("t,v")
+    ...     with open(os.path.join(d, "b.wav"), "wb") as fh:
+    ...         _ = fh.write(bytes(16))
+    ...     looks_binary(os.path.join(d, "a.csv")), looks_binary(os.path.join(d, "b.wav"))
     (False, True)
     """
     with open(path, "rb") as fh:
@@ -161,9 +165,11 @@ def count_lines(path, stop_after: int | None = None) -> int:
     Examples
     --------
     >>> import os, tempfile
-    >>> path = os.path.join(tempfile.mkdtemp(), "a.csv")
-    >>> _ = open(path, "w").write(chr(10).join(["t,v", "0,1", "1,2", ""]))
-    >>> count_lines(path)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "a.csv")
+    ...     with open(path, "w") as fh:
+    ...         _ = fh.write(chr(10).join(["t,v", "0,1", "1,2", ""]))
+    ...     count_lines(path)
     3
     """
     n = 0

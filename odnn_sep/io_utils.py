@@ -93,7 +93,8 @@ def check_output_target(out, what: str = "output") -> Path:
     Examples
     --------
     >>> import tempfile
-    >>> check_output_target(tempfile.mkdtemp())
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     check_output_target(d)
     Traceback (most recent call last):
     ...
     odnn_sep.errors.InputError: output path '...' is a folder; give a file name
@@ -124,10 +125,15 @@ def check_output_path(out, *inputs) -> Path:
     Examples
     --------
     >>> import os, tempfile
-    >>> d = tempfile.mkdtemp(); src = os.path.join(d, "in.csv"); _ = open(src, "w").write("x,y")
-    >>> check_output_path(os.path.join(d, "out.csv"), src).name
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     src = os.path.join(d, "in.csv")
+    ...     with open(src, "w") as fh:
+    ...         _ = fh.write("x,y")
+    ...     check_output_path(os.path.join(d, "out.csv"), src).name
     'out.csv'
-    >>> check_output_path(src, src)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     src = os.path.join(d, "in.csv")
+    ...     check_output_path(src, src)
     Traceback (most recent call last):
     ...
     odnn_sep.errors.InputError: output path '...in.csv' is the input file; choose a different output path
@@ -205,15 +211,16 @@ def output_transaction():
     Examples
     --------
     >>> import os, tempfile
-    >>> d = tempfile.mkdtemp()
-    >>> try:
-    ...     with output_transaction():
-    ...         with atomic_output(os.path.join(d, "a.txt")) as tmp:
-    ...             _ = open(tmp, "w").write("first output")
-    ...         raise RuntimeError("the second output failed")
-    ... except RuntimeError:
-    ...     pass
-    >>> os.listdir(d)                    # all or nothing: the first output was removed again
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     try:
+    ...         with output_transaction():
+    ...             with atomic_output(os.path.join(d, "a.txt")) as tmp:
+    ...                 with open(tmp, "w") as fh:
+    ...                     _ = fh.write("first output")
+    ...             raise RuntimeError("the second output failed")
+    ...     except RuntimeError:
+    ...         pass
+    ...     os.listdir(d)                    # all or nothing: the first output was removed again
     []
     """
     tr = _Transaction()
@@ -240,10 +247,13 @@ def atomic_output(out, suffix: str | None = None):
     Examples
     --------
     >>> import os, tempfile
-    >>> out = os.path.join(tempfile.mkdtemp(), "result.txt")
-    >>> with atomic_output(out) as tmp:
-    ...     _ = open(tmp, "w").write("done")
-    >>> open(out).read(), os.listdir(os.path.dirname(out))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     out = os.path.join(d, "result.txt")
+    ...     with atomic_output(out) as tmp:
+    ...         with open(tmp, "w") as fh:
+    ...             _ = fh.write("done")
+    ...     with open(out) as fh:
+    ...         fh.read(), os.listdir(d)
     ('done', ['result.txt'])
     """
     import secrets
@@ -363,9 +373,11 @@ def write_json(out, obj) -> None:
     --------
     >>> import json, os, tempfile
     >>> import numpy as np
-    >>> out = os.path.join(tempfile.mkdtemp(), "report.json")
-    >>> write_json(out, {"theta": np.array([1.5, np.nan])})
-    >>> json.load(open(out))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     out = os.path.join(d, "report.json")
+    ...     write_json(out, {"theta": np.array([1.5, np.nan])})
+    ...     with open(out) as fh:
+    ...         json.load(fh)
     {'theta': [1.5, None]}
     """
     import json
