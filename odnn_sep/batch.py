@@ -26,6 +26,20 @@ TARGETS = {
 def positive_int(text: str) -> int:
     """argparse type: an integer >= 1.
 
+    Parameters
+    ----------
+    text : str
+        The option's value.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        For a non-integer or a value below 1.
+
     Examples
     --------
     >>> positive_int("4")
@@ -173,6 +187,24 @@ def plan_outputs(files, in_dir, out_dir, suffix):
 
     Two inputs that would share an output name (``a.csv`` and ``a.wav`` -> ``a.json``) each keep
     their full name (``a.csv.json``, ``a.wav.json``).
+
+    Parameters
+    ----------
+    files : list of pathlib.Path
+        Input files, under ``in_dir``.
+    in_dir, out_dir : pathlib.Path
+        Input and output folders (the tree below ``in_dir`` is repeated under ``out_dir``).
+    suffix : str or None
+        Output suffix, or None to keep each input's name.
+
+    Returns
+    -------
+    list of pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When an output would land on an input.
 
     Examples
     --------

@@ -16,6 +16,27 @@ def pick_column(header, column, *, path) -> int:
     ``column`` is a header name or an index counted from 0, where column 0 is the coordinate
     (time or x) and cannot be the value; the default is column 1.
 
+    Parameters
+    ----------
+    header : list of str
+        The CSV's column names.
+    column : str or int or None
+        Header name or index given by the user.
+    path : str or path-like
+        The CSV, for the messages.
+
+    Returns
+    -------
+    int
+        The column index, at least 1.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For an unknown name (with the closest one), the coordinate column or an index out of range.
+    odnn_sep.errors.FormatError
+        For a header with fewer than two columns.
+
     Examples
     --------
     >>> pick_column(["t", "left", "right"], "right", path="rec.csv"), pick_column(["t", "v"], None, path="rec.csv")
@@ -50,6 +71,24 @@ def pick_column(header, column, *, path) -> int:
 def pick_channel(column, n_channels: int, *, path) -> int:
     """Index of an audio channel given as ``--column`` (counted from 0; default 0).
 
+    Parameters
+    ----------
+    column : str or int or None
+        The channel given as ``--column``.
+    n_channels : int
+        Channels in the file.
+    path : str or path-like
+        The audio file, for the messages.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a non-number or a channel out of range.
+
     Examples
     --------
     >>> pick_channel("1", 2, path="rec.wav")
@@ -77,6 +116,27 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
 
     Shapes and types are read from the array headers first, so a small file that declares a huge
     array, a pickled object, or a damaged archive is refused with one line before any allocation.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The .npz file.
+    keys : tuple of str, optional
+        Arrays to read.
+    max_points : int, optional
+        When given, each array's size is checked against the ``points`` limit.
+
+    Returns
+    -------
+    dict
+        Key -> float64 array.
+
+    Raises
+    ------
+    odnn_sep.errors.FormatError
+        For a damaged archive, a missing or non-numeric array.
+    odnn_sep.errors.InputError
+        For arrays beyond the limits.
 
     Examples
     --------
@@ -137,6 +197,16 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
 def looks_binary(path, nbytes: int = 8192) -> bool:
     """True if the start of ``path`` holds NUL bytes or is not UTF-8 text (not a CSV).
 
+    Parameters
+    ----------
+    path : str or path-like
+    nbytes : int, optional
+        How much of the start to read.
+
+    Returns
+    -------
+    bool
+
     Examples
     --------
     >>> import os, tempfile
@@ -161,6 +231,17 @@ def looks_binary(path, nbytes: int = 8192) -> bool:
 
 def count_lines(path, stop_after: int | None = None) -> int:
     """Number of lines of a text file, counted in binary blocks (cheap even for large files).
+
+    Parameters
+    ----------
+    path : str or path-like
+    stop_after : int, optional
+        Stop counting once more lines than this were seen.
+
+    Returns
+    -------
+    int
+        Newline characters counted.
 
     Examples
     --------

@@ -35,6 +35,18 @@ def _name_max(folder: Path) -> int:
 def check_name_length(p: Path, what: str) -> None:
     """Refuse a file name the file system cannot hold, before any work is done.
 
+    Parameters
+    ----------
+    p : pathlib.Path
+        The file path.
+    what : str
+        What the file is, for the message.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When the name is longer than the folder's file system allows (255 bytes if unknown).
+
     Examples
     --------
     >>> check_name_length(Path("out") / ("x" * 300 + ".wav"), "output")
@@ -52,6 +64,24 @@ def check_name_length(p: Path, what: str) -> None:
 
 def check_input_path(path, *, what: str = "input file") -> Path:
     """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to read.
+    what : str, optional
+        What the file is, for the messages.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a missing, unopenable, directory or non-regular path, or a name too long.
+    odnn_sep.errors.FormatError
+        For an empty file.
 
     Examples
     --------
@@ -90,6 +120,22 @@ def _same_file(a: Path, b: Path) -> bool:
 def check_output_target(out, what: str = "output") -> Path:
     """Refuse an output that is not a regular file or a new path, or whose folder cannot take it.
 
+    Parameters
+    ----------
+    out : str or path-like
+        The file to write.
+    what : str, optional
+        What the file is, for the messages.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a folder, broken link, device or pipe, a missing or read-only folder, or a name too long.
+
     Examples
     --------
     >>> import tempfile
@@ -121,6 +167,22 @@ def check_output_target(out, what: str = "output") -> Path:
 
 def check_output_path(out, *inputs) -> Path:
     """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder.
+
+    Parameters
+    ----------
+    out : str or path-like
+        The file to write.
+    *inputs : str or path-like
+        The files the run reads.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``out`` is one of ``inputs`` (links resolved) or fails :func:`check_output_target`.
 
     Examples
     --------
@@ -244,6 +306,18 @@ def atomic_output(out, suffix: str | None = None):
     output's suffix (writers pick the format from it). A failure, or SIGINT/SIGTERM under the CLI,
     leaves nothing behind.
 
+    Parameters
+    ----------
+    out : str or path-like
+        The final output path (checked with :func:`check_output_target`).
+    suffix : str, optional
+        Suffix of the temporary file (default that of ``out``).
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary file to write.
+
     Examples
     --------
     >>> import os, tempfile
@@ -335,6 +409,15 @@ def remove_temporaries_of(pids, folders) -> None:
 def is_temporary(path) -> bool:
     """True for files inside this package's temporary folders (and other hidden names).
 
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    bool
+        True when some part of the path is hidden (starts with a dot).
+
     Examples
     --------
     >>> is_temporary("out/.odnn-tmp-1a2b/clean.wav"), is_temporary("out/clean.wav")
@@ -345,6 +428,16 @@ def is_temporary(path) -> bool:
 
 def describe_os_error(exc: OSError) -> str:
     """One line for an operating-system error met while reading or writing a file.
+
+    Parameters
+    ----------
+    exc : OSError
+        The error, with its ``errno`` and ``filename`` where known.
+
+    Returns
+    -------
+    str
+        The message, with what to do where the error says it.
 
     Examples
     --------
@@ -368,6 +461,13 @@ def write_json(out, obj) -> None:
 
     Reports written during a CLI run also get the header of :mod:`odnn_sep.report.schema`
     (``schema_version``, ``odnn_sep_version``, ``command``, ``options``).
+
+    Parameters
+    ----------
+    out : str or path-like
+        The JSON file.
+    obj : object
+        Dicts, lists, numbers, strings, numpy values, paths (see :func:`to_jsonable`).
 
     Examples
     --------
@@ -393,6 +493,25 @@ def write_json(out, obj) -> None:
 def ensure_readable(path, reader, *, what: str):
     """Call ``reader(path)`` and turn library-specific read failures into one FormatError line.
 
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    reader : callable
+        ``reader(path)``, e.g. a library's file loader.
+    what : str
+        What the file is, for the message.
+
+    Returns
+    -------
+    object
+        What ``reader`` returns.
+
+    Raises
+    ------
+    odnn_sep.errors.FormatError
+        When ``reader`` raises OSError, RuntimeError or ValueError.
+
     Examples
     --------
     >>> def reader(path):
@@ -412,6 +531,16 @@ def to_jsonable(v):
     """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types.
 
     Non-finite floats become None, so the JSON is strict (``allow_nan=False`` parsers accept it).
+
+    Parameters
+    ----------
+    v : object
+        A value, possibly nested in dicts, lists, tuples and sets.
+
+    Returns
+    -------
+    object
+        Plain dicts (string keys), lists, numbers, strings, None; complex numbers as [real, imag].
 
     Examples
     --------

@@ -140,6 +140,20 @@ CHECKS = {"denoise": _denoise, "unwatermark": _unwatermark, "mismatch": _mismatc
 def require_optional(module: str, extra: str, what: str) -> None:
     """One clear line when an optional dependency is missing, naming the extra that installs it.
 
+    Parameters
+    ----------
+    module : str
+        The module needed.
+    extra : str
+        The pip extra that installs it.
+    what : str
+        The option that needs it, for the message.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``module`` is not installed.
+
     Examples
     --------
     >>> require_optional("json", "network", "--solver network")      # installed: nothing happens
