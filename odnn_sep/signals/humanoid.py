@@ -144,17 +144,21 @@ class HumanoidDataset:
 
     @property
     def reward_true(self) -> np.ndarray:
+        """The uncorrupted reward of every transition (the physics part)."""
         return self.problem.physics
 
     @property
     def reward_observed(self) -> np.ndarray:
+        """The reward as recorded: true reward + corruption + noise."""
         return self.problem.y
 
     def truth(self) -> dict:
+        """JSON-ready truth: reward coefficients, time step, corruption kind and amplitudes, policy names."""
         return {"theta_true": self.problem.theta_true, "dt": self.dt, "kind": self.kind,
                 "policies": list(self.policy_names), "corruption": self.corruption.__dict__}
 
     def arrays(self) -> dict:
+        """Every per-transition array by name (for ``np.savez``)."""
         return {"step": self.problem.x, "z_before": self.z_before, "z_after": self.z_after, "ctrl_sq": self.ctrl_sq,
                 "reward_observed": self.problem.y, "reward_true": self.problem.physics,
                 "disturbance": self.problem.disturbance_true, "noise": self.problem.noise,
