@@ -233,9 +233,12 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
 
     Examples
     --------
-    >>> ds = power_grid(snapshots=48, random_state=0)          # doctest: +SKIP
-    >>> ds.problems[0].basis.names[:2]                          # doctest: +SKIP
-    ('G[0,1]', 'B[0,1]')
+    >>> import pandapower  # the "grid" extra
+    >>> ds = power_grid(snapshots=48, random_state=0)           # half a day of the IEEE 14-bus system
+    >>> ds.measured, ds.rows, ds.v.shape
+    ((0, 1, 2, 3, 4, 5, 6, 8), (0, 1, 2, 3, 4), (48, 8))
+    >>> ds.problems[0].basis.names[:2], type(ds.problems[0].disturbance).__name__   # bus 0: the slack
+    (('G[0,1]', 'B[0,1]'), 'Orthogonal')
     """
     snapshots, snr_db = check_options(snapshots, snr_db, sigma_v, sigma_delta, btm_share)
     rng = rng_from(random_state)
