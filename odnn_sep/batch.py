@@ -26,6 +26,20 @@ TARGETS = {
 def positive_int(text: str) -> int:
     """argparse type: an integer >= 1.
 
+    Parameters
+    ----------
+    text : str
+        The option's value.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        For a non-integer or a value below 1.
+
     Examples
     --------
     >>> positive_int("4")
@@ -45,6 +59,24 @@ def positive_int(text: str) -> int:
 
 
 def register(sub) -> None:
+    """Add the ``batch`` subcommand to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``odnn-sep`` parser (``parser.add_subparsers()``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> args = parser.parse_args(["batch", "denoise", "in", "-o", "out", "--jobs", "2"])
+    >>> args.target, args.in_dir, args.out_dir, args.jobs, args.recursive
+    ('denoise', 'in', 'out', 2, False)
+    >>> args.func is run
+    True
+    """
     p = sub.add_parser(
         "batch",
         help="process every file of a folder with one command (locally or on Dask)",
@@ -67,7 +99,31 @@ def register(sub) -> None:
 
 
 def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
-    """Run one file through the single-file command; never raises (the batch must go on)."""
+    """Run one file through the single-file command; never raises (the batch must go on).
+
+    Parameters
+    ----------
+    target : str
+        The command, a key of :data:`TARGETS` (``"denoise"``, ``"unwatermark"``, ``"mismatch"``).
+    src, dst : str
+        Input file and its output path.
+    extra : list of str
+        Further options for the command (those after ``--`` on the batch's command line).
+
+    Returns
+    -------
+    dict
+        ``input``, ``output`` (None on failure), ``exit_code``, ``message`` (the last line the command
+        wrote to stderr) and ``seconds``.
+
+    Examples
+    --------
+    >>> r = process_one("mismatch", "in.csv", "out.json", [])    # mismatch needs --model: a usage error
+    >>> r["exit_code"], r["output"], r["message"]
+    (2, None, 'odnn-sep mismatch: error: the following arguments are required: --model')
+    >>> sorted(r)
+    ['exit_code', 'input', 'message', 'output', 'seconds']
+    """
     import contextlib
     import io
     import os
@@ -132,6 +188,24 @@ def plan_outputs(files, in_dir, out_dir, suffix):
     Two inputs that would share an output name (``a.csv`` and ``a.wav`` -> ``a.json``) each keep
     their full name (``a.csv.json``, ``a.wav.json``).
 
+    Parameters
+    ----------
+    files : list of pathlib.Path
+        Input files, under ``in_dir``.
+    in_dir, out_dir : pathlib.Path
+        Input and output folders (the tree below ``in_dir`` is repeated under ``out_dir``).
+    suffix : str or None
+        Output suffix, or None to keep each input's name.
+
+    Returns
+    -------
+    list of pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When an output would land on an input.
+
     Examples
     --------
     >>> from pathlib import Path
@@ -179,6 +253,34 @@ def _check_not_inputs(files, outputs) -> None:
 
 
 def run(args) -> int:
+    """Run ``args.target`` on every matching file of ``args.in_dir``; write the summary JSON.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options of ``odnn-sep batch`` (see :func:`register`), with ``passthrough`` the options after ``--``.
+
+    Returns
+    -------
+    int
+        0 if every file succeeded, 1 if any failed, 130 / 143 when interrupted / terminated.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        Before anything runs: a missing input folder, no matching file, or an output that is an input.
+
+    Examples
+    --------
+    >>> import argparse, tempfile
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     run(parser.parse_args(["batch", "mismatch", d, "-o", d + "/out"]))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: no files matching *.csv,*.wav,*.flac,*.npz in '...'; check the folder or --pattern
+    """
     import os
     import sys
     from pathlib import Path

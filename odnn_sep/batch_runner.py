@@ -58,6 +58,31 @@ def run_jobs(jobs, args, stopped=None):
 
     The pids of local workers stopped by an interrupt are appended to ``stopped``, so the caller can
     sweep temporary files a worker had no time to remove.
+
+    Parameters
+    ----------
+    jobs : list of tuple
+        ``(target, src, dst, extra)`` for :func:`odnn_sep.batch.process_one`, one per file.
+    args : argparse.Namespace
+        Batch options: ``target``, ``quiet``, ``jobs`` (local workers; one runs in this process) and
+        ``dask`` (scheduler address, ``"local"`` or None).
+    stopped : list of int, optional
+        Receives the pids of local workers stopped by an interrupt.
+
+    Returns
+    -------
+    results : list of dict
+        One :func:`~odnn_sep.batch.process_one` record per finished file, in order of completion.
+    interrupt : str or None
+        ``"Interrupted"`` (Ctrl-C), ``"Terminated"`` (SIGTERM) or None when every job ran.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> args = argparse.Namespace(target="mismatch", quiet=True, jobs=1, dask=None)
+    >>> results, interrupt = run_jobs([("mismatch", "a.csv", "a.json", [])], args)
+    >>> interrupt, [(r["input"], r["exit_code"]) for r in results]    # no --model: a usage error
+    (None, [('a.csv', 2)])
     """
     from tqdm import tqdm
 

@@ -44,7 +44,21 @@ MULTI_NUMBER_OPTIONS = ("--tone",)
 
 
 class Terminated(KeyboardInterrupt):
-    """SIGTERM, turned into an exception so that clean-up (``finally``) runs."""
+    """SIGTERM, turned into an exception so that clean-up (``finally``) runs.
+
+    A subclass of :class:`KeyboardInterrupt`, so code that stops on Ctrl-C stops on SIGTERM too;
+    :func:`main` maps it to exit code 143 (130 for Ctrl-C).
+
+    Examples
+    --------
+    >>> issubclass(Terminated, KeyboardInterrupt)
+    True
+    >>> try:
+    ...     raise Terminated()
+    ... except KeyboardInterrupt as exc:
+    ...     type(exc).__name__
+    'Terminated'
+    """
 
 
 def _on_sigterm(signum, frame):
@@ -166,6 +180,34 @@ def _configure_logging(debug: bool, quiet: bool) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the ``odnn-sep`` command line; return its exit code.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name (default ``sys.argv[1:]``). ``--debug`` and ``--quiet``
+        may stand anywhere; what follows a bare ``--`` is passed on by ``batch``.
+
+    Returns
+    -------
+    int
+        0 success, 1 user error (bad input or file, printed as one ``Error:`` line on stderr),
+        130 interrupted, 143 terminated. Usage errors exit through argparse with code 2.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     data = os.path.join(d, "fig2.csv")
+    ...     made = main(["simulate", "figure2", "-o", data, "--quiet"])
+    ...     fitted = main(["separate", data, "--basis", "x**2*sin(5*x)", "--disturbance", "even",
+    ...                    "-o", os.path.join(d, "parts.csv"), "--quiet"])
+    ...     written = sorted(os.listdir(d))
+    >>> made, fitted, written
+    (0, 0, ['fig2.csv', 'parts.csv'])
+    >>> main(["separate", "no-such-file.csv", "--basis", "x", "--quiet"])    # the message goes to stderr
+    1
+    """
     # OpenCV's C++ logger would print its own warnings for every unreadable image; our errors say it
     os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
     parser = build_parser()

@@ -57,12 +57,14 @@ class FormatError(OdnnSepError, ValueError):
     --------
     >>> import os, tempfile
     >>> from odnn_sep.fit.data import load_signal
-    >>> path = os.path.join(tempfile.mkdtemp(), "data.xyz")
-    >>> _ = open(path, "w").write("1 2")
-    >>> try:
-    ...     load_signal(path)
-    ... except FormatError as exc:
-    ...     print("FormatError")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "data.xyz")
+    ...     with open(path, "w") as fh:
+    ...         _ = fh.write("1 2")
+    ...     try:
+    ...         load_signal(path)
+    ...     except FormatError as exc:
+    ...         print("FormatError")
     FormatError
     """
 
@@ -153,6 +155,18 @@ class ConvergenceWarning(UserWarning):
 def check_finite(name: str, a: np.ndarray) -> None:
     """Raise InputError if ``a`` holds NaN or inf, reporting each with a count and first index.
 
+    Parameters
+    ----------
+    name : str
+        The array's name, for the message.
+    a : ndarray
+        Any shape; arrays that are not floating point are accepted as they are.
+
+    Raises
+    ------
+    InputError
+        For NaN (reported first) or infinite values.
+
     Examples
     --------
     >>> import numpy as np
@@ -179,6 +193,25 @@ def check_finite(name: str, a: np.ndarray) -> None:
 def as_float_array(name: str, a, *, ndim: tuple[int, ...] = (1,)) -> np.ndarray:
     """Copy ``a`` to a float64 array, checking dimensionality, emptiness and finiteness.
 
+    Parameters
+    ----------
+    name : str
+        The array's name, for the messages.
+    a : array_like
+        The values.
+    ndim : tuple of int, optional
+        Dimensions accepted.
+
+    Returns
+    -------
+    ndarray
+        A float64 copy.
+
+    Raises
+    ------
+    InputError
+        For non-numeric, wrongly shaped, empty or non-finite input.
+
     Examples
     --------
     >>> as_float_array("t", [1, 2, 3])
@@ -204,6 +237,20 @@ def as_float_array(name: str, a, *, ndim: tuple[int, ...] = (1,)) -> np.ndarray:
 def check_option(name: str, value, allowed) -> None:
     """Raise InputError unless ``value`` is one of ``allowed`` (MNE's ``_check_option``).
 
+    Parameters
+    ----------
+    name : str
+        The option's name.
+    value : object
+        The value given.
+    allowed : iterable
+        The accepted values.
+
+    Raises
+    ------
+    InputError
+        Listing the accepted values.
+
     Examples
     --------
     >>> check_option("solver", "exact", ("exact", "network"))
@@ -227,6 +274,21 @@ def check_type(name: str, value, types, what: str | None = None) -> None:
 
     ``what`` describes the allowed types in the message (default: their class names).
 
+    Parameters
+    ----------
+    name : str
+        The option's name.
+    value : object
+        The value given.
+    types : type or tuple of type
+        Accepted types.
+    what : str, optional
+        Wording of the accepted types in the message.
+
+    Raises
+    ------
+    InputError
+
     Examples
     --------
     >>> check_type("epochs", 3, int)
@@ -245,6 +307,27 @@ def check_type(name: str, value, types, what: str | None = None) -> None:
 def check_number(name: str, value, *, positive: bool = False, allow: tuple[str, ...] = ()):
     """``value`` as a finite float (``> 0`` when ``positive``), or the word of ``allow`` it spells
     (``'auto'``, case and spaces ignored), else InputError. For options such as ``--block-s auto|S``.
+
+    Parameters
+    ----------
+    name : str
+        The option, e.g. ``"--mains"``.
+    value : object
+        The value given (a number or a string).
+    positive : bool, optional
+        Require ``> 0``.
+    allow : tuple of str, optional
+        Words accepted instead of a number (lower case).
+
+    Returns
+    -------
+    float or str
+        The number, or the word of ``allow``.
+
+    Raises
+    ------
+    InputError
+        For anything else, a non-finite number or (with ``positive``) a number ``<= 0``.
 
     Examples
     --------

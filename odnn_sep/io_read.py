@@ -16,6 +16,27 @@ def pick_column(header, column, *, path) -> int:
     ``column`` is a header name or an index counted from 0, where column 0 is the coordinate
     (time or x) and cannot be the value; the default is column 1.
 
+    Parameters
+    ----------
+    header : list of str
+        The CSV's column names.
+    column : str or int or None
+        Header name or index given by the user.
+    path : str or path-like
+        The CSV, for the messages.
+
+    Returns
+    -------
+    int
+        The column index, at least 1.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For an unknown name (with the closest one), the coordinate column or an index out of range.
+    odnn_sep.errors.FormatError
+        For a header with fewer than two columns.
+
     Examples
     --------
     >>> pick_column(["t", "left", "right"], "right", path="rec.csv"), pick_column(["t", "v"], None, path="rec.csv")
@@ -50,6 +71,24 @@ def pick_column(header, column, *, path) -> int:
 def pick_channel(column, n_channels: int, *, path) -> int:
     """Index of an audio channel given as ``--column`` (counted from 0; default 0).
 
+    Parameters
+    ----------
+    column : str or int or None
+        The channel given as ``--column``.
+    n_channels : int
+        Channels in the file.
+    path : str or path-like
+        The audio file, for the messages.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a non-number or a channel out of range.
+
     Examples
     --------
     >>> pick_channel("1", 2, path="rec.wav")
@@ -78,13 +117,36 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
     Shapes and types are read from the array headers first, so a small file that declares a huge
     array, a pickled object, or a damaged archive is refused with one line before any allocation.
 
+    Parameters
+    ----------
+    path : str or path-like
+        The .npz file.
+    keys : tuple of str, optional
+        Arrays to read.
+    max_points : int, optional
+        When given, each array's size is checked against the ``points`` limit.
+
+    Returns
+    -------
+    dict
+        Key -> float64 array.
+
+    Raises
+    ------
+    odnn_sep.errors.FormatError
+        For a damaged archive, a missing or non-numeric array.
+    odnn_sep.errors.InputError
+        For arrays beyond the limits.
+
     Examples
     --------
     >>> import os, tempfile
     >>> import numpy as np
-    >>> path = os.path.join(tempfile.mkdtemp(), "field.npz")
-    >>> np.savez(path, x=np.arange(3.0), y=np.arange(2.0), z=np.zeros((2, 3)))
-    >>> {k: v.shape for k, v in load_npz_arrays(path).items()}
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "field.npz")
+    ...     np.savez(path, x=np.arange(3.0), y=np.arange(2.0), z=np.zeros((2, 3)))
+    ...     arrays = load_npz_arrays(path)
+    >>> {k: v.shape for k, v in arrays.items()}
     {'x': (3,), 'y': (2,), 'z': (2, 3)}
     """
     import zipfile
@@ -135,13 +197,25 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
 def looks_binary(path, nbytes: int = 8192) -> bool:
     """True if the start of ``path`` holds NUL bytes or is not UTF-8 text (not a CSV).
 
+    Parameters
+    ----------
+    path : str or path-like
+    nbytes : int, optional
+        How much of the start to read.
+
+    Returns
+    -------
+    bool
+
     Examples
     --------
     >>> import os, tempfile
-    >>> d = tempfile.mkdtemp()
-    >>> _ = open(os.path.join(d, "a.csv"), "w").write("t,v")
-    >>> _ = open(os.path.join(d, "b.wav"), "wb").write(bytes(16))
-    >>> looks_binary(os.path.join(d, "a.csv")), looks_binary(os.path.join(d, "b.wav"))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     with open(os.path.join(d, "a.csv"), "w") as fh:
+    ...         _ = fh.write("t,v")
+    ...     with open(os.path.join(d, "b.wav"), "wb") as fh:
+    ...         _ = fh.write(bytes(16))
+    ...     looks_binary(os.path.join(d, "a.csv")), looks_binary(os.path.join(d, "b.wav"))
     (False, True)
     """
     with open(path, "rb") as fh:
@@ -158,12 +232,25 @@ def looks_binary(path, nbytes: int = 8192) -> bool:
 def count_lines(path, stop_after: int | None = None) -> int:
     """Number of lines of a text file, counted in binary blocks (cheap even for large files).
 
+    Parameters
+    ----------
+    path : str or path-like
+    stop_after : int, optional
+        Stop counting once more lines than this were seen.
+
+    Returns
+    -------
+    int
+        Newline characters counted.
+
     Examples
     --------
     >>> import os, tempfile
-    >>> path = os.path.join(tempfile.mkdtemp(), "a.csv")
-    >>> _ = open(path, "w").write(chr(10).join(["t,v", "0,1", "1,2", ""]))
-    >>> count_lines(path)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "a.csv")
+    ...     with open(path, "w") as fh:
+    ...         _ = fh.write(chr(10).join(["t,v", "0,1", "1,2", ""]))
+    ...     count_lines(path)
     3
     """
     n = 0

@@ -35,6 +35,18 @@ def _name_max(folder: Path) -> int:
 def check_name_length(p: Path, what: str) -> None:
     """Refuse a file name the file system cannot hold, before any work is done.
 
+    Parameters
+    ----------
+    p : pathlib.Path
+        The file path.
+    what : str
+        What the file is, for the message.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When the name is longer than the folder's file system allows (255 bytes if unknown).
+
     Examples
     --------
     >>> check_name_length(Path("out") / ("x" * 300 + ".wav"), "output")
@@ -52,6 +64,24 @@ def check_name_length(p: Path, what: str) -> None:
 
 def check_input_path(path, *, what: str = "input file") -> Path:
     """Return ``path`` as a Path if it names a non-empty regular file, else raise one clear error.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to read.
+    what : str, optional
+        What the file is, for the messages.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a missing, unopenable, directory or non-regular path, or a name too long.
+    odnn_sep.errors.FormatError
+        For an empty file.
 
     Examples
     --------
@@ -90,10 +120,27 @@ def _same_file(a: Path, b: Path) -> bool:
 def check_output_target(out, what: str = "output") -> Path:
     """Refuse an output that is not a regular file or a new path, or whose folder cannot take it.
 
+    Parameters
+    ----------
+    out : str or path-like
+        The file to write.
+    what : str, optional
+        What the file is, for the messages.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a folder, broken link, device or pipe, a missing or read-only folder, or a name too long.
+
     Examples
     --------
     >>> import tempfile
-    >>> check_output_target(tempfile.mkdtemp())
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     check_output_target(d)
     Traceback (most recent call last):
     ...
     odnn_sep.errors.InputError: output path '...' is a folder; give a file name
@@ -121,13 +168,34 @@ def check_output_target(out, what: str = "output") -> Path:
 def check_output_path(out, *inputs) -> Path:
     """Refuse an output equal to an input, a non-regular output, or a missing/read-only folder.
 
+    Parameters
+    ----------
+    out : str or path-like
+        The file to write.
+    *inputs : str or path-like
+        The files the run reads.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``out`` is one of ``inputs`` (links resolved) or fails :func:`check_output_target`.
+
     Examples
     --------
     >>> import os, tempfile
-    >>> d = tempfile.mkdtemp(); src = os.path.join(d, "in.csv"); _ = open(src, "w").write("x,y")
-    >>> check_output_path(os.path.join(d, "out.csv"), src).name
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     src = os.path.join(d, "in.csv")
+    ...     with open(src, "w") as fh:
+    ...         _ = fh.write("x,y")
+    ...     check_output_path(os.path.join(d, "out.csv"), src).name
     'out.csv'
-    >>> check_output_path(src, src)
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     src = os.path.join(d, "in.csv")
+    ...     check_output_path(src, src)
     Traceback (most recent call last):
     ...
     odnn_sep.errors.InputError: output path '...in.csv' is the input file; choose a different output path
@@ -205,15 +273,16 @@ def output_transaction():
     Examples
     --------
     >>> import os, tempfile
-    >>> d = tempfile.mkdtemp()
-    >>> try:
-    ...     with output_transaction():
-    ...         with atomic_output(os.path.join(d, "a.txt")) as tmp:
-    ...             _ = open(tmp, "w").write("first output")
-    ...         raise RuntimeError("the second output failed")
-    ... except RuntimeError:
-    ...     pass
-    >>> os.listdir(d)                    # all or nothing: the first output was removed again
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     try:
+    ...         with output_transaction():
+    ...             with atomic_output(os.path.join(d, "a.txt")) as tmp:
+    ...                 with open(tmp, "w") as fh:
+    ...                     _ = fh.write("first output")
+    ...             raise RuntimeError("the second output failed")
+    ...     except RuntimeError:
+    ...         pass
+    ...     os.listdir(d)                    # all or nothing: the first output was removed again
     []
     """
     tr = _Transaction()
@@ -237,13 +306,28 @@ def atomic_output(out, suffix: str | None = None):
     output's suffix (writers pick the format from it). A failure, or SIGINT/SIGTERM under the CLI,
     leaves nothing behind.
 
+    Parameters
+    ----------
+    out : str or path-like
+        The final output path (checked with :func:`check_output_target`).
+    suffix : str, optional
+        Suffix of the temporary file (default that of ``out``).
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary file to write.
+
     Examples
     --------
     >>> import os, tempfile
-    >>> out = os.path.join(tempfile.mkdtemp(), "result.txt")
-    >>> with atomic_output(out) as tmp:
-    ...     _ = open(tmp, "w").write("done")
-    >>> open(out).read(), os.listdir(os.path.dirname(out))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     out = os.path.join(d, "result.txt")
+    ...     with atomic_output(out) as tmp:
+    ...         with open(tmp, "w") as fh:
+    ...             _ = fh.write("done")
+    ...     with open(out) as fh:
+    ...         fh.read(), os.listdir(d)
     ('done', ['result.txt'])
     """
     import secrets
@@ -291,6 +375,23 @@ def remove_temporaries_of(pids, folders) -> None:
     A writer killed before its clean-up ran (SIGKILL, or SIGTERM while a long numerical call held
     the interpreter) leaves its ``.odnn-tmp-PID-XXXX`` folder; only the process that stopped it
     knows it is dead, so that process sweeps. Other processes' temporaries are left alone.
+
+    Parameters
+    ----------
+    pids : iterable of int
+        Process ids of the stopped writers.
+    folders : iterable of str or path-like
+        Folders the writers wrote into (not searched recursively; missing ones are skipped).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     for name in (".odnn-tmp-41-a1b2", ".odnn-tmp-42-c3d4", "results"):
+    ...         os.mkdir(os.path.join(d, name))
+    ...     remove_temporaries_of([41], [d])
+    ...     sorted(os.listdir(d))
+    ['.odnn-tmp-42-c3d4', 'results']
     """
     prefixes = tuple(f"{TMP_PREFIX}{int(pid)}-" for pid in pids)
     if not prefixes:
@@ -308,6 +409,15 @@ def remove_temporaries_of(pids, folders) -> None:
 def is_temporary(path) -> bool:
     """True for files inside this package's temporary folders (and other hidden names).
 
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    bool
+        True when some part of the path is hidden (starts with a dot).
+
     Examples
     --------
     >>> is_temporary("out/.odnn-tmp-1a2b/clean.wav"), is_temporary("out/clean.wav")
@@ -318,6 +428,16 @@ def is_temporary(path) -> bool:
 
 def describe_os_error(exc: OSError) -> str:
     """One line for an operating-system error met while reading or writing a file.
+
+    Parameters
+    ----------
+    exc : OSError
+        The error, with its ``errno`` and ``filename`` where known.
+
+    Returns
+    -------
+    str
+        The message, with what to do where the error says it.
 
     Examples
     --------
@@ -342,13 +462,22 @@ def write_json(out, obj) -> None:
     Reports written during a CLI run also get the header of :mod:`odnn_sep.report.schema`
     (``schema_version``, ``odnn_sep_version``, ``command``, ``options``).
 
+    Parameters
+    ----------
+    out : str or path-like
+        The JSON file.
+    obj : object
+        Dicts, lists, numbers, strings, numpy values, paths (see :func:`to_jsonable`).
+
     Examples
     --------
     >>> import json, os, tempfile
     >>> import numpy as np
-    >>> out = os.path.join(tempfile.mkdtemp(), "report.json")
-    >>> write_json(out, {"theta": np.array([1.5, np.nan])})
-    >>> json.load(open(out))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     out = os.path.join(d, "report.json")
+    ...     write_json(out, {"theta": np.array([1.5, np.nan])})
+    ...     with open(out) as fh:
+    ...         json.load(fh)
     {'theta': [1.5, None]}
     """
     import json
@@ -363,6 +492,25 @@ def write_json(out, obj) -> None:
 
 def ensure_readable(path, reader, *, what: str):
     """Call ``reader(path)`` and turn library-specific read failures into one FormatError line.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    reader : callable
+        ``reader(path)``, e.g. a library's file loader.
+    what : str
+        What the file is, for the message.
+
+    Returns
+    -------
+    object
+        What ``reader`` returns.
+
+    Raises
+    ------
+    odnn_sep.errors.FormatError
+        When ``reader`` raises OSError, RuntimeError or ValueError.
 
     Examples
     --------
@@ -383,6 +531,16 @@ def to_jsonable(v):
     """Recursively convert numpy scalars/arrays, tuples and paths to plain JSON types.
 
     Non-finite floats become None, so the JSON is strict (``allow_nan=False`` parsers accept it).
+
+    Parameters
+    ----------
+    v : object
+        A value, possibly nested in dicts, lists, tuples and sets.
+
+    Returns
+    -------
+    object
+        Plain dicts (string keys), lists, numbers, strings, None; complex numbers as [real, imag].
 
     Examples
     --------

@@ -33,6 +33,20 @@ DEFAULTS = {
 def limit(name: str) -> float:
     """The current value of limit ``name`` (its environment variable, else the default).
 
+    Parameters
+    ----------
+    name : str
+        A key of :data:`DEFAULTS` (``"points"``, ``"text_chars"``, ``"harmonics"``, ...).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When the environment variable is set to something that is not a positive number.
+
     Examples
     --------
     >>> import os
@@ -56,6 +70,22 @@ def limit(name: str) -> float:
 def check(name: str, value: float, what: str, *, hint: str = "") -> None:
     """Raise InputError if ``value`` exceeds limit ``name``; the message says how to raise it.
 
+    Parameters
+    ----------
+    name : str
+        The limit (a key of :data:`DEFAULTS`).
+    value : float
+        The size to check.
+    what : str
+        What the size is, for the message (e.g. the option).
+    hint : str, optional
+        How to reduce the size, added to the message.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``value`` is above the limit.
+
     Examples
     --------
     >>> check("harmonics", 12, "--harmonics")
@@ -74,6 +104,18 @@ def check(name: str, value: float, what: str, *, hint: str = "") -> None:
 
 def check_magnitude(name: str, a) -> None:
     """Refuse values so large that sums of squares overflow float64 (a unit or parsing error).
+
+    Parameters
+    ----------
+    name : str
+        The values' name, for the message.
+    a : array_like
+        Values to check (non-numeric arrays are accepted as they are).
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For values beyond the ``magnitude`` limit.
 
     Examples
     --------

@@ -40,7 +40,31 @@ def _text(text) -> None:
 
 
 def image_megapixels(path) -> float | None:
-    """Pixel count of an image from its header, in millions (None if the header cannot be read)."""
+    """Pixel count of an image from its header, in millions (None if the header cannot be read).
+
+    Only the header is read, so a huge image is judged before it is decoded.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The image file.
+
+    Returns
+    -------
+    float or None
+        Width times height divided by 10**6, or None for a missing or unreadable file.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from PIL import Image
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     Image.new("RGB", (2000, 500)).save(os.path.join(d, "a.png"))
+    ...     image_megapixels(os.path.join(d, "a.png"))
+    1.0
+    >>> image_megapixels("no-such-image.png") is None
+    True
+    """
     import warnings
 
     try:
@@ -116,6 +140,20 @@ CHECKS = {"denoise": _denoise, "unwatermark": _unwatermark, "mismatch": _mismatc
 def require_optional(module: str, extra: str, what: str) -> None:
     """One clear line when an optional dependency is missing, naming the extra that installs it.
 
+    Parameters
+    ----------
+    module : str
+        The module needed.
+    extra : str
+        The pip extra that installs it.
+    what : str
+        The option that needs it, for the message.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``module`` is not installed.
+
     Examples
     --------
     >>> require_optional("json", "network", "--solver network")      # installed: nothing happens
@@ -132,7 +170,30 @@ def require_optional(module: str, extra: str, what: str) -> None:
 
 
 def validate(args) -> None:
-    """Run the checks of ``args.command`` (nothing for commands without any)."""
+    """Run the checks of ``args.command`` (nothing for commands without any).
+
+    Also checks that the optional packages the options need (torch for ``--solver network``,
+    distributed for ``--dask``) are installed.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line, with ``command`` naming the subcommand.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        One line naming the first option that is out of range or needs a missing package.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> validate(argparse.Namespace(command="simulate", snr_db=30.0))      # fine: nothing happens
+    >>> validate(argparse.Namespace(command="simulate", snr_db=float("inf")))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --snr-db must be a finite number of dB; got inf
+    """
     if getattr(args, "solver", None) == "network":
         require_optional("torch", "network", "--solver network")
     if getattr(args, "dask", None):

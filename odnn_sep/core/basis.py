@@ -39,6 +39,19 @@ class Term:
 def unique_terms(terms: Iterable[Term]) -> tuple[Term, ...]:
     """``terms`` as a tuple, or InputError if a column name or a nonlinear parameter name repeats.
 
+    Parameters
+    ----------
+    terms : iterable of Term
+
+    Returns
+    -------
+    tuple of Term
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a repeated column or parameter name.
+
     Examples
     --------
     >>> unique_terms([Term(fn=None, names=("a",)), Term(fn=None, names=("a",))])

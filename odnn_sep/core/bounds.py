@@ -87,6 +87,18 @@ def expected_mape(cov: np.ndarray, values: ArrayLike) -> float:
 
     E|N(0, s^2)| = s sqrt(2/pi); averaged over the parameters as MAPE is.
 
+    Parameters
+    ----------
+    cov : (p, p) ndarray
+        Covariance of the estimator (at least as many rows as ``values``).
+    values : array_like
+        True parameter values (non-zero).
+
+    Returns
+    -------
+    float
+        Expected MAPE in percent.
+
     Examples
     --------
     >>> import numpy as np

@@ -14,6 +14,25 @@ def check_xy(x: ArrayLike, y: ArrayLike, weights: ArrayLike | None = None
              ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """Float copies of x (n,) or (n, d), y (n,) and weights (n,) >= 0, with one clear error per problem.
 
+    Parameters
+    ----------
+    x : array_like
+        Coordinates, (n,) or (n, d).
+    y : array_like
+        Data, (n,).
+    weights : array_like, optional
+        Non-negative sample weights, (n,).
+
+    Returns
+    -------
+    x, y, weights : ndarray or None
+        Float copies (``weights`` stays None when not given).
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For non-numeric or non-finite values, wrong shapes, mismatched lengths or negative weights.
+
     Examples
     --------
     >>> x, y, w = check_xy([0, 1, 2], [1.0, 2.0, 3.0])
@@ -35,6 +54,20 @@ def check_xy(x: ArrayLike, y: ArrayLike, weights: ArrayLike | None = None
 
 def check_basis_matrix(F: np.ndarray, names: Sequence[str], n_extra: int = 0) -> None:
     """Reject all-zero or duplicated columns and too few samples for the parameter count.
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns evaluated at the samples.
+    names : sequence of str
+        Column names, for the messages.
+    n_extra : int, optional
+        Further parameters fitted with theta (they also need samples).
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For no columns, a non-finite, all-zero or duplicated column, or too few samples.
 
     Examples
     --------
@@ -78,6 +111,20 @@ def outside_class_report(F: np.ndarray, Fp: np.ndarray) -> tuple[np.ndarray, flo
     """Per-column share of the norm of ``F`` left in ``Fp`` (its part outside the class), and the
     condition number of the normalised ``Fp`` (inf when a column vanishes).
 
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns.
+    Fp : (n, p) ndarray
+        Their parts outside the disturbance class.
+
+    Returns
+    -------
+    frac : (p,) ndarray
+        ``|Fp_j| / |F_j|`` per column.
+    cond : float
+        Condition number of the column-normalised ``Fp``.
+
     Examples
     --------
     >>> import numpy as np
@@ -100,6 +147,27 @@ def check_outside_class(F: np.ndarray, Fp: np.ndarray, names: Sequence[str], cls
     Returns diagnostics: per-column outside fraction and the condition number of the projected basis.
     Raises NotIdentifiableError when a column lies (nearly) inside the class or the projected
     columns are collinear; warns (IdentifiabilityWarning) when identification is weak.
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns.
+    Fp : (n, p) ndarray
+        Their parts outside the disturbance class.
+    names : sequence of str
+        Column names.
+    cls_desc : str
+        The class's description, for the messages.
+
+    Returns
+    -------
+    dict
+        ``outside_fraction`` (name -> share) and ``projected_condition``.
+
+    Raises
+    ------
+    odnn_sep.errors.NotIdentifiableError
+        When a column is (nearly) inside the class or the projected columns are collinear.
 
     Examples
     --------

@@ -34,6 +34,16 @@ def thin_knots(inner: np.ndarray) -> np.ndarray:
     NNLS cost grows ~ cubically with the knot count; beyond MAX_KNOTS we keep an evenly spread
     subset, i.e. an inner approximation of the cone (reported in the diagnostics).
 
+    Parameters
+    ----------
+    inner : ndarray
+        Candidate knots, sorted.
+
+    Returns
+    -------
+    ndarray
+        ``inner`` itself, or an evenly spread subset of ``MAX_KNOTS`` of them.
+
     Examples
     --------
     >>> import numpy as np
@@ -50,6 +60,25 @@ def cone_generators(x: np.ndarray, disturbance: ConeDisturbance) -> tuple[np.nda
 
     ``x`` must be sorted increasing; the class's own ``generators`` (see
     :class:`~odnn_sep.core.base.ConeDisturbance`).
+
+    Parameters
+    ----------
+    x : ndarray
+        Sample coordinates, sorted increasing.
+    disturbance : ConeDisturbance
+        ``Convex()``, ``Monotone()``, ...
+
+    Returns
+    -------
+    A : (n, a) ndarray
+        Free generators (e.g. a constant and a line).
+    H : (n, h) ndarray
+        Non-negative generators.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``disturbance`` is not a cone class.
 
     Examples
     --------
@@ -100,6 +129,21 @@ def _cp(sol, sigma2: float) -> float:
 def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """min ||y - A u - H d||^2 with d >= 0. Returns (u, d, rss).
 
+    Parameters
+    ----------
+    A : (n, a) ndarray
+        Free columns.
+    H : (n, h) ndarray
+        Columns with non-negative coefficients.
+    y : (n,) ndarray
+
+    Returns
+    -------
+    u : (a,) ndarray
+    d : (h,) ndarray
+        Non-negative.
+    rss : float
+
     Examples
     --------
     >>> import numpy as np
@@ -117,6 +161,21 @@ def profile_edge(profile: Callable[[float], float], t0: float, thresh: float, sg
     Doubles the step until the profile exceeds the threshold (looking a little further first, since
     Cp jumps with the active set and one exceedance may be a local bump), then bisects; returns
     ``sgn * inf`` when no edge is found within 60 doublings.
+
+    Parameters
+    ----------
+    profile : callable
+        ``t -> criterion`` (e.g. the profile Cp of one coefficient).
+    t0 : float
+        A point inside the set.
+    thresh : float
+        Largest criterion inside the set.
+    sgn : float
+        -1 for the lower edge, +1 for the upper.
+
+    Returns
+    -------
+    float
 
     Examples
     --------
@@ -160,6 +219,28 @@ def bootstrap_excess(design: tuple[np.ndarray, np.ndarray], fit: tuple[np.ndarra
     ``profile_solvers[j]`` fits the cone model without column j. The replicates use the seed
     ``random_state`` (0 when None, so a fit is reproducible).
 
+    Parameters
+    ----------
+    design : tuple of ndarray
+        ``(A, H)``: free columns (basis first) and cone generators, rows sorted by x.
+    fit : tuple of ndarray
+        ``(u, d)`` of the fit of ``y`` on them.
+    Fs : (n, p) ndarray
+        The basis columns, rows in the same order.
+    theta_ls : (p,) ndarray
+        Least-squares theta (the truth of the replicates).
+    sigma2 : float
+        Noise variance of the replicates.
+    profile_solvers : sequence of callable
+        One cone solver per coefficient, without its column.
+    n_boot : int
+        Number of replicates.
+    random_state : int, optional
+
+    Returns
+    -------
+    (p,) ndarray
+
     Examples
     --------
     >>> import numpy as np
@@ -196,6 +277,24 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDistu
 
     Returns a dict with theta_ls, interval (p, 2), theta_mid, g (at theta_mid), rss_min, sigma2,
     active (number of active cone generators).
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns.
+    x : (n,) ndarray
+        Coordinates (any order).
+    y : (n,) ndarray
+    disturbance : ConeDisturbance
+    level_chi2 : float, optional
+        Lowest threshold, in units of the noise variance (chi-square(1) 95 % quantile).
+    n_boot : int, optional
+        Bootstrap replicates calibrating the threshold (0: chi-square only).
+    random_state : int, optional
+
+    Returns
+    -------
+    dict
 
     Examples
     --------

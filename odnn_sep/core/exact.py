@@ -33,6 +33,24 @@ def fit_linear_class(problem: Problem, projector: BaseProjector | None = None) -
     exactly orthogonal). With a subspace class, g is the class's part of ``y - F theta`` and the
     degrees of freedom also lose the class's rank.
 
+    Parameters
+    ----------
+    problem : Problem
+        Basis matrix, data, weights, names and the disturbance class.
+    projector : BaseProjector, optional
+        Projector onto the class's subspace; None for explicit orthogonality.
+
+    Returns
+    -------
+    dict
+        ``theta``, ``stderr``, ``interval`` (p, 2), ``disturbance`` (n,), ``diagnostics`` (noise level,
+        degrees of freedom, class rank, outside-class report) and ``cov`` (p, p).
+
+    Raises
+    ------
+    odnn_sep.errors.NotIdentifiableError
+        When a basis column lies (nearly) inside the class.
+
     Examples
     --------
     >>> import numpy as np
@@ -72,6 +90,18 @@ def fit_cone_class(problem: Problem) -> dict:
     """Identified intervals and their centre for a cone class (see :mod:`odnn_sep.core.cone`).
 
     Warns (IdentifiabilityWarning) when an interval is wider than 5 % of its centre.
+
+    Parameters
+    ----------
+    problem : Problem
+        With a cone class (``Convex`` or ``Monotone``) as its disturbance.
+
+    Returns
+    -------
+    dict
+        ``theta`` (interval centres), ``stderr`` (half-widths / 1.96), ``interval`` (p, 2),
+        ``disturbance`` (n,) and ``diagnostics`` (least-squares theta, minimal RSS, noise level, cone
+        generators, relative widths).
 
     Examples
     --------

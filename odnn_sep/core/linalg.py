@@ -199,6 +199,16 @@ def factor_gram(G: ArrayLike) -> GramFactor:
     the audio block solver's acceptance tests (``rcond >= 1 / 1e8`` in float64, ``>= 1e-3`` for
     float32 sums) are comparisons of :attr:`GramFactor.rcond`.
 
+    Parameters
+    ----------
+    G : array_like, shape (p, p)
+        Hermitian positive semi-definite Gram matrix (real or complex).
+
+    Returns
+    -------
+    GramFactor
+        With ``solve`` and the reciprocal pivot ratio ``rcond``.
+
     Examples
     --------
     >>> import numpy as np

@@ -27,6 +27,24 @@ def fit_network(F: np.ndarray, x: np.ndarray, y: np.ndarray, dist: Disturbance, 
     """Train the class's network jointly with theta (keywords: weights, random_state, epochs, lr, hidden,
     depth, lbfgs_iter, progress). Returns the solver dict without standard errors (see ``NetworkSolver``).
 
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns.
+    x, y : ndarray
+        Coordinates and data.
+    dist : Disturbance
+        The class whose network represents g.
+    projector : object
+        The class's projector, or None.
+    **kw
+        Training options (see above).
+
+    Returns
+    -------
+    dict
+        ``theta``, ``disturbance``, ``loss_history``, ``converged`` and further training diagnostics.
+
     Examples
     --------
     >>> import numpy as np

@@ -30,6 +30,26 @@ def phi_starts(basis: Basis, cost: Callable[[np.ndarray], float] | None, *, n_st
     """Starting points for the phi search: phi0, then the 3 best grid points (when the basis has a
     grid) or ``n_starts - 1`` uniform draws inside finite bounds.
 
+    Parameters
+    ----------
+    basis : ParametricBasis
+        With ``phi0``, ``bounds`` and optionally a ``grid``.
+    cost : callable or None
+        ``phi -> cost``, used to rank the grid points (needed only with a grid).
+    n_starts : int
+        Number of starts without a grid.
+    random_state : int, optional
+        Seed of the uniform draws (0 when None).
+
+    Returns
+    -------
+    list of ndarray
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a grid of more than ``MAX_GRID_POINTS`` points.
+
     Examples
     --------
     >>> import numpy as np
@@ -63,6 +83,27 @@ def fit_phi(basis: Basis, dist: Disturbance, x: np.ndarray, y: np.ndarray, weigh
 
     Standard errors come from the Jacobian of the reduced residual (point-identified classes only;
     the projected-out theta is accounted for by variable projection). Warns when phi ends on a bound.
+
+    Parameters
+    ----------
+    basis : ParametricBasis
+    dist : Disturbance
+        The disturbance class.
+    x, y : ndarray
+        Coordinates and data.
+    weights : ndarray or None
+    prepared : object
+        The class prepared for ``x`` (its projector), or None.
+    n_starts : int
+        Starts of the local search (see :func:`phi_starts`).
+    random_state : int, optional
+
+    Returns
+    -------
+    phi : dict
+        Name -> value.
+    info : dict
+        ``stderr`` of phi and ``diagnostics``.
 
     Examples
     --------

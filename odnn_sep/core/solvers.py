@@ -148,6 +148,20 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
     ``factory`` is a Solver subclass or any callable returning a :class:`Solver`; it receives the
     separator options it names among ``epochs`` and ``lr``. The built-in names cannot be replaced.
 
+    Parameters
+    ----------
+    name : str
+        The name ``Separator(solver=...)`` will accept.
+    factory : callable
+        A :class:`Solver` subclass, or a callable returning a Solver.
+    replace : bool, optional
+        Allow replacing a solver registered earlier under ``name`` (never a built-in).
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a name taken (without ``replace``) or built in, or a factory that is not callable.
+
     Examples
     --------
     >>> import numpy as np
@@ -177,6 +191,16 @@ def register_solver(name: str, factory: Callable[..., Solver], *, replace: bool 
 def unregister_solver(name: str) -> None:
     """Remove a solver added with :func:`register_solver` (the built-in ``exact`` and ``network`` stay).
 
+    Parameters
+    ----------
+    name : str
+        A name added with :func:`register_solver`.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a built-in or unknown name.
+
     Examples
     --------
     >>> register_solver("scratch", ExactSolver)
@@ -204,6 +228,22 @@ def registered_solvers() -> tuple[str, ...]:
 def get_solver(spec: str | Solver, **options: Any) -> Solver:
     """The solver for ``spec``: a :class:`Solver` instance is returned as is; a name is built from the
     registry with the ``options`` its factory accepts (``epochs``, ``lr`` for the network solver).
+
+    Parameters
+    ----------
+    spec : str or Solver
+        A registered name (``"exact"``, ``"network"``, ...) or a ready solver.
+    **options
+        Separator options (``epochs``, ``lr``); each is passed only if the factory accepts it.
+
+    Returns
+    -------
+    Solver
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For an unknown name, or a factory that does not return a Solver.
 
     Examples
     --------

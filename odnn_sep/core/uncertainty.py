@@ -20,6 +20,19 @@ Z95 = 1.959963984540054
 def noise_variance(resid: ArrayLike, dof: int, weights: ArrayLike | None = None) -> float:
     """``sum(w r^2) / dof`` (``r @ r / dof`` without weights); NaN when ``dof <= 0``.
 
+    Parameters
+    ----------
+    resid : array_like
+        Residuals, (n,).
+    dof : int
+        Residual degrees of freedom.
+    weights : array_like, optional
+        Sample weights, (n,).
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> noise_variance([1.0, -1.0, 2.0], 2)
@@ -35,6 +48,18 @@ def noise_variance(resid: ArrayLike, dof: int, weights: ArrayLike | None = None)
 
 def stderr_from_cov(cov_unscaled: ArrayLike, sigma2: float) -> np.ndarray:
     """Standard errors ``sqrt(diag(cov_unscaled) * sigma2)`` (negative rounding clipped to 0).
+
+    Parameters
+    ----------
+    cov_unscaled : array_like
+        ``(F^T F)^-1``-type covariance without the noise variance, (p, p).
+    sigma2 : float
+        Noise variance.
+
+    Returns
+    -------
+    ndarray
+        (p,) standard errors.
 
     Examples
     --------
@@ -88,6 +113,25 @@ def standard_errors(J: ArrayLike, resid: ArrayLike | None = None, dof: int | Non
 def intervals(theta: ArrayLike, stderr: ArrayLike, level: float = 0.95) -> np.ndarray:
     """Normal-approximation confidence intervals ``theta -+ z stderr``, shape (p, 2).
 
+    Parameters
+    ----------
+    theta : array_like
+        Estimates, (p,).
+    stderr : array_like
+        Their standard errors, (p,).
+    level : float, optional
+        Coverage, strictly between 0 and 1.
+
+    Returns
+    -------
+    ndarray
+        (p, 2) lower and upper bounds.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a level outside (0, 1).
+
     Examples
     --------
     >>> intervals([1.0], [0.5]).round(4).tolist()
@@ -107,7 +151,29 @@ def intervals(theta: ArrayLike, stderr: ArrayLike, level: float = 0.95) -> np.nd
 
 
 class SandwichErrors(NamedTuple):
-    """Result of :func:`sandwich_standard_errors`."""
+    """Result of :func:`sandwich_standard_errors`.
+
+    Attributes
+    ----------
+    stderr : ndarray, shape (q,)
+        The larger of the classical and the block-sandwich standard error, per parameter.
+    classical : ndarray, shape (q,)
+        Gauss-Newton ``sqrt(diag(s^2 (J^T J)^-1))``.
+    block : int
+        Samples per block.
+    n_blocks : int
+        Number of blocks (the sandwich's own degrees of freedom are ``n_blocks - 1``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = np.repeat([1.0, -1.0], 4)                  # residual correlated in runs of four
+    >>> out = sandwich_standard_errors(np.c_[np.ones(8)], r, 7, block=4)
+    >>> out.block, out.n_blocks
+    (4, 2)
+    >>> bool((out.stderr >= out.classical).all())
+    True
+    """
 
     stderr: np.ndarray     # the larger of the classical and the block-sandwich standard error
     classical: np.ndarray  # Gauss-Newton ``sqrt(diag(s^2 (J^T J)^-1))``
@@ -123,6 +189,18 @@ def block_length(resid: ArrayLike, *, floor_exponent: float = 1 / 3) -> int:
     (clipped to [0, 0.97]); at most ``n // 4``, so there are always four blocks or more. Correlated
     noise or leftover structure (large ``rho``) gives longer blocks, so that what is correlated
     within a block counts fully.
+
+    Parameters
+    ----------
+    resid : array_like
+        Residuals in time order, (n,).
+    floor_exponent : float, optional
+        Exponent of the smallest block length ``2 n**floor_exponent``.
+
+    Returns
+    -------
+    int
+        Between 1 and ``n // 4``.
 
     Examples
     --------

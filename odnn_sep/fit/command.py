@@ -3,6 +3,24 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
+    """Add the ``separate`` subcommand to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``odnn-sep`` parser (``parser.add_subparsers()``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> args = parser.parse_args(["separate", "data.csv", "--basis", "sin(5*x)", "--disturbance", "even"])
+    >>> args.basis, args.disturbance, args.solver
+    (['sin(5*x)'], 'even', 'exact')
+    >>> args.func is run
+    True
+    """
     p = sub.add_parser(
         "separate",
         help="fit known physics terms to a 1-D signal (CSV) or 2-D field (.npz) with a constrained disturbance",
@@ -34,6 +52,42 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    """Fit the ``--basis`` terms to ``args.data``; print the summary and write the requested outputs.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options of ``odnn-sep separate`` (see :func:`register`).
+
+    Returns
+    -------
+    int
+        The exit code, 0.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        On inconsistent options or an unreadable data file.
+
+    Examples
+    --------
+    >>> import argparse, os, tempfile
+    >>> import numpy as np
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     x = np.linspace(-1, 1, 41)
+    ...     np.savetxt(os.path.join(d, "data.csv"), np.c_[x, 2 * np.sin(5 * x) + x**2], delimiter=",",
+    ...                header="x,y", comments="")
+    ...     args = parser.parse_args(["separate", os.path.join(d, "data.csv"), "--basis", "sin(5*x)",
+    ...                               "--disturbance", "even", "--quiet", "-o", os.path.join(d, "parts.csv")])
+    ...     code = run(args)
+    ...     parts = np.genfromtxt(os.path.join(d, "parts.csv"), delimiter=",", names=True)
+    >>> code, parts.dtype.names[:3], len(parts)
+    (0, ('x', 'y', 'physics'), 41)
+    >>> bool(np.allclose(parts["physics"], 2 * np.sin(5 * x), atol=1e-8))  # the even x**2 is set apart
+    True
+    """
     import sys
     import warnings
 

@@ -37,14 +37,42 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``). If ``value_name``
     is a list, the value column's name is appended to it (for labels).
 
+    Parameters
+    ----------
+    path : str or path-like
+        A CSV or .npz file.
+    column : str or int, optional
+        Value column of a CSV: header name or index (0 is x); default 1.
+    value_name : list, optional
+        Receives the value column's name.
+
+    Returns
+    -------
+    coords : ndarray
+        (n,) x values of a CSV, or (ny*nx, 2) points of a field.
+    values : (n,) ndarray
+    coord_names : tuple of str
+        ``(x_name,)`` or ``("x", "y")``.
+    grid_shape : tuple of int or None
+        ``(ny, nx)`` of a field, None for a CSV.
+
+    Raises
+    ------
+    odnn_sep.errors.FormatError
+        When the file is not a readable CSV or .npz.
+    odnn_sep.errors.InputError
+        For missing or non-finite values, or sizes above the limits.
+
     Examples
     --------
     >>> import os, tempfile
-    >>> path = os.path.join(tempfile.mkdtemp(), "signal.csv")
-    >>> _ = open(path, "w").write(chr(10).join(["t,v", "0,1", "1,3", "2,5"]))
-    >>> coords, values, names, shape = load_signal(path)
-    >>> values.tolist(), names
-    ([1.0, 3.0, 5.0], ('t',))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = os.path.join(d, "signal.csv")
+    ...     with open(path, "w") as fh:
+    ...         _ = fh.write(chr(10).join(["t,v", "0,1", "1,3", "2,5"]))
+    ...     coords, values, names, shape = load_signal(path)
+    >>> coords.tolist(), values.tolist(), names, shape
+    ([0.0, 1.0, 2.0], [1.0, 3.0, 5.0], ('t',), None)
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
@@ -90,15 +118,29 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
 def write_components(out, x, y, res) -> None:
     """CSV with coordinates, data, physics, disturbance and residual columns (atomic).
 
+    Parameters
+    ----------
+    out : str or path-like
+        Output CSV path (its folder must exist).
+    x : ndarray
+        (n,) coordinates or (n, d) points.
+    y : (n,) ndarray
+        The data.
+    res : odnn_sep.core.result.Result
+        The fit, with ``physics``, ``disturbance`` and ``residual``.
+
     Examples
     --------
     >>> import os, tempfile
     >>> from odnn_sep.core import Basis, Even, Separator
     >>> x = np.linspace(-1, 1, 5); y = 2 * x + x**2
     >>> res = Separator(Basis([lambda x: x], names=["a"]), disturbance=Even()).fit(x, y).result_
-    >>> out = os.path.join(tempfile.mkdtemp(), "parts.csv")
-    >>> write_components(out, x, y, res)
-    >>> open(out).readline().strip()
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     out = os.path.join(d, "parts.csv")
+    ...     write_components(out, x, y, res)
+    ...     with open(out) as fh:
+    ...         header = fh.readline().strip()
+    >>> header
     'x,y,physics,disturbance,residual'
     """
     from odnn_sep.io_utils import atomic_output, check_output_path

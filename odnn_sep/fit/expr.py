@@ -169,6 +169,23 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
     ``MAX_DEPTH``, ``MAX_EXPONENT`` and ``MAX_LITERAL``; anything else is an InputError.
     A column that is not finite everywhere is an InputError naming the first bad point.
 
+    Parameters
+    ----------
+    expr : str
+        The expression, e.g. ``"x**2*sin(5*x)"``.
+    coords : tuple of str
+        Names of the coordinates it may use, in column order of X.
+
+    Returns
+    -------
+    callable
+        ``f(X) -> (n,) ndarray``.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a refused or oversized expression (at once) or non-finite values (when called).
+
     Examples
     --------
     >>> f = compile_expression("sin(2*pi*x) + where(x > 0.5, 1, 0)", ("x",))
@@ -208,6 +225,24 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
 def basis_from_expressions(exprs, coords=("x",), names=None):
     """Build a core Basis from expression strings.
 
+    Parameters
+    ----------
+    exprs : iterable of str
+        One expression per physics term (see :func:`compile_expression`).
+    coords : tuple of str, optional
+        Coordinate names.
+    names : list of str, optional
+        Term names (default the expressions).
+
+    Returns
+    -------
+    odnn_sep.core.Basis
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For no expression or a refused one.
+
     Examples
     --------
     >>> import numpy as np
@@ -226,6 +261,23 @@ def basis_from_expressions(exprs, coords=("x",), names=None):
 def parse_disturbance(spec: str, ndim: int = 1):
     """The disturbance class named by ``spec``: 'orthogonal' | 'even[:c]' | 'even:cx,cy' | 'periodic:P' |
     'band:LO:HI' | 'convex' | 'monotone[:dec]' (``ndim``: dimension of the coordinates, for ``even``).
+
+    Parameters
+    ----------
+    spec : str
+        The class, as given to ``--disturbance``.
+    ndim : int, optional
+        Dimension of the coordinates.
+
+    Returns
+    -------
+    odnn_sep.core.base.Disturbance
+        ``Orthogonal``, ``Even``, ``Periodic``, ``Band``, ``Convex`` or ``Monotone``.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For an unknown or malformed ``spec`` (with the closest valid kind).
 
     Examples
     --------

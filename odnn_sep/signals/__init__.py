@@ -49,6 +49,23 @@ def __getattr__(name):
 def make_dataset(name: str, **kwargs):
     """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options.
 
+    Parameters
+    ----------
+    name : str
+        The dataset, e.g. ``"figure2"``, ``"explicit_1d"`` or ``"power_grid"``.
+    **kwargs
+        Options of its generator (``random_state``, ``snr_db``, ``n``, ...).
+
+    Returns
+    -------
+    Dataset or GridDataset or HumanoidDataset
+        Data, basis, disturbance class and the truth.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For an unknown ``name``.
+
     Examples
     --------
     >>> ds = make_dataset("explicit_1d", random_state=3)

@@ -13,6 +13,24 @@ SEPARATE_HINTS = {
 
 
 def register(sub) -> None:
+    """Add the ``simulate`` subcommand to ``sub``.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The sub-parsers of the ``odnn-sep`` parser (``parser.add_subparsers()``).
+
+    Examples
+    --------
+    >>> import argparse
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> args = parser.parse_args(["simulate", "figure2", "-o", "fig2.csv", "--seed", "3"])
+    >>> args.dataset, args.output, args.seed, args.snr_db
+    ('figure2', 'fig2.csv', 3, 30.0)
+    >>> args.func is run
+    True
+    """
     from odnn_sep.signals import NAMES, SYSTEMS
 
     NAMES = NAMES + SYSTEMS  # noqa: N806
@@ -36,6 +54,44 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    """Write dataset ``args.dataset`` to ``args.output`` (and its truth to ``args.truth``); print the truth.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options of ``odnn-sep simulate`` (see :func:`register`); ``quiet`` silences the printout.
+
+    Returns
+    -------
+    int
+        The exit code, 0.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        On a negative seed, an output of the wrong kind (.csv for 1-D cases, .npz for 2-D and
+        engineering systems) or a ``--truth`` path equal to the output.
+
+    Examples
+    --------
+    >>> import argparse, json, os, tempfile
+    >>> parser = argparse.ArgumentParser(prog="odnn-sep")
+    >>> register(parser.add_subparsers(dest="command"))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     args = parser.parse_args(["simulate", "figure2", "-o", os.path.join(d, "fig2.csv"),
+    ...                               "--truth", os.path.join(d, "truth.json")])
+    ...     code = run(args)
+    ...     with open(os.path.join(d, "fig2.csv")) as fh:
+    ...         header = fh.readline().strip()
+    ...     with open(os.path.join(d, "truth.json")) as fh:
+    ...         truth = json.load(fh)
+    ...
+    Figure 2: y = theta x^2 sin 5x + cos x; class Even(0)
+    true parameters: theta = 0.727721
+    try: odnn-sep separate ...fig2.csv --basis 'x**2*sin(5*x)' --disturbance even
+    >>> code, header, truth["dataset"], truth["seed"]
+    (0, 'x,y,physics,disturbance,noise', 'figure2', 0)
+    """
     from pathlib import Path
 
     import numpy as np

@@ -93,6 +93,20 @@ class Dataset:
 def rng_from(random_state) -> np.random.Generator:
     """A numpy Generator from ``None``, a non-negative int or a Generator (returned as is).
 
+    Parameters
+    ----------
+    random_state : None, int or numpy.random.Generator
+        Seed (None: fresh entropy) or a ready generator.
+
+    Returns
+    -------
+    numpy.random.Generator
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a negative or non-integer seed.
+
     Examples
     --------
     >>> float(rng_from(0).uniform()) == float(np.random.default_rng(0).uniform())
@@ -107,6 +121,24 @@ def rng_from(random_state) -> np.random.Generator:
 
 def check_n(n, minimum: int, name: str = "n") -> int:
     """``n`` as an int, or InputError unless it is an integer ``>= minimum``.
+
+    Parameters
+    ----------
+    n : int
+        The value to check.
+    minimum : int
+        Smallest value accepted.
+    name : str, optional
+        Option name, for the message.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a non-integer (booleans included) or a value below ``minimum``.
 
     Examples
     --------
@@ -125,6 +157,20 @@ def check_n(n, minimum: int, name: str = "n") -> int:
 def check_snr(snr_db) -> float:
     """``snr_db`` as a float (``inf`` allowed: no noise), or InputError.
 
+    Parameters
+    ----------
+    snr_db : float or str
+        Signal-to-noise ratio in dB.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a non-number, NaN or ``-inf``.
+
     Examples
     --------
     >>> check_snr("30"), check_snr(float("inf"))
@@ -142,6 +188,18 @@ def check_snr(snr_db) -> float:
 def noise_sigma(physics: np.ndarray, snr_db: float) -> float:
     """Standard deviation of the white noise at ``snr_db`` relative to the mean power of ``physics``.
 
+    Parameters
+    ----------
+    physics : ndarray
+        The clean signal.
+    snr_db : float
+        Signal-to-noise ratio in dB.
+
+    Returns
+    -------
+    float
+        ``sqrt(mean(physics**2) / 10**(snr_db / 10))``.
+
     Examples
     --------
     >>> noise_sigma(np.ones(10), 20.0)          # 20 dB below unit power
@@ -152,6 +210,19 @@ def noise_sigma(physics: np.ndarray, snr_db: float) -> float:
 
 def add_noise(physics: np.ndarray, snr_db: float, rng: np.random.Generator) -> np.ndarray:
     """White Gaussian noise at ``snr_db`` relative to the mean power of ``physics``.
+
+    Parameters
+    ----------
+    physics : ndarray
+        The clean signal.
+    snr_db : float
+        Signal-to-noise ratio in dB (``inf``: zeros).
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    ndarray
+        Noise of the shape of ``physics``.
 
     Examples
     --------
@@ -165,6 +236,27 @@ def add_noise(physics: np.ndarray, snr_db: float, rng: np.random.Generator) -> n
 
 def pick(rng: np.random.Generator, theta, name: str, lo: float, hi: float, signed: bool = False) -> float:
     """Value given by the caller in ``theta`` or drawn uniformly from [lo, hi] (random sign if asked).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    theta : dict or None
+        Values given by the caller.
+    name : str
+        The parameter.
+    lo, hi : float
+        Range of the uniform draw.
+    signed : bool, optional
+        Give the drawn value a random sign.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a given value that is not finite.
 
     Examples
     --------
@@ -182,6 +274,18 @@ def pick(rng: np.random.Generator, theta, name: str, lo: float, hi: float, signe
 
 def check_theta(theta, allowed) -> None:
     """InputError unless ``theta`` is None or a dict whose keys are among ``allowed``.
+
+    Parameters
+    ----------
+    theta : dict or None
+        Parameter name -> value.
+    allowed : iterable of str
+        The generator's parameter names.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a non-dict or unknown names.
 
     Examples
     --------
@@ -205,6 +309,34 @@ def make(name, x, basis, disturbance, theta_true, physics, g, snr_db, rng, descr
 
     Why long: one argument per field of the record it fills (Dataset has 14 fields); grouping them
     would only rename the fields.
+
+    Parameters
+    ----------
+    name : str
+        Dataset name.
+    x : ndarray
+        Coordinates, (n,) or (n, d).
+    basis : Basis
+    disturbance : Disturbance
+        The class the true disturbance belongs to.
+    theta_true : dict
+        True parameters.
+    physics, g : (n,) ndarray
+        The physics part and the disturbance.
+    snr_db : float
+        Noise level relative to ``physics``.
+    rng : numpy.random.Generator
+    description : str
+    targets : tuple of str, optional
+        Parameters scored (default: the basis names).
+    identified : {"point", "set"}, optional
+    extras : dict, optional
+    noise : ndarray, optional
+        Noise to use instead of drawing it.
+
+    Returns
+    -------
+    Dataset
 
     Examples
     --------

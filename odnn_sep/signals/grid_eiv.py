@@ -24,7 +24,36 @@ from odnn_sep.core.linalg import solve
 def column_jacobian(v: np.ndarray, delta: np.ndarray, i: int, others) -> np.ndarray:
     """(n, 2 len(others), m) derivatives of bus i's columns (G, B per candidate, as
     :func:`power_grid.row_columns`) with respect to m = 2 + 2 len(others) measured quantities
-    (v_i, delta_i, then v_k, delta_k per candidate). ``v``, ``delta`` are (n, nb) in bus positions."""
+    (v_i, delta_i, then v_k, delta_k per candidate). ``v``, ``delta`` are (n, nb) in bus positions.
+
+    Parameters
+    ----------
+    v, delta : (n, nb) ndarray
+        Measured voltage magnitudes (p.u.) and angles (rad).
+    i : int
+        The bus of the equation.
+    others : sequence of int
+        Candidate neighbours, in column order.
+
+    Returns
+    -------
+    (n, 2 len(others), 2 + 2 len(others)) ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.signals.power_grid import row_columns
+    >>> rng = np.random.default_rng(0)
+    >>> v, delta = 1 + 0.01 * rng.standard_normal((50, 3)), 0.01 * rng.standard_normal((50, 3))
+    >>> F, names = row_columns(v, delta, 1, [0, 2])              # bus 1, candidates 0 and 2
+    >>> J = column_jacobian(v, delta, 1, [0, 2])
+    >>> J.shape
+    (50, 4, 6)
+    >>> v2 = v.copy()
+    >>> v2[:, 0] += 1e-7                                             # nudge v_0, the first candidate
+    >>> bool(np.allclose((row_columns(v2, delta, 1, [0, 2])[0] - F) / 1e-7, J[:, :, 2], atol=1e-5))
+    True
+    """
     n = v.shape[0]
     J = np.zeros((n, 2 * len(others), 2 + 2 * len(others)))
     vi, di = v[:, i], delta[:, i]
@@ -60,6 +89,21 @@ def regressor_noise_bias(F: np.ndarray, x: np.ndarray, J: np.ndarray, sigma_v: f
     -------
     (p,) ndarray
         ``E[theta_hat] - theta`` to first order in the noise variances.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.signals.power_grid import row_columns
+    >>> rng = np.random.default_rng(0)
+    >>> v, delta = 1 + 0.01 * rng.standard_normal((50, 3)), 0.01 * rng.standard_normal((50, 3))
+    >>> F, names = row_columns(v, delta, 1, [0, 2])              # bus 1, candidates 0 and 2
+    >>> J = column_jacobian(v, delta, 1, [0, 2])
+    >>> theta = np.array([-4.0, 12.0, -5.0, 15.0])
+    >>> b = regressor_noise_bias(F, v[:, 1], J, 1e-3, 1e-3, theta, free_part=False)
+    >>> b.round(3).tolist()
+    [0.035, -0.089, 0.053, -0.155]
+    >>> bool((np.sign(b) == -np.sign(theta)).all())                # attenuated towards zero
+    True
     """
     n, p, m = J.shape
     var = np.tile([sigma_v**2, sigma_delta**2], m // 2)
@@ -84,6 +128,30 @@ def corrected_normal_equations(gram: np.ndarray, S: np.ndarray, rhs: np.ndarray,
 
     None when the noise makes up more than ``max_share`` of the column spread in some direction
     (largest generalised eigenvalue of ``S`` against ``A^T A``): the correction would then be unstable.
+
+    Parameters
+    ----------
+    gram : (p, p) ndarray
+        ``A^T A`` of the measured columns.
+    S : (p, p) ndarray
+        Expected contribution of the regressor noise to ``gram``.
+    rhs : (p,) ndarray
+        Right-hand side, ``A^T y``.
+    max_share : float, optional
+        Largest share of the column spread the noise may make up.
+
+    Returns
+    -------
+    (p,) ndarray or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> gram = np.array([[4.0, 1.0], [1.0, 2.0]])
+    >>> corrected_normal_equations(gram, 0.1 * np.eye(2), np.ones(2)).round(4).tolist()
+    [0.1404, 0.4524]
+    >>> corrected_normal_equations(gram, 3 * np.eye(2), np.ones(2)) is None     # noise dominates
+    True
     """
     from scipy.linalg import eigh
 

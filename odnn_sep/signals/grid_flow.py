@@ -32,7 +32,34 @@ def _pandapower():
 
 
 def load_case(case: str):
-    """The pandapower network of ``case`` (one of :data:`CASES`), solved once at nominal load."""
+    """The pandapower network of ``case`` (one of :data:`CASES`), solved once at nominal load.
+
+    Parameters
+    ----------
+    case : str
+        ``"case14"`` or ``"case33bw"``.
+
+    Returns
+    -------
+    pandapowerNet
+        With the power-flow results (and the admittance matrix) of the nominal load.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a case not in :data:`CASES` or when pandapower (the ``grid`` extra) is not installed.
+
+    Examples
+    --------
+    >>> import pandapower  # the "grid" extra
+    >>> net = load_case("case33bw")
+    >>> len(net.bus), bool(net.converged)
+    (33, True)
+    >>> load_case("case9")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: case 'case9' is not available; choose one of case14, case33bw
+    """
     if case not in CASES:
         raise InputError(f"case {case!r} is not available; choose one of {', '.join(CASES)}")
     pp, pn = _pandapower()
@@ -44,7 +71,38 @@ def load_case(case: str):
 
 
 def admittance(net) -> tuple[np.ndarray, np.ndarray]:
-    """True bus admittance matrix (G, B) in ``net.bus`` order, from pandapower's own Ybus."""
+    """True bus admittance matrix (G, B) in ``net.bus`` order, from pandapower's own Ybus.
+
+    Parameters
+    ----------
+    net : pandapowerNet
+        A network on which ``pandapower.runpp`` has run (:func:`load_case`).
+
+    Returns
+    -------
+    G, B : (nb, nb) ndarray
+        Conductance and susceptance matrices, p.u. on ``net.sn_mva``.
+
+    Examples
+    --------
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+
+    >>> import numpy as np
+    >>> import pandapower as pp
+    >>> net = pp.create_empty_network(sn_mva=1.0)
+    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    >>> _ = pp.create_ext_grid(net, buses[0])
+    >>> for f, t in ((0, 1), (1, 2)):
+    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    >>> pp.runpp(net, numba=False)
+    >>> G, B = admittance(net)
+    >>> G.round(3).tolist()
+    [[195.458, -195.458, 0.0], [-195.458, 390.916, -195.458], [0.0, -195.458, 195.458]]
+    >>> round(float(B[0, 1]), 3)
+    156.366
+    """
     Y = net._ppc["internal"]["Ybus"].toarray()
     pos = net._pd2ppc_lookups["bus"][net.bus.index.values]
     Y = Y[np.ix_(pos, pos)]
@@ -52,7 +110,27 @@ def admittance(net) -> tuple[np.ndarray, np.ndarray]:
 
 
 def adjacency(G: np.ndarray, B: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-    """Boolean (nb, nb) matrix of the lines (non-zero off-diagonal admittance)."""
+    """Boolean (nb, nb) matrix of the lines (non-zero off-diagonal admittance).
+
+    Parameters
+    ----------
+    G, B : (nb, nb) ndarray
+        Conductance and susceptance matrices.
+    tol : float, optional
+        Admittances at most this large count as no line.
+
+    Returns
+    -------
+    (nb, nb) bool ndarray
+        Symmetric, False on the diagonal.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])
+    >>> adjacency(G, -3 * G).astype(int).tolist()
+    [[0, 1, 0], [1, 0, 1], [0, 1, 0]]
+    """
     a = (np.abs(G) > tol) | (np.abs(B) > tol)
     np.fill_diagonal(a, False)
     return a
@@ -64,6 +142,40 @@ def candidate_graph(net, G: np.ndarray, B: np.ndarray, hops: int = 2) -> np.ndar
     This is what a utility's network model offers as candidate lines: the branches it knows
     about (in service or not) and their near neighbours. Which of them are really connected, and
     with which parameters, is what the data must tell.
+
+    Parameters
+    ----------
+    net : pandapowerNet
+        The network model (its out-of-service lines count as candidates).
+    G, B : (nb, nb) ndarray
+        Admittance matrices (:func:`admittance`).
+    hops : int, optional
+        Largest number of branches between two candidate ends.
+
+    Returns
+    -------
+    (nb, nb) bool ndarray
+        Candidate pairs, symmetric, False on the diagonal.
+
+    Examples
+    --------
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+
+    >>> import numpy as np
+    >>> import pandapower as pp
+    >>> net = pp.create_empty_network(sn_mva=1.0)
+    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    >>> _ = pp.create_ext_grid(net, buses[0])
+    >>> for f, t in ((0, 1), (1, 2)):
+    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    >>> pp.runpp(net, numba=False)
+    >>> G, B = admittance(net)
+    >>> candidate_graph(net, G, B).astype(int).tolist()         # 0 and 2 are two branches apart
+    [[0, 1, 1], [1, 0, 1], [1, 1, 0]]
+    >>> candidate_graph(net, G, B, hops=1).astype(int).tolist()
+    [[0, 1, 0], [1, 0, 1], [0, 1, 0]]
     """
     a = adjacency(G, B)
     pos = {b: i for i, b in enumerate(net.bus.index)}
@@ -107,6 +219,26 @@ def run_snapshots(net, load_mult: np.ndarray, vm_slack: np.ndarray, btm: dict, q
     v, delta, p_load, g : (n, nb) arrays
         Voltage magnitude (p.u.), angle (rad), metered real power in load convention (p.u.; the
         behind-the-meter generation is *not* in it) and the behind-the-meter generation (p.u.).
+
+    Examples
+    --------
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+
+    >>> import numpy as np
+    >>> import pandapower as pp
+    >>> net = pp.create_empty_network(sn_mva=1.0)
+    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    >>> _ = pp.create_ext_grid(net, buses[0])
+    >>> for f, t in ((0, 1), (1, 2)):
+    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    >>> pp.runpp(net, numba=False)
+    >>> v, delta, p_load, g = run_snapshots(net, np.ones((2, 1)), np.array([1.0, 1.02]), {}, np.zeros((2, 1)))
+    >>> v.round(4).tolist()                                      # the slack voltage steps up by 2 %
+    [[1.0, 0.9979, 0.9959], [1.02, 1.018, 1.0159]]
+    >>> p_load[:, 2].round(4).tolist(), bool(g.any())
+    ([0.5, 0.5], False)
     """
     n, nb = load_mult.shape[0], len(net.bus)
     G, B = admittance(net)
@@ -127,7 +259,36 @@ def run_snapshots(net, load_mult: np.ndarray, vm_slack: np.ndarray, btm: dict, q
 
 
 class Schedule:
-    """Per-snapshot loads, generator dispatch and voltage set-points of ``net`` in bus positions (p.u.)."""
+    """Per-snapshot loads, generator dispatch and voltage set-points of ``net`` in bus positions (p.u.).
+
+    Parameters
+    ----------
+    net : pandapowerNet
+        The network (nominal loads, generators, slack).
+    load_mult, vm_slack, q_jitter, gen_vm, gen_mult : ndarray or None
+        As for :func:`run_snapshots`.
+
+    Examples
+    --------
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+
+    >>> import numpy as np
+    >>> import pandapower as pp
+    >>> net = pp.create_empty_network(sn_mva=1.0)
+    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    >>> _ = pp.create_ext_grid(net, buses[0])
+    >>> for f, t in ((0, 1), (1, 2)):
+    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    >>> pp.runpp(net, numba=False)
+    >>> sched = Schedule(net, np.full((1, 1), 2.0), np.array([1.01]), np.zeros((1, 1)), None, None)
+    >>> sched.slack, sched.load_bus.tolist()
+    (0, [2])
+    >>> s, vm_set = sched.injection(0)                          # twice the nominal load at bus 2
+    >>> s.round(3).tolist(), vm_set.tolist()
+    ([0j, 0j, (-1-0.4j)], [1.01, 1.0, 1.0])
+    """
 
     def __init__(self, net, load_mult, vm_slack, q_jitter, gen_vm, gen_mult):
         pos = {b: i for i, b in enumerate(net.bus.index)}
@@ -168,7 +329,47 @@ CHECK_TOL = 1e-7
 
 def check_with_pandapower(net, sched: Schedule, t: int, btm: dict, g: np.ndarray, v: np.ndarray,
                           delta: np.ndarray) -> None:
-    """Solve snapshot t with ``pandapower.runpp`` and compare; a disagreement is a bug, not bad input."""
+    """Solve snapshot t with ``pandapower.runpp`` and compare; a disagreement is a bug, not bad input.
+
+    Parameters
+    ----------
+    net : pandapowerNet
+        Modified in place: loads, set-points and the behind-the-meter static generators of snapshot t.
+    sched : Schedule
+    t : int
+        The snapshot.
+    btm : dict
+        Bus position -> behind-the-meter unit.
+    g, v, delta : (nb,) ndarray
+        Behind-the-meter generation, voltage magnitudes and angles found for snapshot t.
+
+    Raises
+    ------
+    RuntimeError
+        When pandapower's solution differs by more than :data:`CHECK_TOL`.
+
+    Examples
+    --------
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+
+    >>> import numpy as np
+    >>> import pandapower as pp
+    >>> net = pp.create_empty_network(sn_mva=1.0)
+    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    >>> _ = pp.create_ext_grid(net, buses[0])
+    >>> for f, t in ((0, 1), (1, 2)):
+    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    >>> pp.runpp(net, numba=False)
+    >>> sched = Schedule(net, np.ones((1, 1)), np.array([1.0]), np.zeros((1, 1)), None, None)
+    >>> v, delta = net.res_bus.vm_pu.values.copy(), np.deg2rad(net.res_bus.va_degree.values)
+    >>> check_with_pandapower(net, sched, 0, {}, np.zeros(3), v, delta)      # agrees: nothing happens
+    >>> check_with_pandapower(net, sched, 0, {}, np.zeros(3), v + 1e-3, delta)
+    Traceback (most recent call last):
+    ...
+    RuntimeError: power flow of snapshot 0 disagrees with pandapower.runpp by 0.001 p.u., 0 rad
+    """
     pp, _ = _pandapower()
     m = sched.load_mult[t]
     net.load["p_mw"] = sched.p0 * sched.sn * m

@@ -38,6 +38,29 @@ class GridFit:
     ``table`` rows: (name, bus i, bus k, true value, estimate, lo, hi, line present, point-identified),
     pieces and both ends combined (:func:`combine`); ``per_row`` holds one row per bus equation
     (pieces combined, ends apart).
+
+    Attributes
+    ----------
+    table : tuple of tuple
+        One row per line quantity, as above.
+    seconds : float
+        Time the fit took.
+    per_row : tuple of tuple
+        One row per bus-equation quantity, same layout.
+    bias : dict
+        Single-fit name -> first-order bias from voltage noise (:func:`voltage_noise_bias`).
+
+    Examples
+    --------
+    >>> table = (("G[0-1]", 0, 1, 4.0, 4.02, 3.98, 4.06, True, True),
+    ...          ("B[0-1]", 0, 1, -12.0, -11.9, -12.3, -11.5, True, False),
+    ...          ("G[0-2]", 0, 2, 0.0, 0.01, -0.05, 0.07, False, False),
+    ...          ("B[0-2]", 0, 2, 0.0, 0.02, -0.1, 0.14, False, False))
+    >>> fit = GridFit(table=table, seconds=0.1)
+    >>> fit.lines_found(), fit.topology_exact(), fit.topology_errors()
+    ({(0, 1)}, True, [])
+    >>> round(fit.mape_point(), 3), round(fit.mape_all(), 3), fit.counts()
+    (0.5, 0.667, {'point': 1, 'set': 1})
     """
 
     table: tuple
@@ -122,6 +145,18 @@ def combine(rows, key, bias: dict | None = None) -> tuple:
     quantity to the bounded ones; with none bounded the quantity is unbounded. Point-identified: every
     piece bounded, every piece's noise ratio at most ``NOISE_RATIO``, the bias from voltage noise
     smaller than the noise half-width, combined width below ``POINT_WIDTH``.
+
+    Examples
+    --------
+    Two pieces of bus 0's equation and one of bus 1's, for the same line:
+
+    >>> rows = [("G[0,1]", 0, 1, 4.0, 4.1, 3.9, 4.3, True, 1.0),
+    ...         ("G[0,1]", 0, 1, 4.0, 3.9, 3.7, 4.1, True, 1.0),
+    ...         ("G[1,0]", 1, 0, 4.0, 4.0, 3.8, 4.2, True, 1.0)]
+    >>> [(r[0], r[4], round(r[5], 3), round(r[6], 3)) for r in combine(rows, line_key)]
+    [('G[0-1]', 4.0, 3.885, 4.115)]
+    >>> [(r[0], round(r[5], 3), round(r[6], 3)) for r in combine(rows, equation_key)]
+    [('G[0,1]', 3.804, 4.196), ('G[1,0]', 3.8, 4.2)]
     """
     bias = bias or {}
     groups = {}
@@ -162,6 +197,30 @@ def noise_only_stderr(F: np.ndarray, x: np.ndarray, sigma) -> np.ndarray:
 
     A coefficient whose identified interval is about this wide is limited by noise only (point-
     identified); a much wider one is limited by what the disturbance class can imitate (set-identified).
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Physics columns of the bus equation.
+    x : (n,) ndarray
+        The class's coordinate (v_i).
+    sigma : float or None
+        Fitted noise standard deviation; None or NaN gives NaN errors.
+
+    Returns
+    -------
+    (p,) ndarray
+        Standard error of each column's coefficient.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.linspace(0.95, 1.05, 50)
+    >>> F = np.c_[np.sin(20 * x), np.cos(30 * x)]
+    >>> noise_only_stderr(F, x, 0.01).round(4).tolist()
+    [0.013, 0.019]
+    >>> noise_only_stderr(F, x, None).tolist()
+    [nan, nan]
     """
     if sigma is None or not np.isfinite(sigma):
         return np.full(F.shape[1], np.nan)
@@ -170,18 +229,66 @@ def noise_only_stderr(F: np.ndarray, x: np.ndarray, sigma) -> np.ndarray:
 
 
 def line_key(row) -> tuple:
-    """Both ends of line (i, k) as one quantity ``G[i-k]`` / ``B[i-k]`` with i < k."""
+    """Both ends of line (i, k) as one quantity ``G[i-k]`` / ``B[i-k]`` with i < k.
+
+    Parameters
+    ----------
+    row : tuple
+        A single-fit row ``(name, i, k, ...)`` (see :func:`combine`).
+
+    Returns
+    -------
+    tuple
+        ``(name, i, k)`` of the line, ends sorted.
+
+    Examples
+    --------
+    >>> line_key(("G[3,1]", 3, 1)), line_key(("B[1,3]", 1, 3))
+    (('G[1-3]', 1, 3), ('B[1-3]', 1, 3))
+    """
     i, k = min(row[1], row[2]), max(row[1], row[2])
     return (f"{row[0][0]}[{i}-{k}]", i, k)
 
 
 def equation_key(row) -> tuple:
-    """One quantity per bus equation (pieces of the record combined, ends kept apart)."""
+    """One quantity per bus equation (pieces of the record combined, ends kept apart).
+
+    Parameters
+    ----------
+    row : tuple
+        A single-fit row ``(name, i, k, ...)`` (see :func:`combine`).
+
+    Returns
+    -------
+    tuple
+        ``(name, i, k)`` as in the row.
+
+    Examples
+    --------
+    >>> equation_key(("G[3,1]", 3, 1, 4.0))
+    ('G[3,1]', 3, 1)
+    """
     return (row[0], row[1], row[2])
 
 
 def parse_name(name: str) -> tuple[int, int]:
-    """``"G[3,4]"`` -> (3, 4)."""
+    """``"G[3,4]"`` -> (3, 4).
+
+    Parameters
+    ----------
+    name : str
+        A coefficient name of a bus equation, ``G[i,k]`` or ``B[i,k]``.
+
+    Returns
+    -------
+    tuple of int
+        The bus ``i`` of the equation and the candidate neighbour ``k``.
+
+    Examples
+    --------
+    >>> parse_name("G[3,4]"), parse_name("B[12,0]")
+    ((3, 4), (12, 0))
+    """
     i, k = name[2:-1].split(",")
     return int(i), int(k)
 
@@ -202,6 +309,36 @@ def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state
     Returns
     -------
     GridFit
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a ``chunk`` that is not an integer >= 2.
+
+    Examples
+    --------
+    A three-bus chain (lines 0-1, 1-2) with bus 1's equation complete, its candidates 0 and 2:
+
+    >>> import numpy as np
+    >>> from odnn_sep.signals.grid_flow import adjacency
+    >>> from odnn_sep.signals.power_grid import GridDataset, GridTruth, bus_problem, row_columns
+    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])
+    >>> B, n, rng = -3 * G, 60, np.random.default_rng(0)
+    >>> v, delta = 1 + 0.01 * rng.standard_normal((n, 3)), 0.01 * rng.standard_normal((n, 3))
+    >>> F, names = row_columns(v, delta, 1, [0, 2])
+    >>> p, noise, zero = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    >>> p[:, 1] = F @ np.array([G[1, 0], B[1, 0], G[1, 2], B[1, 2]])
+    >>> noise[:, 1] = 1e-4 * rng.standard_normal(n)
+    >>> truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=p, g=zero, btm={}, nominal=np.array([0, 0.5, 0.3]))
+    >>> problem = bus_problem("toy", 1, [0, 2], (v, delta, p + noise, noise), truth, 60.0)
+    >>> ds = GridDataset(name="power_grid", case="toy", G=G, B=B, measured=(0, 1, 2), rows=(1,), excluded={},
+    ...                  v=v, delta=delta, p=p + noise, g=zero, btm={}, problems=(problem,), snr_db=60.0,
+    ...                  sigma_v=0.0, sigma_delta=0.0, description="toy")
+    >>> fit = identify_grid(ds, chunk=60)
+    >>> [(name, round(est, 2), point) for name, _i, _k, _t, est, _lo, _hi, _pr, point in fit.table]
+    [('B[0-1]', 12.0, True), ('B[1-2]', 15.0, True), ('G[0-1]', -4.0, True), ('G[1-2]', -5.0, True)]
+    >>> sorted(fit.lines_found()), fit.topology_exact()
+    ([(0, 1), (1, 2)], True)
     """
     import time
 
@@ -229,7 +366,45 @@ def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state
 
 
 def voltage_noise_bias(ds, rows) -> dict:
-    """Single-fit name -> first-order bias from the voltage noise, at each equation's combined estimate."""
+    """Single-fit name -> first-order bias from the voltage noise, at each equation's combined estimate.
+
+    Parameters
+    ----------
+    ds : GridDataset
+        The record (its ``sigma_v`` and ``sigma_delta`` are the meters' noise levels).
+    rows : list of tuple
+        Single-fit rows, as for :func:`combine`.
+
+    Returns
+    -------
+    dict
+        Coefficient name -> bias (empty when the voltages are noise-free).
+
+    Examples
+    --------
+    A three-bus chain (lines 0-1, 1-2) with bus 1's equation complete, its candidates 0 and 2:
+
+    >>> import numpy as np
+    >>> from odnn_sep.signals.grid_flow import adjacency
+    >>> from odnn_sep.signals.power_grid import GridDataset, GridTruth, bus_problem, row_columns
+    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])
+    >>> B, n, rng = -3 * G, 60, np.random.default_rng(0)
+    >>> v, delta = 1 + 0.01 * rng.standard_normal((n, 3)), 0.01 * rng.standard_normal((n, 3))
+    >>> F, names = row_columns(v, delta, 1, [0, 2])
+    >>> p, noise, zero = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    >>> p[:, 1] = F @ np.array([G[1, 0], B[1, 0], G[1, 2], B[1, 2]])
+    >>> noise[:, 1] = 1e-4 * rng.standard_normal(n)
+    >>> truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=p, g=zero, btm={}, nominal=np.array([0, 0.5, 0.3]))
+    >>> problem = bus_problem("toy", 1, [0, 2], (v, delta, p + noise, noise), truth, 60.0)
+    >>> ds = GridDataset(name="power_grid", case="toy", G=G, B=B, measured=(0, 1, 2), rows=(1,), excluded={},
+    ...                  v=v, delta=delta, p=p + noise, g=zero, btm={}, problems=(problem,), snr_db=60.0,
+    ...                  sigma_v=1e-4, sigma_delta=1e-4, description="toy")
+    >>> rows = [(nm, 1, k, 0.0, est, est - 0.1, est + 0.1, True, 1.0)
+    ...         for nm, k, est in zip(names, [0, 0, 2, 2], [-4.0, 12.0, -5.0, 15.0])]
+    >>> bias = voltage_noise_bias(ds, rows)
+    >>> sorted(bias), all(abs(b) < 0.01 for b in bias.values())
+    (['B[1,0]', 'B[1,2]', 'G[1,0]', 'G[1,2]'], True)
+    """
     from odnn_sep.signals.grid_eiv import column_jacobian, regressor_noise_bias
 
     if ds.sigma_v == 0 and ds.sigma_delta == 0:

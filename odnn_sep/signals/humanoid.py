@@ -87,6 +87,20 @@ class Corruption:
 def disturbance_columns(kind: str, z_after: np.ndarray, step: np.ndarray) -> np.ndarray:
     """Columns spanning the disturbance class of ``kind`` on these transitions.
 
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`: ``"sin"``, ``"drift"``, ``"calibration"`` or ``"all"``.
+    z_after : (n,) ndarray
+        Torso height after each transition.
+    step : (n,) ndarray of int
+        Step number of each transition within its episode.
+
+    Returns
+    -------
+    (n, m) ndarray
+        A constant, then the columns of the kind (polynomials in height and step, step-periodic indicators).
+
     Examples
     --------
     >>> disturbance_columns("sin", np.linspace(0.5, 1.5, 50), np.arange(50)).shape   # constant + degrees 0-9
@@ -130,17 +144,21 @@ class HumanoidDataset:
 
     @property
     def reward_true(self) -> np.ndarray:
+        """The uncorrupted reward of every transition (the physics part)."""
         return self.problem.physics
 
     @property
     def reward_observed(self) -> np.ndarray:
+        """The reward as recorded: true reward + corruption + noise."""
         return self.problem.y
 
     def truth(self) -> dict:
+        """JSON-ready truth: reward coefficients, time step, corruption kind and amplitudes, policy names."""
         return {"theta_true": self.problem.theta_true, "dt": self.dt, "kind": self.kind,
                 "policies": list(self.policy_names), "corruption": self.corruption.__dict__}
 
     def arrays(self) -> dict:
+        """Every per-transition array by name (for ``np.savez``)."""
         return {"step": self.problem.x, "z_before": self.z_before, "z_after": self.z_after, "ctrl_sq": self.ctrl_sq,
                 "reward_observed": self.problem.y, "reward_true": self.problem.physics,
                 "disturbance": self.problem.disturbance_true, "noise": self.problem.noise,
@@ -149,6 +167,18 @@ class HumanoidDataset:
 
 def default_policies(n: int, rng) -> list:
     """``n`` policies: zero, random, then linear gaits with weights of increasing scale.
+
+    Parameters
+    ----------
+    n : int
+        Number of policies.
+    rng : numpy.random.Generator
+        Source of the gait weights.
+
+    Returns
+    -------
+    list of (str, callable)
+        Name and policy, as :func:`~odnn_sep.signals.humanoid_policies.rollout` calls it.
 
     Examples
     --------
@@ -163,6 +193,18 @@ def default_policies(n: int, rng) -> list:
 
 def draw_corruption(kind: str, horizon: int, rng) -> Corruption:
     """The reward corruption of ``kind`` with its amplitudes drawn (zero for the parts it lacks).
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`KINDS`.
+    horizon : int
+        Steps per episode.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    Corruption
 
     Examples
     --------
@@ -179,6 +221,22 @@ def draw_corruption(kind: str, horizon: int, rng) -> Corruption:
 def draw_frame_skip(frame_skip, rng) -> int:
     """``frame_skip`` as an int in 1..20, or one drawn from 3..7 when None.
 
+    Parameters
+    ----------
+    frame_skip : int or None
+        The frame skip given, or None to draw one.
+    rng : numpy.random.Generator or None
+        Needed only when ``frame_skip`` is None.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a frame skip outside 1..20.
+
     Examples
     --------
     >>> draw_frame_skip(5, None), 3 <= draw_frame_skip(None, np.random.default_rng(0)) <= 7
@@ -192,6 +250,20 @@ def draw_frame_skip(frame_skip, rng) -> int:
 
 def check_sizes(policies, episodes, steps) -> tuple[int, int, int]:
     """``(policies, episodes, steps)`` as ints within their limits, or InputError.
+
+    Parameters
+    ----------
+    policies, episodes, steps : int
+        Numbers of policies, episodes per policy and steps per episode.
+
+    Returns
+    -------
+    tuple of int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For sizes beyond the limits, or too few transitions for the fit.
 
     Examples
     --------
@@ -222,6 +294,24 @@ def check_sizes(policies, episodes, steps) -> tuple[int, int, int]:
 def collect(frame_skip: int, policies, episodes: int, steps: int, rng) -> tuple[list, list, list]:
     """Roll out every ``(name, policy)`` for ``episodes`` episodes of ``steps`` steps in one environment:
     the per-episode records, policy ids and episode ids (needs gymnasium[mujoco]).
+
+    Parameters
+    ----------
+    frame_skip : int
+        Simulator steps per action.
+    policies : list of (str, callable)
+        From :func:`default_policies`.
+    episodes, steps : int
+        Episodes per policy and steps per episode.
+    rng : numpy.random.Generator
+        Source of the reset seeds and the random actions.
+
+    Returns
+    -------
+    recs : list of dict
+        :func:`~odnn_sep.signals.humanoid_policies.rollout` records, policy by policy.
+    pid, eid : list of ndarray
+        Policy and episode id of every step, per record.
 
     Examples
     --------

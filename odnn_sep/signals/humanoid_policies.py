@@ -18,6 +18,20 @@ MAX_STEPS = 1000
 def make_env(frame_skip: int = 5):
     """``HumanoidStandup-v5`` with the given frame skip (the model ships with the mujoco wheel).
 
+    Parameters
+    ----------
+    frame_skip : int, optional
+        Simulator steps per action.
+
+    Returns
+    -------
+    gymnasium.Env
+
+    Raises
+    ------
+    odnn_sep.errors.MissingDependencyError
+        Without gymnasium or mujoco (the ``robotics`` extra).
+
     Examples
     --------
     >>> env = make_env(5)
@@ -52,6 +66,20 @@ class LinearGait:
 def zero_policy(z, z0, t, rng):
     """No action (the humanoid lies still).
 
+    Parameters
+    ----------
+    z, z0 : float
+        Current and initial torso height.
+    t : int
+        Step within the episode.
+    rng : numpy.random.Generator or None
+        Source of random actions.
+
+    Returns
+    -------
+    (17,) ndarray
+        Zeros.
+
     Examples
     --------
     >>> zero_policy(1.0, 1.0, 0, None).shape
@@ -63,6 +91,20 @@ def zero_policy(z, z0, t, rng):
 def random_policy(z, z0, t, rng):
     """Uniform random actions in [-0.4, 0.4].
 
+    Parameters
+    ----------
+    z, z0 : float
+        Current and initial torso height.
+    t : int
+        Step within the episode.
+    rng : numpy.random.Generator or None
+        Source of random actions.
+
+    Returns
+    -------
+    (17,) ndarray
+        Uniform in [-0.4, 0.4].
+
     Examples
     --------
     >>> bool(np.all(np.abs(random_policy(1.0, 1.0, 0, np.random.default_rng(0))) <= 0.4))
@@ -73,6 +115,24 @@ def random_policy(z, z0, t, rng):
 
 def rollout(env, policy, steps: int, seed: int, rng) -> dict:
     """One episode of ``steps`` steps; arrays z_before, z_after, ctrl_sq (sum of squared actions).
+
+    Parameters
+    ----------
+    env : gymnasium.Env
+        From :func:`make_env`.
+    policy : callable
+        ``policy(z, z0, t, rng) -> (17,) action``.
+    steps : int
+        Steps of the episode.
+    seed : int
+        Seed of ``env.reset``.
+    rng : numpy.random.Generator
+        Passed to the policy.
+
+    Returns
+    -------
+    dict
+        ``z_before``, ``z_after``, ``ctrl_sq``: (steps,) arrays.
 
     Examples
     --------
@@ -101,6 +161,27 @@ def cem(score, *, iters: int, pop: int, elite: int, rng, sigma0: float = 0.5, in
     """Cross-entropy search over the 68 gait weights maximising ``score(LinearGait)``.
 
     Returns the final mean weights and the best score per iteration.
+
+    Parameters
+    ----------
+    score : callable
+        ``LinearGait -> float``, to maximise.
+    iters : int
+        Iterations.
+    pop : int
+        Candidates per iteration.
+    elite : int
+        Best candidates kept to refit the search distribution.
+    rng : numpy.random.Generator
+    sigma0 : float, optional
+        Initial standard deviation of each weight.
+    init : array_like, optional
+        Initial mean weights (68,), default zeros.
+
+    Returns
+    -------
+    mu : (68,) ndarray
+    history : list of float
 
     Examples
     --------

@@ -11,6 +11,24 @@ __all__ = ["require", "MissingDependencyError"]
 def require(module: str, extra: str, what: str):
     """Import ``module`` or raise a one-line error that names the pip extra to install.
 
+    Parameters
+    ----------
+    module : str
+        The module to import, e.g. ``"pandapower.networks"``.
+    extra : str
+        The pip extra that installs it (``"grid"``, ``"robotics"``).
+    what : str
+        What needs it, for the message.
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    odnn_sep.errors.MissingDependencyError
+        When the import fails.
+
     Examples
     --------
     >>> require("numpy", "grid", "the test").__name__

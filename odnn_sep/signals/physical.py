@@ -70,6 +70,22 @@ def pendulum(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0, 
 def aiba_edwards_mu(S, mu_max, K_S, K_I):
     """Aiba-Edwards specific growth rate ``mu_max S / (K_S + S) exp(-S / K_I)`` (substrate inhibition).
 
+    Parameters
+    ----------
+    S : array_like
+        Substrate concentration.
+    mu_max : float
+        Largest growth rate without inhibition.
+    K_S : float
+        Half-saturation constant.
+    K_I : float
+        Inhibition constant.
+
+    Returns
+    -------
+    ndarray
+        Growth rate, same shape as ``S``.
+
     Examples
     --------
     >>> round(float(aiba_edwards_mu(1.0, 1.0, 1.0, 10.0)), 6)
@@ -83,11 +99,22 @@ def substrate_twin(S: float, mu_max: float, K_S: float, K_I: float) -> float | N
     """The other substrate level with the same Aiba-Edwards rate as ``S`` (the rate rises then falls in
     S), or None when there is none in range.
 
+    Parameters
+    ----------
+    S : float
+        Substrate concentration.
+    mu_max, K_S, K_I : float
+        Parameters of :func:`aiba_edwards_mu`.
+
+    Returns
+    -------
+    float or None
+
     Examples
     --------
     >>> S2 = substrate_twin(1.0, 1.0, 1.0, 10.0)
     >>> round(S2, 6), bool(np.isclose(aiba_edwards_mu(S2, 1.0, 1.0, 10.0), aiba_edwards_mu(1.0, 1.0, 1.0, 10.0)))
-    (..., True)
+    (6.500583, True)
     """
     from scipy.optimize import brentq
 
@@ -267,6 +294,19 @@ HEAT_SOURCES = ((0.22, 0.30), (0.70, 0.58), (0.38, 0.80))
 def heat_kernel(X, x0, y0, alpha_t):
     """Free-space 2-D heat kernel of a unit instantaneous source at (x0, y0) after time t.
 
+    Parameters
+    ----------
+    X : (n, 2) ndarray
+        Points (x, y).
+    x0, y0 : float
+        The source.
+    alpha_t : float
+        Diffusivity times time.
+
+    Returns
+    -------
+    (n,) ndarray
+
     Examples
     --------
     >>> g = heat_kernel(np.array([[0.5, 0.5], [0.6, 0.5], [0.5, 0.4]]), 0.5, 0.5, 0.01)
@@ -280,6 +320,23 @@ def heat_kernel(X, x0, y0, alpha_t):
 def symmetric_heat(X, L: float, H: float, alpha_t: float, rng) -> tuple[np.ndarray, float, float]:
     """A disturbance even about the plate's centre in both axes: balanced sources on opposite edges
     (strengths drawn) and a symmetric ambient field; returns ``(g, Q_left_right, Q_top_bottom)``.
+
+    Parameters
+    ----------
+    X : (n, 2) ndarray
+        Points on the plate.
+    L, H : float
+        Plate width and height.
+    alpha_t : float
+        Diffusivity times time.
+    rng : numpy.random.Generator
+        Source of the strengths and the ambient field.
+
+    Returns
+    -------
+    g : (n,) ndarray
+    Q_left_right, Q_top_bottom : float
+        Strengths of the edge sources.
 
     Examples
     --------

@@ -75,6 +75,23 @@ class GridDataset:
         Bus -> behind-the-meter unit parameters.
     problems : tuple of Dataset
         One separation problem per bus in ``rows`` (x = v_i, class ``Convex()``).
+
+    Examples
+    --------
+    :func:`power_grid` simulates one; a hand-made record shows the accessors:
+
+    >>> import numpy as np
+    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])      # lines 0-1 and 1-2
+    >>> z = np.zeros((2, 3))
+    >>> ds = GridDataset(name="power_grid", case="toy", G=G, B=-3 * G, measured=(0, 1, 2), rows=(1,),
+    ...                  excluded={}, v=z + 1, delta=z, p=z, g=z, btm={}, problems=(), snr_db=60.0,
+    ...                  sigma_v=0.0, sigma_delta=0.0, description="three buses")
+    >>> ds.lines
+    [(0, 1), (1, 2)]
+    >>> ds.truth()["lines"][0]
+    {'i': 0, 'k': 1, 'G': -4.0, 'B': 12.0}
+    >>> sorted(ds.arrays())
+    ['B', 'G', 'behind_the_meter', 'delta', 'measured', 'p', 'rows', 'time_h', 'v']
     """
 
     name: str
@@ -124,6 +141,33 @@ def row_columns(v: np.ndarray, delta: np.ndarray, i: int, others) -> tuple[np.nd
 
     ``v``, ``delta`` are (n, nb) in bus positions. Column for G_ik: ``-(v_i v_k cos d_ik - v_i^2)``;
     for B_ik: ``-v_i v_k sin d_ik``.
+
+    Parameters
+    ----------
+    v, delta : (n, nb) ndarray
+        Voltage magnitudes (p.u.) and angles (rad) of every bus.
+    i : int
+        The bus of the equation.
+    others : iterable of int
+        Candidate neighbours k.
+
+    Returns
+    -------
+    F : (n, 2 len(others)) ndarray
+        The columns, G then B for each candidate.
+    names : list of str
+        ``G[i,k]``, ``B[i,k]`` for each candidate, in column order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> v = np.array([[1.0, 0.99, 0.98], [1.01, 1.0, 0.99]])
+    >>> delta = np.array([[0.0, -0.01, -0.02], [0.0, -0.02, -0.01]])
+    >>> F, names = row_columns(v, delta, 1, [0, 2])
+    >>> F.shape, names
+    ((2, 4), ['G[1,0]', 'B[1,0]', 'G[1,2]', 'B[1,2]'])
+    >>> F[0].round(5).tolist()
+    [-0.00985, 0.0099, 0.00995, -0.0097]
     """
     cols, names = [], []
     for k in others:
@@ -189,9 +233,12 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
 
     Examples
     --------
-    >>> ds = power_grid(snapshots=48, random_state=0)          # doctest: +SKIP
-    >>> ds.problems[0].basis.names[:2]                          # doctest: +SKIP
-    ('G[0,1]', 'B[0,1]')
+    >>> import pandapower  # the "grid" extra
+    >>> ds = power_grid(snapshots=48, random_state=0)           # half a day of the IEEE 14-bus system
+    >>> ds.measured, ds.rows, ds.v.shape
+    ((0, 1, 2, 3, 4, 5, 6, 8), (0, 1, 2, 3, 4), (48, 8))
+    >>> ds.problems[0].basis.names[:2], type(ds.problems[0].disturbance).__name__   # bus 0: the slack
+    (('G[0,1]', 'B[0,1]'), 'Orthogonal')
     """
     snapshots, snr_db = check_options(snapshots, snr_db, sigma_v, sigma_delta, btm_share)
     rng = rng_from(random_state)
@@ -223,7 +270,38 @@ def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm
 
 
 def check_options(snapshots, snr_db, sigma_v, sigma_delta, btm_share) -> tuple[int, float]:
-    """Validate the scalar options of :func:`power_grid`; returns the checked snapshot count and SNR."""
+    """Validate the scalar options of :func:`power_grid`; returns the checked snapshot count and SNR.
+
+    Parameters
+    ----------
+    snapshots : int
+        Number of snapshots (2 to ``MAX_SNAPSHOTS``).
+    snr_db : float
+        Metering signal-to-noise ratio (dB).
+    sigma_v, sigma_delta : float
+        Voltage noise standard deviations, each in [0, 0.01).
+    btm_share : float
+        Share of loaded buses with a behind-the-meter unit, in [0, 1].
+
+    Returns
+    -------
+    snapshots : int
+    snr_db : float
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For the first option out of range.
+
+    Examples
+    --------
+    >>> check_options(96, 60, 1e-6, 1e-6, 0.5)
+    (96, 60.0)
+    >>> check_options(96, 60, 0.1, 1e-6, 0.5)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: sigma_v must be in [0, 0.01); got 0.1
+    """
     snapshots = check_n(snapshots, 2, "snapshots")
     if snapshots > MAX_SNAPSHOTS:
         raise InputError(f"snapshots={snapshots} is above the limit {MAX_SNAPSHOTS}; use fewer")
@@ -237,7 +315,32 @@ def check_options(snapshots, snr_db, sigma_v, sigma_delta, btm_share) -> tuple[i
 
 
 def check_snapshots(snapshots: int, cand: np.ndarray, measured) -> None:
-    """Enough snapshots for the largest bus equation (two per unknown)."""
+    """Enough snapshots for the largest bus equation (two per unknown).
+
+    Parameters
+    ----------
+    snapshots : int
+        Number of snapshots.
+    cand : (nb, nb) bool ndarray
+        Candidate lines (:func:`~odnn_sep.signals.grid_flow.candidate_graph`).
+    measured : sequence of int
+        Measured bus positions.
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When ``snapshots`` is less than twice the unknowns of some bus equation.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> cand = ~np.eye(3, dtype=bool)                  # every pair a candidate: 4 unknowns per bus
+    >>> check_snapshots(8, cand, (0, 1, 2))
+    >>> check_snapshots(6, cand, (0, 1, 2))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: too few snapshots: 6 for 4 unknowns per bus equation (3 measured buses); need at least 8
+    """
     n_unknowns = max(2 * sum(cand[i, k] for k in measured) for i in measured)
     if snapshots < 2 * n_unknowns:
         raise InputError(f"too few snapshots: {snapshots} for {n_unknowns} unknowns per bus equation "
@@ -249,6 +352,42 @@ def simulate(net, snapshots: int, btm_share: float, rng) -> tuple[np.ndarray, di
 
     Returns the nominal load per bus (p.u.), the units (bus -> parameters) and the true
     ``(v, delta, p, g)`` arrays of :func:`grid_flow.run_snapshots`.
+
+    Parameters
+    ----------
+    net : pandapowerNet
+        From :func:`~odnn_sep.signals.grid_flow.load_case` (modified by the pandapower check).
+    snapshots : int
+        Number of 15-minute snapshots.
+    btm_share : float
+        Share of the loaded buses that get a behind-the-meter unit.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    nominal : (nb,) ndarray
+    btm : dict
+    flows : tuple of (snapshots, nb) ndarray
+
+    Examples
+    --------
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+
+    >>> import numpy as np
+    >>> import pandapower as pp
+    >>> net = pp.create_empty_network(sn_mva=1.0)
+    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    >>> _ = pp.create_ext_grid(net, buses[0])
+    >>> for f, t in ((0, 1), (1, 2)):
+    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    >>> pp.runpp(net, numba=False)
+    >>> nominal, btm, (v, delta, p, g) = simulate(net, 4, 1.0, np.random.default_rng(0))
+    >>> nominal.tolist(), sorted(btm), btm[2]["kind"], v.shape
+    ([0.0, 0.0, 0.5], [2], 'boost', (4, 3))
+    >>> bool((g[:, 2] > 0).all()), bool((g[:, :2] == 0).all())   # generation only behind bus 2's meter
+    (True, True)
     """
     nb = len(net.bus)
     pos = {b: i for i, b in enumerate(net.bus.index)}
@@ -266,7 +405,34 @@ def simulate(net, snapshots: int, btm_share: float, rng) -> tuple[np.ndarray, di
 
 
 def measurement_noise(flows, measured, snr_db: float, sigma_v: float, sigma_delta: float, rng):
-    """Measured voltages and angles, and the metering noise of the real power (zero at unmetered buses)."""
+    """Measured voltages and angles, and the metering noise of the real power (zero at unmetered buses).
+
+    Parameters
+    ----------
+    flows : tuple of (n, nb) ndarray
+        True ``(v, delta, p, g)`` from :func:`~odnn_sep.signals.grid_flow.run_snapshots`.
+    measured : iterable of int
+        Metered bus positions.
+    snr_db : float
+        Metering signal-to-noise ratio, relative to each bus's physics power ``p - g``.
+    sigma_v, sigma_delta : float
+        Standard deviations of the voltage magnitude (p.u.) and angle (rad) noise.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    v_m, d_m, noise_p : (n, nb) ndarray
+        Measured magnitudes and angles (every bus), and the real-power metering noise.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ones, zeros = np.ones((4, 3)), np.zeros((4, 3))
+    >>> v_m, d_m, noise = measurement_noise((ones, zeros, ones, zeros), (0, 1), 40.0, 1e-3, 1e-3,
+    ...                                     np.random.default_rng(0))
+    >>> v_m.shape, bool((noise[:, 2] == 0).all()), bool((noise[:, :2] != 0).all())
+    ((4, 3), True, True)
+    """
     v_t, d_t, p_t, g_t = flows
     v_m = v_t + sigma_v * rng.standard_normal(v_t.shape)
     d_m = d_t + sigma_delta * rng.standard_normal(d_t.shape)
@@ -279,7 +445,22 @@ def measurement_noise(flows, measured, snr_db: float, sigma_v: float, sigma_delt
 @dataclass(frozen=True)
 class GridTruth:
     """What the simulation knows and a bus problem needs: line parameters, adjacency, the true
-    metered power ``p`` and behind-the-meter generation ``g`` (n, nb), the units, the nominal loads."""
+    metered power ``p`` and behind-the-meter generation ``g`` (n, nb), the units, the nominal loads.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.signals.grid_flow import adjacency
+    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])      # lines 0-1 and 1-2
+    >>> B = -3 * G
+    >>> rng = np.random.default_rng(0)
+    >>> v, delta = 1 + 0.01 * rng.standard_normal((6, 3)), 0.01 * rng.standard_normal((6, 3))
+    >>> zero = np.zeros((6, 3))
+    >>> truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=zero, g=zero, btm={},
+    ...                   nominal=np.array([0.0, 0.5, 0.3]))           # no customer load at bus 0
+    >>> truth.adj.astype(int).tolist()
+    [[0, 1, 0], [1, 0, 1], [0, 1, 0]]
+    """
 
     G: np.ndarray
     B: np.ndarray
@@ -296,6 +477,43 @@ def bus_problem(case: str, i: int, others, measured_arrays, truth: GridTruth, sn
     ``measured_arrays`` = (v, delta, p, metering noise) as measured. Behind-the-meter generation sits
     behind customers' meters: a bus without customer load (slack or generator bus) has none, and its
     equation needs no disturbance class.
+
+    Parameters
+    ----------
+    case : str
+        Case name (for the description).
+    i : int
+        The bus of the equation.
+    others : list of int
+        Candidate neighbours (measured buses).
+    measured_arrays : tuple of (n, nb) ndarray
+        ``(v, delta, p, metering noise)`` as measured.
+    truth : GridTruth
+    snr_db : float
+
+    Returns
+    -------
+    Dataset
+        ``x = v_i``, ``y`` the metered power; class ``Convex()``, or ``Orthogonal()`` without customer load.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.signals.grid_flow import adjacency
+    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])      # lines 0-1 and 1-2
+    >>> B = -3 * G
+    >>> rng = np.random.default_rng(0)
+    >>> v, delta = 1 + 0.01 * rng.standard_normal((6, 3)), 0.01 * rng.standard_normal((6, 3))
+    >>> zero = np.zeros((6, 3))
+    >>> truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=zero, g=zero, btm={},
+    ...                   nominal=np.array([0.0, 0.5, 0.3]))           # no customer load at bus 0
+    >>> pr = bus_problem("toy", 1, [0, 2], (v, delta, zero, zero), truth, 60.0)
+    >>> pr.basis.names, type(pr.disturbance).__name__, pr.extras["lines"]
+    (('G[1,0]', 'B[1,0]', 'G[1,2]', 'B[1,2]'), 'Convex', [0, 2])
+    >>> pr.theta_true["B[1,2]"]
+    15.0
+    >>> type(bus_problem("toy", 0, [1, 2], (v, delta, zero, zero), truth, 60.0).disturbance).__name__
+    'Orthogonal'
     """
     v_m, d_m, p_m, noise_p = measured_arrays
     G, B, unit, served = truth.G, truth.B, truth.btm.get(i), truth.nominal[i] > 0
