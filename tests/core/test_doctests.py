@@ -54,3 +54,21 @@ def test_every_module_imports_without_torch():
     lines = out.stdout.splitlines()
     assert lines[0] == "[]", lines[0]
     assert lines[-1].startswith("InputError the network solver needs torch: install the `network` extra")
+
+
+def test_every_public_function_and_class_has_an_example():
+    """Module-level public functions and classes of every public module carry a runnable example."""
+    import ast
+    from pathlib import Path
+
+    root = Path(odnn_sep.__file__).parent
+    missing = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root)
+        if any(part.startswith("_") and part != "__init__.py" for part in rel.parts):
+            continue
+        for node in ast.parse(path.read_text()).body:
+            if isinstance(node, (ast.FunctionDef, ast.ClassDef)) and not node.name.startswith("_"):
+                if ">>>" not in (ast.get_docstring(node) or ""):
+                    missing.append(f"{rel}:{node.lineno} {node.name}")
+    assert not missing, f"public functions/classes without an example: {missing}"
