@@ -3,6 +3,8 @@ files (streamed). Both run the passes of :mod:`pipeline` and return a :class:`De
 from __future__ import annotations
 
 import logging
+import os
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -14,9 +16,11 @@ from odnn_sep.audio.result import DenoiseResult
 log = logging.getLogger(__name__)
 
 
-def denoise(y, sr=None, *, mains="auto", harmonics="auto", tones=(), block_s="auto", solver: str = "exact",
-            alpha: float = 1e-3, max_hz: float | None = None, progress: bool = False,
-            random_state=0, **channel_options):
+def denoise(y: np.ndarray, sr: int | None = None, *, mains: str | float = "auto",
+            harmonics: str | int | Sequence[int] = "auto", tones: Sequence[float] = (),
+            block_s: str | float = "auto", solver: str = "exact", alpha: float = 1e-3,
+            max_hz: float | None = None, progress: bool = False, random_state: int | None = 0,
+            **channel_options):
     """Remove mains hum (drift-tracked fundamental and harmonics) and named tones from audio.
 
     Parameters
@@ -124,9 +128,11 @@ def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
     return res
 
 
-def denoise_file(path_in, path_out, *, subtype: str | None = None, mains="auto", harmonics="auto", tones=(),
-                 block_s="auto", solver: str = "exact", alpha: float = 1e-3, max_hz: float | None = None,
-                 progress: bool = False, random_state=0) -> DenoiseResult:
+def denoise_file(path_in: str | os.PathLike, path_out: str | os.PathLike, *, subtype: str | None = None,
+                 mains: str | float = "auto", harmonics: str | int | Sequence[int] = "auto",
+                 tones: Sequence[float] = (), block_s: str | float = "auto", solver: str = "exact",
+                 alpha: float = 1e-3, max_hz: float | None = None, progress: bool = False,
+                 random_state: int | None = 0) -> DenoiseResult:
     """Stream ``path_in`` through :func:`denoise` into ``path_out`` (atomic; same rate, channels and
     subtype unless ``subtype`` is given). Options as in :func:`denoise` (gathered into one
     :class:`~odnn_sep.audio.options.DenoiseOptions`: why long).

@@ -5,6 +5,8 @@ give the same samples (the bundled ``samples/hum_demo.wav`` relies on that).
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from odnn_sep.errors import InputError
@@ -74,9 +76,9 @@ def _host(n: int, sr: int, rng: np.random.Generator, mains_hz: float, near_parti
 
 
 def make_hum_mix(duration_s: float = 30.0, sr: int = 16000, *, mains_hz: float = 50.0,
-                 amplitudes=(1.0, 0.6, 0.45, 0.3, 0.2, 0.12, 0.08, 0.05), drift_hz: float = 0.05,
-                 snr_db: float = 0.0, noise_db: float = -30.0, near_partials: bool = True,
-                 channels: int = 1, random_state=0):
+                 amplitudes: Sequence[float] | None = (1.0, 0.6, 0.45, 0.3, 0.2, 0.12, 0.08, 0.05),
+                 drift_hz: float = 0.05, snr_db: float = 0.0, noise_db: float = -30.0,
+                 near_partials: bool = True, channels: int = 1, random_state: int | None = 0):
     """Host + drifting hum with known truth (one keyword per property of the mix: why long).
 
     Parameters
@@ -157,7 +159,7 @@ def _channels(n, sr, rng, mains_hz, near_partials, noise_db, phase, ks, amps, ch
     return hosts, hums, amp_rows
 
 
-def make_hum_demo(duration_s: float = 8.0, sr: int = 16000, random_state=0):
+def make_hum_demo(duration_s: float = 8.0, sr: int = 16000, random_state: int | None = 0):
     """The bundled demo: 8 s of music-like audio at 16 kHz with 50 Hz hum drifting by about 0.05 Hz.
 
     Deterministic for a given ``random_state``; used to write ``samples/hum_demo.wav``.

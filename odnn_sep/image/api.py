@@ -155,9 +155,10 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state):
     return paste(planes, o, b), lost, _residual(o, y[b[1]:b[3], b[0]:b[2]], M, prior, b, random_state)
 
 
-def unwatermark(image, *, text: str | None = None, font=None, mask=None, min_score: float | None = None,
-                angle_range: float = 45.0, max_marks: int = 64, inpaint_lost: bool = True,
-                random_state=0, mask_invert: bool | None = None, reference=None) -> UnwatermarkResult:
+def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None = None,
+                mask: np.ndarray | None = None, min_score: float | None = None, angle_range: float = 45.0,
+                max_marks: int = 64, inpaint_lost: bool = True, random_state: int | None = 0,
+                mask_invert: bool | None = None, reference: np.ndarray | None = None) -> UnwatermarkResult:
     """Remove a visible (alpha-blended) text watermark.
 
     Why long (11 parameters): the public keyword API, one option per command-line flag.

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import os
 from pathlib import Path
 
 import numpy as np
@@ -214,7 +215,7 @@ def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarra
     return out
 
 
-def read_image(path) -> np.ndarray:
+def read_image(path: str | os.PathLike) -> np.ndarray:
     """Read an image file as an upright RGB/RGBA/grey/grey+alpha array of its own dtype (uint8 or uint16).
 
     Parameters
@@ -325,7 +326,8 @@ def _encode_grey_alpha(a: np.ndarray, suffix: str):
     return None, np.ascontiguousarray(a[:, :, [0, 0, 0, 1]])
 
 
-def write_image(path, image: np.ndarray, *inputs, jpeg_quality: int = 95, meta=None) -> None:
+def write_image(path: str | os.PathLike, image: np.ndarray, *inputs, jpeg_quality: int = 95,
+                meta: dict | None = None) -> None:
     """Write an RGB/RGBA/grey/grey+alpha array atomically; the format follows the extension; never an
     input. ``meta`` (from :func:`read_image_meta`): EXIF, ICC and PNG text written back where the format
     holds them.

@@ -245,7 +245,7 @@ def locate_regions(xy, residual, *, sigma=None, tiles=4, alpha=0.05):
     return out
 
 
-def locate(t, residual, *, sigma=None, alpha=0.05):
+def locate(t: np.ndarray, residual: np.ndarray, *, sigma: float | None = None, alpha: float = 0.05):
     """All locations: time windows + frequency bands for 1-D data, regions for 2D fields.
 
     Parameters

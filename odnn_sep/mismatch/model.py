@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import difflib
 import inspect
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
@@ -219,7 +220,7 @@ class Model:
         return replace(self, start=s)
 
 
-def make_model(name, params: dict | None = None, *, inputs: dict | None = None) -> Model:
+def make_model(name: str, params: dict | None = None, *, inputs: dict | None = None) -> Model:
     """Build a preset model; ``params`` are starting guesses (unknown names raise with a suggestion).
 
     ``inputs`` ({name: (t, u)}, see :mod:`odnn_sep.mismatch.inputs`) drive the oscillator,
@@ -337,7 +338,8 @@ def _check_user_params(func, params, what):
                                  f"its signature accepts: {', '.join(names)}")
 
 
-def custom_model(func, params: dict, *, bounds: dict | None = None, fixed=(), name="user") -> Model:
+def custom_model(func: Callable, params: dict, *, bounds: dict | None = None, fixed: Iterable[str] = (),
+                 name: str = "user") -> Model:
     """Wrap ``func(t, **params) -> y`` as a model; the generic effects apply to it.
 
     Parameters
@@ -380,8 +382,9 @@ def custom_model(func, params: dict, *, bounds: dict | None = None, fixed=(), na
                  builder=builder, autonomous=False)
 
 
-def ode_model(rhs, params: dict, state0, *, output=0, bounds: dict | None = None, fixed=(),
-              name="user_ode", inputs: dict | None = None) -> Model:
+def ode_model(rhs: Callable, params: dict, state0: Sequence[float | str], *, output: int = 0,
+              bounds: dict | None = None, fixed: Iterable[str] = (), name: str = "user_ode",
+              inputs: dict | None = None) -> Model:
     """Wrap an ODE ``rhs(t, state, **params) -> dstate/dt`` as a model observed through ``state[output]``.
 
     ``state0`` lists the initial state: numbers, or names of entries of ``params`` (refitted).

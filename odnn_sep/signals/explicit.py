@@ -19,8 +19,9 @@ def _sinusoid(kind, f):
     return (lambda t: np.cos(w * t)) if kind == "cos" else (lambda t: np.sin(w * t))
 
 
-def explicit_1d(*, n: int = 1000, sr: float = 100.0, band_hz: tuple = (6.5, 9.0), disturbance_rms: float = 2.0,
-                snr_db: float = 30.0, theta: dict | None = None, random_state=None) -> Dataset:
+def explicit_1d(*, n: int = 1000, sr: float = 100.0, band_hz: tuple = (6.5, 9.0),
+                disturbance_rms: float = 2.0, snr_db: float = 30.0, theta: dict | None = None,
+                random_state: int | None = None) -> Dataset:
     """1-D sinusoids at known frequencies plus a band-limited disturbance in a nearby band.
 
     Physics: ``sum_k a_k cos(2 pi f_k t) + b_k sin(2 pi f_k t)`` with ``f_k`` in :data:`FREQS_1D`
@@ -79,8 +80,8 @@ def explicit_1d(*, n: int = 1000, sr: float = 100.0, band_hz: tuple = (6.5, 9.0)
     return make("explicit_1d", t, basis, Band(float(lo), float(hi)), th, physics, g, snr_db, rng, desc)
 
 
-def explicit_2d(*, side: int = 48, band: tuple = (6.0, 10.0), disturbance_rms: float = 2.0, snr_db: float = 30.0,
-                theta: dict | None = None, random_state=None) -> Dataset:
+def explicit_2d(*, side: int = 48, band: tuple = (6.0, 10.0), disturbance_rms: float = 2.0,
+                snr_db: float = 30.0, theta: dict | None = None, random_state: int | None = None) -> Dataset:
     """2-D plane waves at known wave vectors plus a random field in a distinct wavenumber band.
 
     Samples: a ``side x side`` grid on [0, 1)^2, flattened; ``x`` has shape (side**2, 2).

@@ -335,7 +335,7 @@ def collect(frame_skip: int, policies, episodes: int, steps: int, rng) -> tuple[
 
 def humanoid(*, disturbance: str = "sin", policies: int = 6, episodes: int = 2, steps: int = 100,
              frame_skip: int | None = None, snr_db: float = 30.0, theta: dict | None = None,
-             random_state=None) -> HumanoidDataset:
+             random_state: int | None = None) -> HumanoidDataset:
     """Collect HumanoidStandup transitions and corrupt their reward.
 
     Parameters

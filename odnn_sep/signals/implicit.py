@@ -38,7 +38,7 @@ def _x2_sin5(x):
 
 
 def implicit_convex(*, n: int = 400, snr_db: float = 30.0, theta: dict | None = None,
-                    random_state=None) -> Dataset:
+                    random_state: int | None = None) -> Dataset:
     """Convex disturbance: ``y = g(x) + theta sin 5x`` on x in [-2, 2] (paper: ``x^2 + sin 5x``).
 
     ``g = a x^2 + b x + c + d exp(x/2)`` with a in [0.5, 1.5], d in [0, 0.5] (convex). Class:
@@ -82,7 +82,7 @@ def implicit_convex(*, n: int = 400, snr_db: float = 30.0, theta: dict | None = 
 
 
 def implicit_periodic(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0,
-                      theta: dict | None = None, random_state=None) -> Dataset:
+                      theta: dict | None = None, random_state: int | None = None) -> Dataset:
     """Periodic disturbance: ``y = g(x) + theta x sin 5x`` (paper: ``sin 5x + x sin 5x``).
 
     ``g`` is a random Fourier series with period 2 pi / 5 (harmonics 1-3 plus an offset), so
@@ -126,7 +126,7 @@ def implicit_periodic(*, periods: int = 10, per_period: int = 100, snr_db: float
 
 
 def implicit_symmetric(*, n: int = 1001, snr_db: float = 30.0, theta: dict | None = None,
-                       random_state=None) -> Dataset:
+                       random_state: int | None = None) -> Dataset:
     """Even disturbance: ``y = g(x) + theta x^2 sin 5x`` on a grid symmetric about 0 (paper:
     ``cos 5x + x^2 sin 5x``).
 
@@ -166,7 +166,7 @@ def implicit_symmetric(*, n: int = 1001, snr_db: float = 30.0, theta: dict | Non
 
 
 def implicit_monotone(*, n: int = 400, snr_db: float = 30.0, theta: dict | None = None,
-                      random_state=None) -> Dataset:
+                      random_state: int | None = None) -> Dataset:
     """Monotone disturbance: ``y = g(x) + theta sin 5x`` on x in [-1, 1.5] (paper: ``exp x + sin 5x``).
 
     ``g = a exp(x) + b x + c`` with a in [0.5, 2], b in [0, 1] (non-decreasing). Class:
@@ -209,7 +209,8 @@ def implicit_monotone(*, n: int = 400, snr_db: float = 30.0, theta: dict | None 
                 extras={"identified_set": (lo, hi)})
 
 
-def figure2(*, n: int = 1001, snr_db: float = 30.0, theta: dict | None = None, random_state=None) -> Dataset:
+def figure2(*, n: int = 1001, snr_db: float = 30.0, theta: dict | None = None,
+            random_state: int | None = None) -> Dataset:
     """The paper's Figure 2 / Proposition 1 case: ``y = theta x^2 sin 5x + cos x`` on [-pi, pi].
 
     The physics is odd and the disturbance ``cos x`` even, so ``Even(0)`` point-identifies theta

@@ -19,7 +19,7 @@ def _periodic_series(rng, w, t, harmonics=3, scale=1.0):
 
 
 def pendulum(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0, theta: dict | None = None,
-             random_state=None) -> Dataset:
+             random_state: int | None = None) -> Dataset:
     """Resonantly driven pendulum (App. C.9): ``theta(t) = theta0 cos wt + (f / 2w) t sin wt``.
 
     The paper contrasts the two terms by symmetry, but both are even in t (``t sin wt`` is a
@@ -67,7 +67,7 @@ def pendulum(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0, 
                 extras={"omega": w, "theta0": theta0, "v0": v0})
 
 
-def aiba_edwards_mu(S, mu_max, K_S, K_I):
+def aiba_edwards_mu(S: np.ndarray | float, mu_max: float, K_S: float, K_I: float):
     """Aiba-Edwards specific growth rate ``mu_max S / (K_S + S) exp(-S / K_I)`` (substrate inhibition).
 
     Parameters
@@ -126,7 +126,7 @@ def substrate_twin(S: float, mu_max: float, K_S: float, K_I: float) -> float | N
 
 
 def biology(*, days: int = 5, per_day: int = 96, snr_db: float = 30.0, theta: dict | None = None,
-            random_state=None) -> Dataset:
+            random_state: int | None = None) -> Dataset:
     """Bacterial growth with an Aiba-Edwards rate and a daily disturbance (sound version of App. C.9).
 
     ``y(t) = N0 exp(mu t) + g(t) + noise`` with t in days, ``mu = mu_max S / (K_S + S) exp(-S / K_I)``
@@ -186,7 +186,7 @@ def biology(*, days: int = 5, per_day: int = 96, snr_db: float = 30.0, theta: di
 
 
 def oscillator(*, n: int = 1000, duration: float = 10.0, snr_db: float = 30.0, theta: dict | None = None,
-               random_state=None) -> Dataset:
+               random_state: int | None = None) -> Dataset:
     """Damped oscillator (App. C.5) with unknown decay and frequency plus a slow drift.
 
     ``y = exp(-gamma t) (A cos wt + B sin wt) + drift + noise``. ``A, B`` linear, ``gamma, omega``
@@ -241,7 +241,7 @@ def oscillator(*, n: int = 1000, duration: float = 10.0, snr_db: float = 30.0, t
 
 
 def population(*, years: int = 10, per_year: int = 52, snr_db: float = 30.0, theta: dict | None = None,
-               random_state=None) -> Dataset:
+               random_state: int | None = None) -> Dataset:
     """Multiplicative population growth (App. C.10), separated after a log transform.
 
     ``N(t) = N0 (1 + r)^t (1 + a sin(2 pi t + psi)) * exp(noise)``; ``y = log N(t) =
@@ -354,7 +354,7 @@ def symmetric_heat(X, L: float, H: float, alpha_t: float, rng) -> tuple[np.ndarr
 
 
 def heat2d(*, nx: int = 41, ny: int = 33, L: float = 1.0, H: float = 0.8, alpha_t: float = 0.01,
-           snr_db: float = 30.0, theta: dict | None = None, random_state=None) -> Dataset:
+           snr_db: float = 30.0, theta: dict | None = None, random_state: int | None = None) -> Dataset:
     """Inverse heat-source problem (App. C.8) in an identifiable form.
 
     The paper takes a symmetric field (four edge sources) as the physics and an asymmetric corner

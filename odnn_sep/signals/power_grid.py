@@ -32,6 +32,7 @@ of percent; :mod:`odnn_sep.signals.grid_eiv` estimates that bias (see BENCHMARKS
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -206,9 +207,9 @@ def _usable_rows(measured, adj, p_true, nb):
     return tuple(rows), excluded
 
 
-def power_grid(*, case: str = "case14", snapshots: int = 288, measured=None, btm_share: float = 0.5,
-               snr_db: float = 60.0, sigma_v: float = 1e-6, sigma_delta: float = 1e-6,
-               random_state=None) -> GridDataset:
+def power_grid(*, case: str = "case14", snapshots: int = 288, measured: Sequence[int] | None = None,
+               btm_share: float = 0.5, snr_db: float = 60.0, sigma_v: float = 1e-6, sigma_delta: float = 1e-6,
+               random_state: int | None = None) -> GridDataset:
     """Simulate a partially observed grid with behind-the-meter generation; one problem per bus row.
 
     Parameters
