@@ -29,6 +29,8 @@ NEEDS = {
     "odnn_sep.signals.humanoid_policies.make_env": "gymnasium,mujoco",
     "odnn_sep.signals.humanoid_policies.rollout": "gymnasium,mujoco",
 }
+#: Example helpers that need an optional package: call -> package.
+CALLS = {"three_bus_feeder(": "pandapower"}
 _IMPORT = re.compile(r"^\s*(?:import|from)\s+(\w+)", re.MULTILINE)
 
 
@@ -36,6 +38,7 @@ def _needed(item) -> set[str]:
     need = {pkg for prefix, pkgs in NEEDS.items() if item.name == prefix or item.name.startswith(prefix + ".")
             for pkg in pkgs.split(",")}
     source = "\n".join(ex.source for ex in item.dtest.examples)
+    need |= {pkg for call, pkg in CALLS.items() if call in source}
     return need | {m for m in _IMPORT.findall(source) if m in OPTIONAL}
 
 

@@ -70,6 +70,33 @@ def load_case(case: str):
     return net
 
 
+
+def three_bus_feeder():
+    """A solved three-bus feeder (0 - 1 - 2, 12.66 kV, a 0.5 MW load at bus 2): the small network the
+    examples of the grid modules share (needs pandapower).
+
+    Returns
+    -------
+    pandapowerNet
+        The network, with its power flow solved.
+
+    Examples
+    --------
+    >>> net = three_bus_feeder()
+    >>> len(net.bus), len(net.line), bool(net.res_bus.vm_pu.iloc[2] < 1.0)
+    (3, 2, True)
+    """
+    pp, _ = _pandapower()
+    net = pp.create_empty_network(sn_mva=1.0)
+    buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
+    pp.create_ext_grid(net, buses[0])
+    for f, t in ((0, 1), (1, 2)):
+        pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
+                                       x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
+    pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
+    pp.runpp(net, numba=False)
+    return net
+
 def admittance(net) -> tuple[np.ndarray, np.ndarray]:
     """True bus admittance matrix (G, B) in ``net.bus`` order, from pandapower's own Ybus.
 
@@ -85,18 +112,10 @@ def admittance(net) -> tuple[np.ndarray, np.ndarray]:
 
     Examples
     --------
-    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2 (:func:`three_bus_feeder`):
 
     >>> import numpy as np
-    >>> import pandapower as pp
-    >>> net = pp.create_empty_network(sn_mva=1.0)
-    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
-    >>> _ = pp.create_ext_grid(net, buses[0])
-    >>> for f, t in ((0, 1), (1, 2)):
-    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
-    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
-    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
-    >>> pp.runpp(net, numba=False)
+    >>> net = three_bus_feeder()
     >>> G, B = admittance(net)
     >>> G.round(3).tolist()
     [[195.458, -195.458, 0.0], [-195.458, 390.916, -195.458], [0.0, -195.458, 195.458]]
@@ -159,18 +178,10 @@ def candidate_graph(net, G: np.ndarray, B: np.ndarray, hops: int = 2) -> np.ndar
 
     Examples
     --------
-    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2 (:func:`three_bus_feeder`):
 
     >>> import numpy as np
-    >>> import pandapower as pp
-    >>> net = pp.create_empty_network(sn_mva=1.0)
-    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
-    >>> _ = pp.create_ext_grid(net, buses[0])
-    >>> for f, t in ((0, 1), (1, 2)):
-    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
-    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
-    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
-    >>> pp.runpp(net, numba=False)
+    >>> net = three_bus_feeder()
     >>> G, B = admittance(net)
     >>> candidate_graph(net, G, B).astype(int).tolist()         # 0 and 2 are two branches apart
     [[0, 1, 1], [1, 0, 1], [1, 1, 0]]
@@ -222,18 +233,10 @@ def run_snapshots(net, load_mult: np.ndarray, vm_slack: np.ndarray, btm: dict, q
 
     Examples
     --------
-    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2 (:func:`three_bus_feeder`):
 
     >>> import numpy as np
-    >>> import pandapower as pp
-    >>> net = pp.create_empty_network(sn_mva=1.0)
-    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
-    >>> _ = pp.create_ext_grid(net, buses[0])
-    >>> for f, t in ((0, 1), (1, 2)):
-    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
-    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
-    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
-    >>> pp.runpp(net, numba=False)
+    >>> net = three_bus_feeder()
     >>> v, delta, p_load, g = run_snapshots(net, np.ones((2, 1)), np.array([1.0, 1.02]), {}, np.zeros((2, 1)))
     >>> v.round(4).tolist()                                      # the slack voltage steps up by 2 %
     [[1.0, 0.9979, 0.9959], [1.02, 1.018, 1.0159]]
@@ -270,18 +273,10 @@ class Schedule:
 
     Examples
     --------
-    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2 (:func:`three_bus_feeder`):
 
     >>> import numpy as np
-    >>> import pandapower as pp
-    >>> net = pp.create_empty_network(sn_mva=1.0)
-    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
-    >>> _ = pp.create_ext_grid(net, buses[0])
-    >>> for f, t in ((0, 1), (1, 2)):
-    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
-    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
-    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
-    >>> pp.runpp(net, numba=False)
+    >>> net = three_bus_feeder()
     >>> sched = Schedule(net, np.full((1, 1), 2.0), np.array([1.01]), np.zeros((1, 1)), None, None)
     >>> sched.slack, sched.load_bus.tolist()
     (0, [2])
@@ -350,18 +345,10 @@ def check_with_pandapower(net, sched: Schedule, t: int, btm: dict, g: np.ndarray
 
     Examples
     --------
-    A three-bus feeder (0 - 1 - 2) with a load at bus 2:
+    A three-bus feeder (0 - 1 - 2) with a load at bus 2 (:func:`three_bus_feeder`):
 
     >>> import numpy as np
-    >>> import pandapower as pp
-    >>> net = pp.create_empty_network(sn_mva=1.0)
-    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
-    >>> _ = pp.create_ext_grid(net, buses[0])
-    >>> for f, t in ((0, 1), (1, 2)):
-    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
-    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
-    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
-    >>> pp.runpp(net, numba=False)
+    >>> net = three_bus_feeder()
     >>> sched = Schedule(net, np.ones((1, 1)), np.array([1.0]), np.zeros((1, 1)), None, None)
     >>> v, delta = net.res_bus.vm_pu.values.copy(), np.deg2rad(net.res_bus.va_degree.values)
     >>> check_with_pandapower(net, sched, 0, {}, np.zeros(3), v, delta)      # agrees: nothing happens

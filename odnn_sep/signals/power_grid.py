@@ -375,15 +375,8 @@ def simulate(net, snapshots: int, btm_share: float, rng) -> tuple[np.ndarray, di
     A three-bus feeder (0 - 1 - 2) with a load at bus 2:
 
     >>> import numpy as np
-    >>> import pandapower as pp
-    >>> net = pp.create_empty_network(sn_mva=1.0)
-    >>> buses = [pp.create_bus(net, vn_kv=12.66) for _ in range(3)]
-    >>> _ = pp.create_ext_grid(net, buses[0])
-    >>> for f, t in ((0, 1), (1, 2)):
-    ...     _ = pp.create_line_from_parameters(net, buses[f], buses[t], length_km=1, r_ohm_per_km=0.5,
-    ...                                        x_ohm_per_km=0.4, c_nf_per_km=0, max_i_ka=1)
-    >>> _ = pp.create_load(net, buses[2], p_mw=0.5, q_mvar=0.2)
-    >>> pp.runpp(net, numba=False)
+    >>> from odnn_sep.signals.grid_flow import three_bus_feeder
+    >>> net = three_bus_feeder()
     >>> nominal, btm, (v, delta, p, g) = simulate(net, 4, 1.0, np.random.default_rng(0))
     >>> nominal.tolist(), sorted(btm), btm[2]["kind"], v.shape
     ([0.0, 0.0, 0.5], [2], 'boost', (4, 3))
