@@ -317,23 +317,11 @@ def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state
 
     Examples
     --------
-    A three-bus chain (lines 0-1, 1-2) with bus 1's equation complete, its candidates 0 and 2:
+    A three-bus chain (lines 0-1, 1-2) with bus 1's equation complete, its candidates 0 and 2
+    (:func:`~odnn_sep.signals.power_grid.three_bus_chain`):
 
-    >>> import numpy as np
-    >>> from odnn_sep.signals.grid_flow import adjacency
-    >>> from odnn_sep.signals.power_grid import GridDataset, GridTruth, bus_problem, row_columns
-    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])
-    >>> B, n, rng = -3 * G, 60, np.random.default_rng(0)
-    >>> v, delta = 1 + 0.01 * rng.standard_normal((n, 3)), 0.01 * rng.standard_normal((n, 3))
-    >>> F, names = row_columns(v, delta, 1, [0, 2])
-    >>> p, noise, zero = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-    >>> p[:, 1] = F @ np.array([G[1, 0], B[1, 0], G[1, 2], B[1, 2]])
-    >>> noise[:, 1] = 1e-4 * rng.standard_normal(n)
-    >>> truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=p, g=zero, btm={}, nominal=np.array([0, 0.5, 0.3]))
-    >>> problem = bus_problem("toy", 1, [0, 2], (v, delta, p + noise, noise), truth, 60.0)
-    >>> ds = GridDataset(name="power_grid", case="toy", G=G, B=B, measured=(0, 1, 2), rows=(1,), excluded={},
-    ...                  v=v, delta=delta, p=p + noise, g=zero, btm={}, problems=(problem,), snr_db=60.0,
-    ...                  sigma_v=0.0, sigma_delta=0.0, description="toy")
+    >>> from odnn_sep.signals.power_grid import three_bus_chain
+    >>> ds, names = three_bus_chain()
     >>> fit = identify_grid(ds, chunk=60)
     >>> [(name, round(est, 2), point) for name, _i, _k, _t, est, _lo, _hi, _pr, point in fit.table]
     [('B[0-1]', 12.0, True), ('B[1-2]', 15.0, True), ('G[0-1]', -4.0, True), ('G[1-2]', -5.0, True)]
@@ -382,23 +370,11 @@ def voltage_noise_bias(ds, rows) -> dict:
 
     Examples
     --------
-    A three-bus chain (lines 0-1, 1-2) with bus 1's equation complete, its candidates 0 and 2:
+    A three-bus chain (lines 0-1, 1-2) with bus 1's equation complete, its candidates 0 and 2
+    (:func:`~odnn_sep.signals.power_grid.three_bus_chain`):
 
-    >>> import numpy as np
-    >>> from odnn_sep.signals.grid_flow import adjacency
-    >>> from odnn_sep.signals.power_grid import GridDataset, GridTruth, bus_problem, row_columns
-    >>> G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])
-    >>> B, n, rng = -3 * G, 60, np.random.default_rng(0)
-    >>> v, delta = 1 + 0.01 * rng.standard_normal((n, 3)), 0.01 * rng.standard_normal((n, 3))
-    >>> F, names = row_columns(v, delta, 1, [0, 2])
-    >>> p, noise, zero = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
-    >>> p[:, 1] = F @ np.array([G[1, 0], B[1, 0], G[1, 2], B[1, 2]])
-    >>> noise[:, 1] = 1e-4 * rng.standard_normal(n)
-    >>> truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=p, g=zero, btm={}, nominal=np.array([0, 0.5, 0.3]))
-    >>> problem = bus_problem("toy", 1, [0, 2], (v, delta, p + noise, noise), truth, 60.0)
-    >>> ds = GridDataset(name="power_grid", case="toy", G=G, B=B, measured=(0, 1, 2), rows=(1,), excluded={},
-    ...                  v=v, delta=delta, p=p + noise, g=zero, btm={}, problems=(problem,), snr_db=60.0,
-    ...                  sigma_v=1e-4, sigma_delta=1e-4, description="toy")
+    >>> from odnn_sep.signals.power_grid import three_bus_chain
+    >>> ds, names = three_bus_chain(sigma_meter=1e-4)
     >>> rows = [(nm, 1, k, 0.0, est, est - 0.1, est + 0.1, True, 1.0)
     ...         for nm, k, est in zip(names, [0, 0, 2, 2], [-4.0, 12.0, -5.0, 15.0])]
     >>> bias = voltage_noise_bias(ds, rows)

@@ -522,3 +522,40 @@ def bus_problem(case: str, i: int, others, measured_arrays, truth: GridTruth, sn
         physics=truth.p[:, i] - truth.g[:, i], disturbance_true=truth.g[:, i].copy(), noise=noise_p[:, i],
         snr_db=snr_db, description=desc, targets=tuple(names), identified="set" if served else "point",
         extras={"bus": i, "btm": unit, "lines": [k for k in others if truth.adj[i, k]]})
+
+
+def three_bus_chain(sigma_meter: float = 0.0) -> tuple[GridDataset, list[str]]:
+    """A small record for examples: a three-bus chain (lines 0-1, 1-2), 60 snapshots, with only bus
+    1's equation complete (candidates 0 and 2) and 1e-4 p.u. noise on its metered power.
+
+    Parameters
+    ----------
+    sigma_meter : float
+        The voltage meters' stated noise (``sigma_v`` and ``sigma_delta``); the voltages themselves
+        are exact.
+
+    Returns
+    -------
+    ds : GridDataset
+    names : list of str
+        Bus 1's coefficient names, in column order.
+
+    Examples
+    --------
+    >>> ds, names = three_bus_chain()
+    >>> ds.v.shape, ds.rows, names
+    ((60, 3), (1,), ['G[1,0]', 'B[1,0]', 'G[1,2]', 'B[1,2]'])
+    """
+    G = np.array([[4.0, -4, 0], [-4, 9, -5], [0, -5, 5]])
+    B, n, rng = -3 * G, 60, np.random.default_rng(0)
+    v, delta = 1 + 0.01 * rng.standard_normal((n, 3)), 0.01 * rng.standard_normal((n, 3))
+    F, names = row_columns(v, delta, 1, [0, 2])
+    p, noise, zero = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+    p[:, 1] = F @ np.array([G[1, 0], B[1, 0], G[1, 2], B[1, 2]])
+    noise[:, 1] = 1e-4 * rng.standard_normal(n)
+    truth = GridTruth(G=G, B=B, adj=adjacency(G, B), p=p, g=zero, btm={}, nominal=np.array([0, 0.5, 0.3]))
+    problem = bus_problem("toy", 1, [0, 2], (v, delta, p + noise, noise), truth, 60.0)
+    ds = GridDataset(name="power_grid", case="toy", G=G, B=B, measured=(0, 1, 2), rows=(1,), excluded={},
+                     v=v, delta=delta, p=p + noise, g=zero, btm={}, problems=(problem,), snr_db=60.0,
+                     sigma_v=sigma_meter, sigma_delta=sigma_meter, description="toy")
+    return ds, names
