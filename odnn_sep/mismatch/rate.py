@@ -44,7 +44,7 @@ def reduce_rate(model, t, y, aux):
     >>> reduce_rate(make_model("cooling"), t[:10], t[:10], None)[3] is None
     True
     """
-    if model.family != "hum" or np.ndim(t) != 1 or len(y) <= MAX_SAMPLES:
+    if model.family != "hum" or np.ndim(t) != 1 or len(y) <= MAX_SAMPLES or getattr(model.preset, "baseband", False):
         return t, y, aux, None
     fs = 1.0 / float(np.median(np.diff(t)))
     f_top = (int(model.start.get("harmonics", 1)) + 7) * float(model.start.get("f0", 60.0)) * 1.02
