@@ -189,6 +189,10 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     >>> res.effect, round(res.verdict.fit.params["q_drag"], 2)
     ('quadratic_drag', 0.02)
     """
+    from odnn_sep.mismatch.hum_engine import explain_on_audio_engine
+    on_bands = explain_on_audio_engine(model, t, y, dict(locals()))   # long hum audio: the lines' basebands
+    if on_bands is not None:
+        return on_bands
     m, t, y, aux, rate_note = _prepare(model, t, y, params, inputs, aux)
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
     G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
@@ -268,7 +272,8 @@ def _candidate_factory(t, y, aux, G, slow_hz):
     """make_model(e, cur, with_starts=True) -> (model with effect e on top of cur, starts)."""
     def make_candidate_model(e, cur, with_starts=True):
         if e == COUPLING:   # the coupling effect is built from the aux channels
-            regs = coupling_regressors(t, aux, f0=cur.params["f0"], harmonics=cur.params["harmonics"])
+            regs = getattr(cur.model.preset, "coupling", None) or \
+                coupling_regressors(t, aux, f0=cur.params["f0"], harmonics=cur.params["harmonics"])
             me = with_coupling(cur.model, regs)
             return me, [coupling_start(me, cur, t, y, G, regs)]
         from odnn_sep.mismatch.candidates import with_data_bounds
