@@ -16,8 +16,8 @@ import numpy as np
 
 
 def hum_recording(*, seconds=60.0, sr=16000, mains_hz=60.0, amps=(0.01, 0.1, 0.08), drift_hz=0.04,
-                  drift_period_s=0.0, noise=0.02, host=0.05, coupling=0.0, seed=0):
-    """(y, sr, truth): an (n,) or (n, 2) float32 hum recording and what is in it.
+                  drift_period_s=0.0, noise=0.02, host=0.05, coupling=None, seed=0):
+    """(y, sr, truth): an (n,) float32 hum recording (n, 2 with ``coupling``) and what is in it.
 
     Examples
     --------
@@ -41,7 +41,7 @@ def hum_recording(*, seconds=60.0, sr=16000, mains_hz=60.0, amps=(0.01, 0.1, 0.0
     y += noise * rng.normal(size=n) + host * _speech_like(t, sr, rng)
     truth = {"mains_hz": mains_hz, "amps": list(amps), "drift_hz": drift_hz, "drift_period_s": drift_period_s,
              "coupling": coupling}
-    if coupling:
+    if coupling is not None:
         other = _speech_like(t, sr, rng) + 0.5 * np.cos(phase + 1.0) + noise * rng.normal(size=n)
         y = y + coupling * other
         return np.column_stack([y, other]).astype(np.float32), sr, truth
@@ -50,7 +50,7 @@ def hum_recording(*, seconds=60.0, sr=16000, mains_hz=60.0, amps=(0.01, 0.1, 0.0
 
 def _speech_like(t, sr, rng):
     from scipy.signal import butter, sosfiltfilt
-    s = sosfiltfilt(butter(4, [80, 3000], btype="band", fs=sr, output="sos"), rng.normal(size=len(t)))
+    s = sosfiltfilt(butter(4, [80, min(3000, 0.4 * sr)], btype="band", fs=sr, output="sos"), rng.normal(size=len(t)))
     s = s * np.clip(np.sin(2 * np.pi * 3.1 * t + rng.uniform(0, 2 * np.pi)), 0, None) ** 2
     return s / np.std(s)
 
@@ -61,7 +61,8 @@ def main(argv=None):
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--sr", type=int, default=16000)
     ap.add_argument("--mains", type=float, default=60.0)
-    ap.add_argument("--coupling", type=float, default=0.0, help="gain of channel 2's content leaking into channel 1")
+    ap.add_argument("--coupling", type=float, default=None,
+                    help="write a second channel whose content leaks into channel 1 with this gain (0: a null twin)")
     ap.add_argument("--no-drift", action="store_true")
     ap.add_argument("--wander-period", type=float, default=0.0,
                     help="sinusoidal wander of this period (s) instead of a linear drift")
