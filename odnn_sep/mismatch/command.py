@@ -19,15 +19,17 @@ def register(subparsers) -> None:
     >>> parser = argparse.ArgumentParser(prog="odnn-sep")
     >>> register(parser.add_subparsers(dest="command"))
     >>> args = parser.parse_args(["mismatch", "run.csv", "--model", "cooling", "--param", "h=0.1"])
-    >>> args.command, args.model, args.param, args.disturbance
-    ('mismatch', 'cooling', ['h=0.1'], 'auto')
+    >>> args.command, args.model, args.param, args.disturbance, args.data
+    ('mismatch', 'cooling', ['h=0.1'], 'auto', ['run.csv'])
     """
     p = subparsers.add_parser(
         "mismatch", help="find where a simulation and data disagree and name the missing physics",
         description="Calibrate a model (preset) to the data, locate where the residual exceeds the noise, "
                     "try each effect of the physics vocabulary, and report the one the data support "
                     "(or that nothing is missing).")
-    p.add_argument("data", help="CSV (header; first column time), WAV, or NPZ with x, y, z (2D fields)")
+    p.add_argument("data", nargs="+",
+                   help="CSV (header; first column time), WAV, or NPZ with x, y, z (2D fields); several files are "
+                        "several series of one system, fitted jointly")
     p.add_argument("--model", required=True,
                    help="preset: oscillator, pendulum, cooling, hum, heat2d, freefall")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
@@ -55,6 +57,13 @@ def register(subparsers) -> None:
     p.add_argument("--folds", type=int, default=4,
                    help="cross-validation folds of the held-out test (>= 2; default 4); fewer folds let short "
                         "series (16 points) be analysed, with less power")
+    p.add_argument("--series", default=None, metavar="COLUMN",
+                   help="CSV column naming the series (e.g. one mug per value): the series are fitted jointly, "
+                        "some parameters shared (cooling: T_ambient; freefall: g; oscillator: k, c; pendulum: "
+                        "w2, c), the others per series; at most 50 series")
+    p.add_argument("--shared", default=None, metavar="NAMES",
+                   help="comma-separated parameters shared by every series of a joint fit (overrides the "
+                        "preset's default)")
     p.add_argument("--report", default=None, metavar="R.json", help="write the JSON report here")
     p.add_argument("--plot", default=None, metavar="P.png", help="write the figure here")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary on stdout")
@@ -109,7 +118,7 @@ def run(args) -> int:
     >>> register(parser.add_subparsers(dest="command"))
     >>> args = parser.parse_args(["mismatch", "run.csv", "--model", "freefall", "--effects", "quadratic_drag"])
     >>> args.data, args.effects, callable(run)
-    ('run.csv', 'quadratic_drag', True)
+    (['run.csv'], 'quadratic_drag', True)
     """
     import sys
 
@@ -132,7 +141,12 @@ def run(args) -> int:
                          f"temperature physics")
     for out in (args.report, args.plot):
         if out is not None:
-            check_output_path(out, args.data)
+            for path in args.data:
+                check_output_path(out, path)
+    if args.series is not None or len(args.data) > 1 or args.shared is not None:
+        from odnn_sep.mismatch.joint_command import run_joint
+        return run_joint(args, params)
+    args.data = args.data[0]
     t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
                                 with_aux=True)
     inputs = _pick_inputs(args.input, aux, info)

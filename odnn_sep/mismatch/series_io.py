@@ -1,0 +1,105 @@
+"""Reading several series for a joint fit: a CSV with a series column, or one file per series."""
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from odnn_sep.errors import FormatError, InputError
+
+
+def read_series_csv(path, series, column=None):
+    """``{series name: (t, y)}`` from a CSV with a header, time first, and a column naming the series.
+
+    Rows are grouped by the series column's value (in order of first appearance); within a series
+    they are sorted by time.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file.
+    series : str
+        Header of the column that names the series.
+    column : str, optional
+        Value column (default: the first column after time that is not the series column).
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    InputError
+        Unknown series or value column.
+    FormatError
+        Non-numeric time or value.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "mugs.csv")
+    >>> with open(path, "w") as fh:
+    ...     _ = fh.write("t,mug,T\\n0,A,90\\n0,B,80\\n1,A,85\\n1,B,76\\n")
+    >>> {k: (t.tolist(), y.tolist()) for k, (t, y) in read_series_csv(path, "mug").items()}
+    {'A': ([0.0, 1.0], [90.0, 85.0]), 'B': ([0.0, 1.0], [80.0, 76.0])}
+    """
+    from odnn_sep.mismatch.model import suggest_name
+    with open(path, newline="") as fh:
+        rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+    if len(rows) < 2:
+        raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
+    header = [h.strip() for h in rows[0]]
+    if series not in header:
+        raise InputError(f"--series {series!r} is not a column of {str(path)!r}; {suggest_name(series, header)}"
+                         f"columns: {', '.join(header)}")
+    js = header.index(series)
+    if column is None:
+        rest = [j for j in range(1, len(header)) if j != js]
+        if not rest:
+            raise InputError(f"CSV {str(path)!r} has no value column besides time and {series!r}")
+        jv = rest[0]
+    elif str(column) in header:
+        jv = header.index(str(column))
+    else:
+        raise InputError(f"--column {column!r} is not a column of {str(path)!r}; "
+                         f"{suggest_name(column, header)}columns: {', '.join(header)}")
+    groups: dict = {}
+    for k, r in enumerate(rows[1:], start=2):
+        try:
+            groups.setdefault(r[js].strip(), []).append((float(r[0]), float(r[jv])))
+        except (ValueError, IndexError):
+            raise FormatError(f"CSV {str(path)!r} line {k}: time and {header[jv]!r} must be numbers; "
+                              f"got {r}") from None
+    out = {}
+    for name, pts in groups.items():
+        a = np.array(sorted(pts))
+        out[name] = (a[:, 0], a[:, 1])
+    return out
+
+
+def read_series_files(paths, *, load, column=None, start=None, duration=None):
+    """``{file stem: (t, y)}``: one series per data file, read by ``load`` (the mismatch loader).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from odnn_sep.mismatch.io import load_data
+    >>> d = tempfile.mkdtemp(); paths = []
+    >>> for name in ("a", "b"):
+    ...     paths.append(os.path.join(d, name + ".csv"))
+    ...     with open(paths[-1], "w") as fh:
+    ...         _ = fh.write("t,T\\n0,90\\n1,85\\n")
+    >>> list(read_series_files(paths, load=load_data))
+    ['a', 'b']
+    """
+    out = {}
+    for p in paths:
+        name = Path(p).stem
+        if name in out:
+            raise InputError(f"two data files share the name {name!r}; a series is named after its file")
+        t, y, info = load(p, column=column, start=start, duration=duration)
+        if np.ndim(t) != 1:
+            raise InputError(f"{str(p)!r} is a 2D field; joint series are time series")
+        out[name] = (t, y)
+    return out
