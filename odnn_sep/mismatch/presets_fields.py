@@ -1,10 +1,9 @@
-"""Thermal, mains-hum and 2D-field presets: Newton cooling, hum, heat2d."""
+"""Thermal and mains-hum presets: Newton cooling, hum (heat2d lives in presets_heat2d)."""
 from __future__ import annotations
 
 import numpy as np
 
 from odnn_sep.core.linalg import solve
-from odnn_sep.errors import InputError
 from odnn_sep.mismatch.inputs import (
     drive_function,
     drive_on_grid,
@@ -13,6 +12,7 @@ from odnn_sep.mismatch.inputs import (
     regression_start,
 )
 from odnn_sep.mismatch.presets_base import INF, Preset, integrate_ode
+from odnn_sep.mismatch.presets_heat2d import Heat2D, parse_sources  # noqa: F401  (re-exported)
 
 
 def _psat(T):
@@ -211,106 +211,3 @@ def hum_columns(t, f0, H):
     for h in range(1, H + 1):
         cols += [np.cos(2 * np.pi * h * f0 * t), np.sin(2 * np.pi * h * f0 * t)]
     return np.column_stack(cols)
-
-
-class Heat2D(Preset):
-    """2D heat field at time ``t`` from point sources, sampled at points ``xy`` (shape (n, 2)).
-
-    Each source ``i`` adds ``S_i exp(-r_i^2 / (4 alpha t)) / (4 pi alpha t)``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> pre = Heat2D()
-    >>> p = {"alpha": 0.01, "t": 1.0, "sources": "0.5:0.5", "S1": 1.0}
-    >>> z = pre.build(())(np.array([[0.5, 0.5], [0.9, 0.5]]), p)
-    >>> z.shape, round(float(z[0]), 4)
-    ((2,), 7.9577)
-    """
-
-    name = "heat2d"
-    family = "heat2d"
-    description = ("2D heat field at time t from point sources: "
-                   "sum_i S_i exp(-r_i^2 / (4 alpha t)) / (4 pi alpha t)")
-    params = {"alpha": 0.01, "t": 1.0, "sources": "0.5:0.5"}
-    bounds = {"alpha": (1e-12, INF)}
-    fixed = frozenset({"t", "sources"})
-    native = frozenset({"extra_source", "offset"})
-    ndim = 2
-
-    def build(self, effects):
-        effects = frozenset(effects) & self.native
-
-        def predict(xy, p):
-            srcs = parse_sources(p["sources"])
-            s2 = 4.0 * p["alpha"] * p["t"]
-            out = np.zeros(len(xy))
-            terms = [(sx, sy, p[f"S{i + 1}"]) for i, (sx, sy) in enumerate(srcs)]
-            if "extra_source" in effects:
-                terms.append((p["xs"], p["ys"], p["S_extra"]))
-            for sx, sy, S in terms:
-                r2 = (xy[:, 0] - sx) ** 2 + (xy[:, 1] - sy) ** 2
-                out += S * np.exp(-r2 / s2) / (np.pi * s2)
-            if "offset" in effects:
-                out += p["offset"]
-            return out
-
-        return predict
-
-    def initial_guess(self, xy, z, p):
-        srcs = parse_sources(p.get("sources", self.params["sources"]))
-        tt = float(p.get("t", 1.0))
-        ext = max(np.ptp(xy[:, 0]), np.ptp(xy[:, 1]))
-        best = None
-        for a in np.geomspace(1e-4, 1.0, 40) * ext ** 2 / tt:
-            s2 = 4 * a * tt
-            F = np.column_stack([np.exp(-((xy[:, 0] - sx) ** 2 + (xy[:, 1] - sy) ** 2) / s2) / (np.pi * s2)
-                                 for sx, sy in srcs])
-            coef = solve(F, z, method="lstsq")
-            rss = float(np.sum((F @ coef - z) ** 2))
-            if best is None or rss < best[0]:
-                best = (rss, a, coef)
-        out = {"alpha": float(best[1])}
-        out.update({f"S{i + 1}": float(c) for i, c in enumerate(best[2])})
-        return out
-
-
-def parse_sources(spec):
-    """Parse ``"x:y;x:y"`` into a list of (x, y) floats.
-
-    Parameters
-    ----------
-    spec : str or sequence of pairs
-        Source positions, ``"x:y"`` pairs separated by ``;`` (or already a list of pairs).
-
-    Returns
-    -------
-    list of tuple of float
-        The source positions.
-
-    Raises
-    ------
-    InputError
-        When ``spec`` is malformed or empty.
-
-    Examples
-    --------
-    >>> parse_sources("0.3:0.4; 0.6:0.5")
-    [(0.3, 0.4), (0.6, 0.5)]
-    """
-    if isinstance(spec, (list, tuple)):
-        return [(float(a), float(b)) for a, b in spec]
-    out = []
-    for part in str(spec).split(";"):
-        part = part.strip()
-        if not part:
-            continue
-        try:
-            a, b = part.split(":")
-            out.append((float(a), float(b)))
-        except ValueError:
-            raise InputError(f"sources must be x:y pairs separated by ';' (e.g. 0.3:0.4;0.6:0.5); "
-                             f"got {spec!r}") from None
-    if not out:
-        raise InputError(f"sources must name at least one x:y pair; got {spec!r}")
-    return out
