@@ -103,6 +103,9 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
     Effect("extra_source", "an extra point source (position xs, ys; strength S_extra) in the 2D field",
            {"xs": 0.0, "ys": 0.0, "S_extra": 0.0},
            {"xs": (-INF, INF), "ys": (-INF, INF), "S_extra": (-INF, INF)}, frozenset({"heat2d"})),
+    Effect("source_moved", "a given source sits elsewhere: source k_src displaced by (dx_src, dy_src)",
+           {"k_src": 1.0, "dx_src": 0.0, "dy_src": 0.0}, {"dx_src": (-INF, INF), "dy_src": (-INF, INF)},
+           frozenset({"heat2d"}), discrete={"k_src": 2}),
 ]}
 
 VOCABULARY = tuple(EFFECTS)

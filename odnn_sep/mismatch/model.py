@@ -278,6 +278,7 @@ def make_model(name: str, params: dict | None = None, *, inputs: dict | None = N
         from odnn_sep.mismatch.presets import parse_sources
         for i in range(len(parse_sources(start["sources"]))):
             start.setdefault(f"S{i + 1}", 1.0)
+        start.update({k: v for k, v in preset.extra_params(start).items() if k not in start})
     return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
                  fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
                  ndim=preset.ndim, autonomous=preset.autonomous and not inputs, preset=preset)
@@ -291,7 +292,7 @@ def _check_param_names(key, preset, params, start):
     if key == "heat2d":
         from odnn_sep.mismatch.presets import parse_sources
         n_src = len(parse_sources(params.get("sources", start["sources"])))
-        allowed |= {f"S{i + 1}" for i in range(n_src)}
+        allowed |= {f"S{i + 1}" for i in range(n_src)} | set(preset.extra_params({**start, **params}))
     for k in params:
         if k not in allowed:
             raise InputError(f"unknown parameter {k!r} for model {key!r}; {suggest_name(k, allowed)}"

@@ -184,6 +184,11 @@ def _source_starts(p, r, tt, base, model, t):
     return out
 
 
+def _moved_starts(p, r, tt, base, model, t):
+    from odnn_sep.mismatch.presets_heat2d import moved_starts  # the rule lives with the heat2d preset
+    return moved_starts(p, r, tt, base, model, t)
+
+
 # effect -> (start rule, needs a time series (True) or 2D coordinates (False) or either (None))
 _START_RULES = {
     "periodic_forcing": (_forcing_starts, True),
@@ -192,6 +197,7 @@ _START_RULES = {
     "two_body_heat": (_two_body_starts, True),
     "missing_harmonic": (_harmonic_starts, True),
     "extra_source": (_source_starts, False),
+    "source_moved": (lambda *a: _moved_starts(*a), False),
     "offset": (lambda p, r, tt, base, model, t: [{**p, "offset": float(np.mean(r))}], None),
 }
 
