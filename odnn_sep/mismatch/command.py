@@ -31,7 +31,10 @@ def register(subparsers) -> None:
                    help="CSV (header; first column time), WAV, or NPZ with x, y, z (2D fields); several files are "
                         "several series of one system, fitted jointly")
     p.add_argument("--model", required=True,
-                   help="preset: oscillator, pendulum, cooling, hum, heat2d, freefall")
+                   help="preset: oscillator, pendulum, cooling, hum, heat2d, freefall. heat2d options: "
+                        "--param continuous=1 (sources with constant power), --param ambient=1 (a fitted "
+                        "ambient level T_amb); an NPZ with z (frames, ny, nx) and t (frame times) is fitted "
+                        "over every frame")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                    help="starting guess for a model parameter (repeatable), e.g. --param k=4")
     p.add_argument("--column", default=None, help="CSV value column (name or index; default: the second); "
@@ -149,6 +152,12 @@ def run(args) -> int:
     args.data = args.data[0]
     t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
                                 with_aux=True)
+    if info.get("frames"):
+        # several frames of a field: the file gives the frame times (see presets_heat2d)
+        if model.family != "heat2d":
+            raise InputError(f"{args.data!r} holds {info['frames']} frames of a field; use --model heat2d")
+        params = {**params, "t": info["frame_t0"], "frame_dt": info["frame_dt"], "frame_dx": info["frame_dx"]}
+        model = make_model(args.model, params)
     inputs = _pick_inputs(args.input, aux, info)
     if args.no_aux or model.family != "hum":
         # other channels only enter through the hum preset's channel_coupling effect

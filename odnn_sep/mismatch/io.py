@@ -161,10 +161,37 @@ def read_npz(path):
     from odnn_sep.io_read import load_npz_arrays
     d = load_npz_arrays(path, max_points=True)  # shapes and types checked before loading
     x, yy, z = (d[k] for k in ("x", "y", "z"))
+    if z.ndim == 3:
+        return _read_frames(path, x, yy, z)
     if z.shape != (len(yy), len(x)):
         raise FormatError(f"NPZ z has shape {z.shape}; expected (len(y), len(x)) = ({len(yy)}, {len(x)})")
     X, Y = np.meshgrid(x, yy)
     return np.column_stack([X.ravel(), Y.ravel()]), z.ravel(), {"format": "npz", "shape": list(z.shape)}
+
+
+def _read_frames(path, x, yy, z):
+    """Several frames of a field (z: (n_frames, ny, nx), t: frame times): frame k's points have x
+    shifted by k * frame_dx (see :mod:`odnn_sep.mismatch.presets_heat2d`)."""
+    from odnn_sep.io_read import load_npz_arrays
+    if z.shape[1:] != (len(yy), len(x)):
+        raise FormatError(f"NPZ z has shape {z.shape}; frames need (n_frames, len(y), len(x)) = "
+                          f"(n_frames, {len(yy)}, {len(x)})")
+    try:
+        tf = load_npz_arrays(path, keys=("t",))["t"]
+    except FormatError:
+        raise FormatError(f"NPZ {str(path)!r} has {z.shape[0]} frames (z is 3-D) but no array t of frame "
+                          f"times; add t (n_frames,)") from None
+    if tf.shape != (z.shape[0],) or tf[0] <= 0 or (len(tf) > 1 and np.ptp(np.diff(tf)) > 1e-9 * np.ptp(tf)) \
+            or (len(tf) > 1 and tf[1] <= tf[0]):
+        raise FormatError(f"NPZ frame times t must be {z.shape[0]} positive, increasing, evenly spaced "
+                          f"values; got {tf.tolist()[:6]}")
+    dt = float(tf[1] - tf[0]) if len(tf) > 1 else 0.0
+    dx = float(10.0 ** np.ceil(np.log10(10.0 * max(np.abs(x).max(), np.abs(yy).max(), np.ptp(x), 1e-9))))
+    X, Y = np.meshgrid(x, yy)
+    xy = np.vstack([np.column_stack([X.ravel() + k * dx, Y.ravel()]) for k in range(z.shape[0])])
+    info = {"format": "npz", "shape": list(z.shape), "frames": int(z.shape[0]), "frame_t0": float(tf[0]),
+            "frame_dt": dt, "frame_dx": dx}
+    return xy, z.reshape(-1), info
 
 
 def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
