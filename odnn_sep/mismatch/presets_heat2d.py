@@ -13,8 +13,9 @@ with ``x`` shifted by ``k * frame_dx`` (the reader sets both; one axis keeps the
 
 Effects: ``extra_source`` (a source the model lacks) and ``source_moved`` (a given source sits
 elsewhere: source ``k_src`` displaced by ``dx_src, dy_src``). An extra source is never placed on
-top of a given one: within ``sqrt(alpha t)`` (half the kernel's 1/e radius, first frame) of a
-given source it contributes nothing, so what is found there is a moved (or misjudged) given source.
+top of a given one: it acts at least ``R = sqrt(alpha t)`` (half the kernel's 1/e radius, first
+frame) away from every given source (:func:`extra_position`), so what is found closer is a moved
+(or misjudged) given source.
 """
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ def kernel(r2, alpha, t, continuous=False):
     >>> round(float(kernel(np.array([0.0]), 0.01, 1.0)[0]), 4)          # 1 / (4 pi 0.01)
     7.9577
     >>> round(float(kernel(np.array([0.04]), 0.01, 1.0, continuous=True)[0]), 4)   # E1(1) / (4 pi 0.01)
-    1.7441
+    1.7458
     """
     s2 = 4.0 * alpha * t
     if not continuous:
@@ -104,8 +105,8 @@ class Heat2D(Preset):
                     srcs[k] = [srcs[k][0] + p["dx_src"], srcs[k][1] + p["dy_src"]]
             cont = bool(p.get("continuous", 0.0))
             terms = [(sx, sy, p[f"S{i + 1}"]) for i, (sx, sy) in enumerate(srcs)]
-            if "extra_source" in effects and not _on_a_given_source(p, x, y):
-                terms.append((p["xs"], p["ys"], p["S_extra"]))
+            if "extra_source" in effects:
+                terms.append((*extra_position(p), p["S_extra"]))
             out = np.zeros(len(xy))
             for sx, sy, S in terms:
                 out += S * kernel((x - sx) ** 2 + (y - sy) ** 2, p["alpha"], tt, cont)
@@ -145,14 +146,34 @@ class Heat2D(Preset):
         return out
 
 
-def _on_a_given_source(p, x, y):
-    """True when the extra source lies within sqrt(alpha t) of a given source (see the module docstring)."""
-    radius = np.sqrt(p["alpha"] * float(p["t"]))
-    xs = p["xs"]
+def extra_position(p):
+    """Where the extra source acts: ``(xs, ys)``, kept at least ``R = sqrt(alpha t)`` from every given source.
+
+    Within ``2 R`` of the nearest given source the distance ``s`` is mapped smoothly to
+    ``R + s^2 / (4 R)`` (same value and slope at ``2 R``, at least ``R`` on top of the source), so
+    the extra source never sits on a given one and a fit started there still moves; beyond ``2 R``
+    the position is ``(xs, ys)`` itself.
+
+    Examples
+    --------
+    >>> p = {"alpha": 0.01, "t": 1.0, "sources": "0.5:0.5", "xs": 0.5, "ys": 0.5}
+    >>> [round(float(v), 3) for v in extra_position(p)]                 # on top: pushed out to R = 0.1
+    [0.6, 0.5]
+    >>> [round(float(v), 3) for v in extra_position({**p, "xs": 0.8})]    # beyond 2 R: unchanged
+    [0.8, 0.5]
+    """
+    R = np.sqrt(p["alpha"] * float(p["t"]))
+    xs, ys = float(p["xs"]), float(p["ys"])
     dx = float(p.get("frame_dx", 0.0))
-    if dx > 0:
-        xs = xs - np.rint(xs / dx) * dx
-    return any(np.hypot(xs - sx, p["ys"] - sy) < radius for sx, sy in parse_sources(p["sources"]))
+    shift = np.rint(xs / dx) * dx if dx > 0 else 0.0
+    xs -= shift
+    sx, sy = min(parse_sources(p["sources"]), key=lambda s: (xs - s[0]) ** 2 + (ys - s[1]) ** 2)
+    s = float(np.hypot(xs - sx, ys - sy))
+    if s >= 2 * R:
+        return xs + shift, ys
+    ux, uy = ((xs - sx) / s, (ys - sy) / s) if s > 1e-12 else (1.0, 0.0)
+    s_eff = R + s * s / (4 * R)
+    return sx + s_eff * ux + shift, sy + s_eff * uy
 
 
 def moved_starts(p, r, tt, base, model, t):

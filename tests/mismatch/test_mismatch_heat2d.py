@@ -41,11 +41,13 @@ def test_extra_source_away_from_the_given_ones_is_still_named():
     assert abs(p["xs"] - 0.5) < 0.02 and abs(p["ys"] - 0.85) < 0.02
 
 
-def test_extra_source_on_a_given_one_contributes_nothing():
-    xy = _grid(10)
-    m = make_model("heat2d", BASE).with_effect("extra_source")
-    on = {**m.start, "xs": 0.32, "ys": 0.41, "S_extra": 1.0}     # within sqrt(alpha t) = 0.1 of source 1
-    assert np.allclose(m.predict(xy, on), m.predict(xy, {**on, "S_extra": 0.0}))
+def test_extra_source_never_on_a_given_one():
+    from odnn_sep.mismatch.presets_heat2d import extra_position
+    p = {**make_model("heat2d", BASE).start, "xs": 0.3, "ys": 0.4}
+    for dx in (0.0, 0.01, 0.05, 0.1, 0.19):
+        x, y = extra_position({**p, "xs": 0.3 + dx})
+        assert np.hypot(x - 0.3, y - 0.4) >= 0.1 - 1e-12                # R = sqrt(alpha t) = 0.1
+    assert extra_position({**p, "xs": 0.55}) == (0.55, 0.4)
 
 
 def test_ambient_level_fitted():
