@@ -115,7 +115,9 @@ VOCABULARY = tuple(EFFECTS)
 DISTURBANCE_EFFECTS = ("periodic_pickup", "offset", "drift")
 
 # effects that are alternatives, never added together (two drag laws for one falling body)
-EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),)
+EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),
+             # a moved given source and an extra source beside it explain the same residual
+             frozenset({"extra_source", "source_moved"}))
 
 
 def compatible(effect: str, present) -> bool:
