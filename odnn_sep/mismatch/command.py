@@ -60,6 +60,15 @@ def register(subparsers) -> None:
     p.add_argument("--folds", type=int, default=4,
                    help="cross-validation folds of the held-out test (>= 2; default 4); fewer folds let short "
                         "series (16 points) be analysed, with less power")
+    _add_shape_options(p)
+    p.add_argument("--report", default=None, metavar="R.json", help="write the JSON report here")
+    p.add_argument("--plot", default=None, metavar="P.png", help="write the figure here")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no summary on stdout")
+    p.set_defaults(func=run)
+
+
+def _add_shape_options(p):
+    """Options of the data's shape: several series fitted jointly."""
     p.add_argument("--series", default=None, metavar="COLUMN",
                    help="CSV column naming the series (e.g. one mug per value): the series are fitted jointly, "
                         "some parameters shared (cooling: T_ambient; freefall: g; oscillator: k, c; pendulum: "
@@ -67,10 +76,6 @@ def register(subparsers) -> None:
     p.add_argument("--shared", default=None, metavar="NAMES",
                    help="comma-separated parameters shared by every series of a joint fit (overrides the "
                         "preset's default)")
-    p.add_argument("--report", default=None, metavar="R.json", help="write the JSON report here")
-    p.add_argument("--plot", default=None, metavar="P.png", help="write the figure here")
-    p.add_argument("--quiet", action="store_true", help="no progress bar and no summary on stdout")
-    p.set_defaults(func=run)
 
 
 def _parse_params(items):
@@ -101,6 +106,37 @@ def _pick_inputs(names, columns, info):
     return out
 
 
+def _checked_options(args):
+    """(params, model) once every option is checked, before anything is read (clear one-line errors)."""
+    from odnn_sep.errors import InputError
+    from odnn_sep.io_utils import check_output_path
+    from odnn_sep.mismatch.disturbances import parse_disturbance
+    from odnn_sep.mismatch.model import make_model
+    params = _parse_params(args.param)
+    parse_disturbance(args.disturbance)
+    if not 2 <= args.folds <= 20:
+        raise InputError(f"--folds must be between 2 and 20 (cross-validation folds); got {args.folds}")
+    model = make_model(args.model, params)  # validates the model and parameter names
+    if args.units is not None and model.family != "cooling":
+        raise InputError(f"--units is for temperatures (--model cooling); model {args.model!r} has no "
+                         f"temperature physics")
+    for out in (args.report, args.plot):
+        if out is not None:
+            for path in args.data:
+                check_output_path(out, path)
+    return params, model
+
+
+def _frame_params(args, params, model, info):
+    """Several frames of a field: the file gives the frame times (see presets_heat2d)."""
+    from odnn_sep.errors import InputError
+    from odnn_sep.mismatch.model import make_model
+    if model.family != "heat2d":
+        raise InputError(f"{args.data!r} holds {info['frames']} frames of a field; use --model heat2d")
+    params = {**params, "t": info["frame_t0"], "frame_dt": info["frame_dt"], "frame_dx": info["frame_dx"]}
+    return params, make_model(args.model, params)
+
+
 def run(args) -> int:
     """Run ``odnn-sep mismatch``: load the data, explain the mismatch, print and write the report.
 
@@ -125,27 +161,13 @@ def run(args) -> int:
     """
     import sys
 
-    from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import check_output_path, write_json
-    from odnn_sep.mismatch.disturbances import parse_disturbance
+    from odnn_sep.io_utils import write_json
     from odnn_sep.mismatch.explain import explain
     from odnn_sep.mismatch.io import load_data
-    from odnn_sep.mismatch.model import make_model
     from odnn_sep.mismatch.report import plot, result_dict, summary_text
     from odnn_sep.mismatch.units import to_celsius
 
-    params = _parse_params(args.param)
-    parse_disturbance(args.disturbance)     # a clear error before reading anything
-    if not 2 <= args.folds <= 20:
-        raise InputError(f"--folds must be between 2 and 20 (cross-validation folds); got {args.folds}")
-    model = make_model(args.model, params)  # validates the model and parameter names before reading
-    if args.units is not None and model.family != "cooling":
-        raise InputError(f"--units is for temperatures (--model cooling); model {args.model!r} has no "
-                         f"temperature physics")
-    for out in (args.report, args.plot):
-        if out is not None:
-            for path in args.data:
-                check_output_path(out, path)
+    params, model = _checked_options(args)
     if args.series is not None or len(args.data) > 1 or args.shared is not None:
         from odnn_sep.mismatch.joint_command import run_joint
         return run_joint(args, params)
@@ -153,11 +175,7 @@ def run(args) -> int:
     t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
                                 with_aux=True)
     if info.get("frames"):
-        # several frames of a field: the file gives the frame times (see presets_heat2d)
-        if model.family != "heat2d":
-            raise InputError(f"{args.data!r} holds {info['frames']} frames of a field; use --model heat2d")
-        params = {**params, "t": info["frame_t0"], "frame_dt": info["frame_dt"], "frame_dx": info["frame_dx"]}
-        model = make_model(args.model, params)
+        params, model = _frame_params(args, params, model, info)
     inputs = _pick_inputs(args.input, aux, info)
     if args.no_aux or model.family != "hum":
         # other channels only enter through the hum preset's channel_coupling effect

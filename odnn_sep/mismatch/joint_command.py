@@ -33,26 +33,11 @@ def run_joint(args, params) -> int:
     """
     import sys
 
-    from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import write_json
-    from odnn_sep.mismatch.io import load_data
-    from odnn_sep.mismatch.joint import explain_joint, joint_estimates, joint_text
+    from odnn_sep.mismatch.joint import explain_joint, joint_estimates
     from odnn_sep.mismatch.model import make_model
-    from odnn_sep.mismatch.report import plot, result_dict, summary_text
-    from odnn_sep.mismatch.series_io import read_series_csv, read_series_files
     from odnn_sep.mismatch.units import to_celsius
 
-    if args.input:
-        raise InputError("--input is not available with joint series (--series or several files); fit each "
-                         "driven series on its own")
-    if args.series is not None:
-        if len(args.data) != 1:
-            raise InputError(f"--series reads one CSV file; got {len(args.data)} files (several files are "
-                             f"already one series each: drop --series)")
-        series = _time_range(read_series_csv(args.data[0], args.series, args.column), args.start, args.duration)
-    else:
-        series = read_series_files(args.data, load=load_data, column=args.column, start=args.start,
-                                   duration=args.duration)
+    series = _read(args)
     unit = ""
     if args.model == "cooling":
         notes = []
@@ -69,7 +54,15 @@ def run_joint(args, params) -> int:
     res = explain_joint(args.model, series, params=numeric, shared=shared, effects=effects,
                         disturbance=args.disturbance, folds=args.folds, unit=unit,
                         progress=not args.quiet and sys.stderr.isatty())
-    est = joint_estimates(res)
+    _write_outputs(args, res, joint_estimates(res), series)
+    return 0
+
+
+def _write_outputs(args, res, est, series):
+    """The JSON report (with the joint estimates), the figure and the summary, as asked."""
+    from odnn_sep.io_utils import write_json
+    from odnn_sep.mismatch.joint import joint_text
+    from odnn_sep.mismatch.report import plot, result_dict, summary_text
     if args.report:
         d = result_dict(res)
         d["joint"] = est
@@ -81,7 +74,23 @@ def run_joint(args, params) -> int:
     if not args.quiet:
         print(summary_text(res))
         print(joint_text(est))
-    return 0
+
+
+def _read(args):
+    """{series name: (t, y)} from one CSV with --series, or from one file per series."""
+    from odnn_sep.errors import InputError
+    from odnn_sep.mismatch.io import load_data
+    from odnn_sep.mismatch.series_io import read_series_csv, read_series_files
+    if args.input:
+        raise InputError("--input is not available with joint series (--series or several files); fit each "
+                         "driven series on its own")
+    if args.series is None:
+        return read_series_files(args.data, load=load_data, column=args.column, start=args.start,
+                                 duration=args.duration)
+    if len(args.data) != 1:
+        raise InputError(f"--series reads one CSV file; got {len(args.data)} files (several files are "
+                         f"already one series each: drop --series)")
+    return _time_range(read_series_csv(args.data[0], args.series, args.column), args.start, args.duration)
 
 
 def _time_range(series, start, duration):

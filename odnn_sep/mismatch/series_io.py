@@ -54,16 +54,7 @@ def read_series_csv(path, series, column=None):
         raise InputError(f"--series {series!r} is not a column of {str(path)!r}; {suggest_name(series, header)}"
                          f"columns: {', '.join(header)}")
     js = header.index(series)
-    if column is None:
-        rest = [j for j in range(1, len(header)) if j != js]
-        if not rest:
-            raise InputError(f"CSV {str(path)!r} has no value column besides time and {series!r}")
-        jv = rest[0]
-    elif str(column) in header:
-        jv = header.index(str(column))
-    else:
-        raise InputError(f"--column {column!r} is not a column of {str(path)!r}; "
-                         f"{suggest_name(column, header)}columns: {', '.join(header)}")
+    jv = _value_column(header, js, column, path)
     groups: dict = {}
     for k, r in enumerate(rows[1:], start=2):
         try:
@@ -76,6 +67,19 @@ def read_series_csv(path, series, column=None):
         a = np.array(sorted(pts))
         out[name] = (a[:, 0], a[:, 1])
     return out
+
+
+def _value_column(header, js, column, path):
+    from odnn_sep.mismatch.model import suggest_name
+    if column is None:
+        rest = [j for j in range(1, len(header)) if j != js]
+        if not rest:
+            raise InputError(f"CSV {str(path)!r} has no value column besides time and {header[js]!r}")
+        return rest[0]
+    if str(column) in header:
+        return header.index(str(column))
+    raise InputError(f"--column {column!r} is not a column of {str(path)!r}; "
+                     f"{suggest_name(column, header)}columns: {', '.join(header)}")
 
 
 def read_series_files(paths, *, load, column=None, start=None, duration=None):
