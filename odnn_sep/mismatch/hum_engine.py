@@ -166,6 +166,8 @@ def explain_on_audio_engine(model, t, y, options):
     # many small solves on tall, thin matrices: BLAS threads only add contention here
     with threadpool_limits(limits=1, user_api="blas") if threadpool_limits else _nothing():
         res = explain(m, m.preset.times(), m.preset.data, aux=aux_bb or None, disturbance="none", **opts)
+    if str(options.get("disturbance", "auto")) == "slow":
+        notes.append("--disturbance slow: the slow band lies outside the analysed bands (nothing to absorb)")
     res.notes[:0] = notes
     return res
 
