@@ -99,7 +99,15 @@ def track_mains(y, sr):
 
 @dataclass
 class Bands:
-    """Demodulated, decimated harmonics: ``z[k_index, step]`` complex, on the grid ``tau`` (s)."""
+    """Demodulated, decimated harmonics: ``z[k_index, step]`` complex, on the grid ``tau`` (s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> b = Bands(ks=[1, 2], tau=np.arange(3) * 0.1, step=0.1, z=np.zeros((2, 3), complex))
+    >>> b.z.shape, b.ks
+    ((2, 3), [1, 2])
+    """
 
     ks: list
     tau: np.ndarray      # low-rate times (s, absolute, as the record's t)

@@ -198,6 +198,19 @@ def moved_starts(p, r, tt, base, model, t):
     -------
     list of dict
         One start per given source, the best-fitting first.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> g = np.linspace(0, 1, 15); X, Y = np.meshgrid(g, g); xy = np.column_stack([X.ravel(), Y.ravel()])
+    >>> base = make_model("heat2d", {"sources": "0.3:0.4;0.7:0.6", "S1": 1.0, "S2": 0.7})
+    >>> moved = base.with_effect("source_moved", {"k_src": 2.0, "dx_src": 0.02, "dy_src": 0.0})
+    >>> cal = fit(base, xy, moved.predict(xy))
+    >>> s = moved_starts(cal.params, cal.residual, None, cal, base.with_effect("source_moved"), xy)[0]
+    >>> s["k_src"], round(s["dx_src"], 2), abs(round(s["dy_src"], 2))
+    (2.0, 0.02, 0.0)
     """
     out = []
     q0 = {**model.start, **p, "dx_src": 0.0, "dy_src": 0.0}
