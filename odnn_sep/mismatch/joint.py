@@ -18,7 +18,7 @@ pendulum   w2, c (one pendulum)     theta0, omega0
 ========== ======================== =====================================
 
 An effect's parameters are shared: one missing law for every series (radiation, drag, a cubic
-stiffness). Only the effects that enter the preset's own equations are tested; the additive ones
+stiffness). The slow wander class of the oscillatory presets is taken per series. Only the effects that enter the preset's own equations are tested; the additive ones
 (offset, drift, a periodic pickup) would need one copy per series.
 """
 from __future__ import annotations
@@ -239,11 +239,34 @@ def explain_joint(name, series, *, params=None, shared=None, **options):
         if bad:
             raise InputError(f"effects {bad} cannot be tested on joint series (one law for every series); "
                              f"allowed: {', '.join(own_effects)}")
-    res = explain(m, t, y, effects=effects if effects is not None else own_effects, **options)
+    disturbance = options.pop("disturbance", "auto")
+    if isinstance(disturbance, str) and disturbance in ("auto", "slow"):
+        disturbance = _slow_blocks(name, series, params, disturbance)
+    res = explain(m, t, y, effects=effects if effects is not None else own_effects, disturbance=disturbance,
+                  **options)
     res.joint = m.preset
     res.notes.append(f"{len(series)} series fitted jointly; shared: {', '.join(m.preset.shared) or 'none'}; "
                      f"per series: {', '.join(m.preset.own)}; effect parameters are shared")
     return res
+
+
+def _slow_blocks(name, series, params, disturbance):
+    """The slow wander class of each series on its own rows (oscillatory presets, or ``slow``), else the option.
+
+    One slow band over the stacked axis would tie series together that only share a room or a rig.
+    """
+    from odnn_sep.mismatch.calibrate import SLOW_FAMILIES, slow_disturbance
+    from odnn_sep.mismatch.model import make_model
+    m = make_model(name, params)
+    if disturbance == "auto" and m.family not in SLOW_FAMILIES:
+        return "none"
+    blocks = [slow_disturbance(np.asarray(t, float), y=np.asarray(y, float), model=m) for t, y in series.values()]
+    G = np.zeros((sum(len(b) for b in blocks), sum(b.shape[1] for b in blocks)))
+    r = c = 0
+    for b in blocks:
+        G[r:r + len(b), c:c + b.shape[1]] = b
+        r, c = r + len(b), c + b.shape[1]
+    return G
 
 
 def joint_estimates(res):

@@ -110,3 +110,19 @@ def test_cli_subprocess_exit_code(tmp_path):
     r = subprocess.run([sys.executable, "-m", "odnn_sep.cli", "mismatch", str(path), "--model", "cooling",
                         "--series", "mug", "--shared", "T_amb"], capture_output=True, text=True)
     assert r.returncode == 1 and "shared parameter 'T_amb'" in r.stderr
+
+
+def test_three_releases_of_one_oscillator_share_k_and_c():
+    rng = np.random.default_rng(5)
+    s = {}
+    for i, x0 in enumerate((1.0, 0.6, -0.8)):
+        t = np.linspace(0, 15, 200)
+        m = make_model("oscillator", {"k": 4.0, "c": 0.08, "x0": x0, "v0": 0.1 * i})
+        s[f"run{i}"] = (t, m.predict(t) + 0.01 * rng.normal(size=200))
+    res = explain_joint("oscillator", s, effects=["cubic_stiffness"])
+    est = joint_estimates(res)
+    assert res.effects == []
+    for k, v in (("k", 4.0), ("c", 0.08)):
+        val, lo, hi = est["shared"][k]
+        assert lo < v < hi and abs(val - v) < 0.05 * v
+    assert abs(est["series"]["run2"]["x0"][0] + 0.8) < 0.02
