@@ -7,7 +7,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
-from odnn_sep.mismatch.candidates import Candidate, FailedFit, heldout, passes, refit_robust
+from odnn_sep.mismatch.candidates import (
+    Candidate,
+    FailedFit,
+    FitStub,
+    heldout,
+    passes,
+    rebuild_model,
+    refit_robust,
+)
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, compatible
 from odnn_sep.mismatch.presets import ModelIntegrationError
 
@@ -293,32 +301,14 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
     return sel
 
 
-def _rebuild(base, effects, cur, make_model):
-    """The model with ``effects`` (in order) on top of ``base``, started at ``cur``'s parameters."""
-    m = base
-    for e in effects:
-        me = make_model(e, m, with_starts=False)
-        m = _Stub(me, {**me.start, **{k: v for k, v in cur.params.items() if k in me.start}})
-    return m
-
-
-@dataclass
-class _Stub:
-    """Just enough of a Fit (model, params) for make_model and refit_robust's start."""
-
-    model: object
-    params: dict
-    rss: float = np.inf
-
-
 def _drop_check(c, sel, base, setup):
     """Candidate-like record of ``c`` against the model without it (score, held-out gain), with that
     model's fit and held-out errors; None when the reduced model cannot be fitted or evaluated."""
     from odnn_sep.mismatch.fitting import cross_validate
 
     others = [o.effect for o in sel.accepted if o is not c]
-    stub = _rebuild(base, others, sel.fit, setup.make_model)
-    f, _ = refit_robust("backward", stub.model, [stub.params], _Stub(None, {}, np.inf), setup.t, setup.y, setup.G)
+    stub = rebuild_model(base, others, sel.fit, setup.make_model)
+    f, _ = refit_robust("backward", stub.model, [stub.params], FitStub(None, {}, np.inf), setup.t, setup.y, setup.G)
     if f is None:
         return None
     try:
