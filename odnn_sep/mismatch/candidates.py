@@ -52,6 +52,7 @@ class Candidate:
     note: str | None = None
     equivalent: list = field(default_factory=list)   # physics effects the data cannot tell from this one
     rivals: list = field(default_factory=list)       # every other passing physics candidate: gap, inflation
+    rival_candidates: list = field(default_factory=list, repr=False)   # those candidates (re-checked at the end)
 
     @property
     def effect_params(self) -> dict:

@@ -18,6 +18,7 @@ from odnn_sep.mismatch.candidates import (
 )
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, compatible
 from odnn_sep.mismatch.presets import ModelIntegrationError
+from odnn_sep.mismatch.rivals import recheck_rivals, step_score
 
 # the additive stand-in of each effect that a linear model cannot tell from it
 # (a release-time offset of a body falling from rest is a drift plus an offset of its height)
@@ -105,6 +106,8 @@ def attach_equivalents(chosen, eligible, bic_threshold, t, gap=EQUIVALENCE_GAP):
             continue
         d = chosen.score - c.score
         chosen.rivals.append({"effect": c.effect, "bic_gap": float(d), "inflation": float(vif)})
+        if hasattr(chosen, "rival_candidates"):
+            chosen.rival_candidates.append(c)
         if d / vif <= gap:
             chosen.equivalent.append(c.effect)
 
@@ -180,7 +183,7 @@ def _score_step(cur, names, setup, step, failed):
         if f is None:
             failed.append(FailedFit(e, why, step))
             continue
-        cands.append(Candidate(e, float(cur.bic - f.bic), f, step=step))
+        cands.append(Candidate(e, step_score(cur, f.residual, f.n_params, setup.t), f, step=step))
     cands.sort(key=lambda c: -c.score)
     return cands
 
@@ -197,9 +200,7 @@ def _additive_alternative_score(c, cur, t, y, G):
             f = fit(cur.model, t, y, start=cur.params, G=P if G is None else np.column_stack([G, P]), max_nfev=150)
     except ModelIntegrationError:
         return None
-    n = c.fit.n_eff
-    bic_add = float(n * np.log(max(f.rss, 1e-300) / n) + c.fit.n_params * np.log(n))
-    return float(cur.bic - bic_add)
+    return step_score(cur, f.residual, c.fit.n_params, t)
 
 
 def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
@@ -294,6 +295,7 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
     physics = [c for c in sel.accepted if c.effect not in DISTURBANCE_EFFECTS]
     if len(sel.accepted) >= 2 and physics:
         _backward(sel, base, setup)
+    recheck_rivals(sel, base, setup, EQUIVALENCE_GAP)
     named = {c.effect for c in sel.accepted}
     for c in sel.accepted:
         # an effect that is itself named later is not an alternative to this one: both are in the model
@@ -318,7 +320,7 @@ def _drop_check(c, sel, base, setup):
                                      folds=setup.folds)
     except ModelIntegrationError:   # a reduced model that cannot be evaluated keeps c
         return None
-    check = Candidate(c.effect, float(f.bic - sel.fit.bic), sel.fit)
+    check = Candidate(c.effect, step_score(f, sel.fit.residual, sel.fit.n_params, setup.t), sel.fit)
     check.heldout_mse = None
     heldout(check, mse_red, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
     return check, f, mse_red
