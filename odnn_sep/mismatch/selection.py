@@ -31,6 +31,10 @@ EQUIVALENT = {"periodic_forcing": "periodic_pickup", "time_delay": "drift"}
 # adjusted gaps up to 3.3, right ones from 0.2 up (a drag law or radiation at these strengths is
 # often a coin toss)
 EQUIVALENCE_GAP = 6.0
+# rivals this far behind at their step are not refitted in the final model (each refit of an ODE
+# model costs seconds); on development seeds (cooling, free fall) no rival more than 7 behind at its
+# step came within 6 on the final model
+RECHECK_GAP = 4 * EQUIVALENCE_GAP
 
 
 def variance_inflation(resid, t) -> float:
@@ -106,7 +110,7 @@ def attach_equivalents(chosen, eligible, bic_threshold, t, gap=EQUIVALENCE_GAP):
             continue
         d = chosen.score - c.score
         chosen.rivals.append({"effect": c.effect, "bic_gap": float(d), "inflation": float(vif)})
-        if hasattr(chosen, "rival_candidates"):
+        if hasattr(chosen, "rival_candidates") and d / vif <= RECHECK_GAP:
             chosen.rival_candidates.append(c)
         if d / vif <= gap:
             chosen.equivalent.append(c.effect)
