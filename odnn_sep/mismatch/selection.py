@@ -296,15 +296,18 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
         sel.heldout_rmse = chosen.heldout_rmse
         remaining = [e for e in remaining if e != chosen.effect]
     sel.fit = cur
-    physics = [c for c in sel.accepted if c.effect not in DISTURBANCE_EFFECTS]
-    if len(sel.accepted) >= 2 and physics:
+    if len(sel.accepted) >= 2 and any(c.effect not in DISTURBANCE_EFFECTS for c in sel.accepted):
         _backward(sel, base, setup)
     recheck_rivals(sel, base, setup, EQUIVALENCE_GAP)
-    named = {c.effect for c in sel.accepted}
-    for c in sel.accepted:
-        # an effect that is itself named later is not an alternative to this one: both are in the model
-        c.equivalent = [e for e in c.equivalent if e not in named]
+    _drop_named_equivalents(sel.accepted)
     return sel
+
+
+def _drop_named_equivalents(accepted):
+    """An effect that is itself named is not an alternative to another named one: both are in the model."""
+    named = {c.effect for c in accepted}
+    for c in accepted:
+        c.equivalent = [e for e in c.equivalent if e not in named]
 
 
 def _drop_check(c, sel, base, setup):
