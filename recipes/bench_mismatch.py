@@ -516,6 +516,9 @@ def main(argv=None):
     ap.add_argument("--pop-seeds-ode", type=int, default=2,
                     help="population seeds for the ODE systems (oscillator, pendulum: seconds per case)")
     ap.add_argument("--kinds", default=None, help="comma-separated subset of disturbance kinds")
+    ap.add_argument("--parts-json", default="",
+                    help="strength-sweep rows and real-recording tables: read from this file when it exists "
+                         "(written there otherwise), so the section can be re-assembled without re-running them")
     ap.add_argument("--note", default="", help="text recorded in BENCHMARKS.md before the tables (how it was run)")
     ap.add_argument("--rows-jsonl", default=None, help="append each finished population case here (JSON lines)")
     ap.add_argument("--population-json", default=None,
@@ -551,22 +554,9 @@ def main(argv=None):
     pop = population(args, names)
     if args.population_only:
         return 0
-    jobs = []
-    for name in names:
-        strengths = design_strengths(SYSTEMS[name])
-        if args.quick:
-            strengths = strengths[-1:]
-        for strength in strengths:
-            for seed in range(args.seeds):
-                jobs += [(name, strength, seed, True), (name, strength, seed, False)]
-    t_start = time.time()
-    if args.jobs > 1:
-        import multiprocessing as mp
-        with mp.get_context("fork").Pool(args.jobs) as pool:
-            rows = pool.map(_job, jobs, chunksize=1)
-    else:
-        rows = [_job(j) for j in jobs]
-    print(f"{len(rows)} cases in {time.time() - t_start:.0f} s", file=sys.stderr)
+    parts = json.loads(Path(args.parts_json).read_text()) if args.parts_json and Path(args.parts_json).exists() \
+        else None
+    rows = parts["sweep"] if parts else _sweep(args, names)
     overall, confusions, table = summarize(rows)
     print(table)
     print(json.dumps(overall, indent=1, default=float))
@@ -575,8 +565,9 @@ def main(argv=None):
         Path(args.json).write_text(json.dumps(rows, default=float, indent=1))
     if args.quick or args.no_write:
         return 0
-    real = real_runs()
-    tables = real_tables()
+    real, tables = (parts["real"], parts["tables"]) if parts else (real_runs(), real_tables())
+    if args.parts_json and not parts:
+        Path(args.parts_json).write_text(json.dumps({"sweep": rows, "real": real, "tables": tables}, default=float))
     rt = md_table(["recording", "preset", "what", "verdict", "top candidates (score)", "residual RMS before -> after"],
                   real)
     tt = md_table(["Calvin table", "verdict", "top candidates (score)", "residual RMS before -> after"], tables)
@@ -604,6 +595,27 @@ def main(argv=None):
     body = (args.note + "\n\n" if args.note else "") + pop_text(pop, args) + "\n" + body
     write_section("mismatch", "Mismatch finder (odnn-sep mismatch)", "python recipes/bench_mismatch.py", body)
     return 0
+
+
+def _sweep(args, names):
+    """The strength sweep's rows: every system x strength x seed, with its null twin."""
+    jobs = []
+    for name in names:
+        strengths = design_strengths(SYSTEMS[name])
+        if args.quick:
+            strengths = strengths[-1:]
+        for strength in strengths:
+            for seed in range(args.seeds):
+                jobs += [(name, strength, seed, True), (name, strength, seed, False)]
+    t_start = time.time()
+    if args.jobs > 1:
+        import multiprocessing as mp
+        with mp.get_context("fork").Pool(args.jobs) as pool:
+            rows = pool.map(_job, jobs, chunksize=1)
+    else:
+        rows = [_job(j) for j in jobs]
+    print(f"{len(rows)} cases in {time.time() - t_start:.0f} s", file=sys.stderr)
+    return rows
 
 
 if __name__ == "__main__":

@@ -52,6 +52,7 @@ class Candidate:
     note: str | None = None
     equivalent: list = field(default_factory=list)   # physics effects the data cannot tell from this one
     rivals: list = field(default_factory=list)       # every other passing physics candidate: gap, inflation
+    rival_candidates: list = field(default_factory=list, repr=False)   # those candidates (re-checked at the end)
 
     @property
     def effect_params(self) -> dict:
@@ -293,3 +294,54 @@ def passes(c, bic_threshold, heldout_threshold):
     False
     """
     return c.score > bic_threshold and c.heldout_gain is not None and c.heldout_gain > heldout_threshold
+
+
+@dataclass
+class FitStub:
+    """Just enough of a Fit (model, params) for a candidate factory and :func:`refit_robust`'s start.
+
+    Examples
+    --------
+    >>> FitStub(None, {"h": 0.1}).rss
+    inf
+    """
+
+    model: object
+    params: dict
+    rss: float = np.inf
+
+
+def rebuild_model(base, effects, cur, make_model):
+    """The model with ``effects`` (in order) on top of ``base``, started at ``cur``'s parameters.
+
+    Parameters
+    ----------
+    base : Fit
+        The calibrated model without effects.
+    effects : list of str
+        Effects to add, in order.
+    cur : Fit or FitStub
+        Parameters to start from (where the model has them; the others start at neutral).
+    make_model : callable
+        Candidate factory ``make_model(effect, fit, with_starts=False) -> Model``.
+
+    Returns
+    -------
+    FitStub
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60)
+    >>> base = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2)
+    >>> stub = rebuild_model(base, ["drift"], base, lambda e, f, with_starts: f.model.with_effect(e))
+    >>> stub.model.effects, round(stub.params["g"], 3), stub.params["drift"]
+    (('drift',), 9.8, 0.0)
+    """
+    m = base
+    for e in effects:
+        me = make_model(e, m, with_starts=False)
+        m = FitStub(me, {**me.start, **{k: v for k, v in cur.params.items() if k in me.start}})
+    return m

@@ -4,7 +4,9 @@ Decision rule (fixed in advance, calibrated on simulated nulls in ``recipes/benc
 with seeds disjoint from the evaluation cases):
 
 1. forward selection: every applicable effect is refitted on top of the current model (at first
-   the calibrated one); its evidence is the BIC drop against the current model (``score``).
+   the calibrated one); its evidence is the BIC drop against the current model (``score``),
+   with both residuals prewhitened by the AR(p) filter of the refit's residual when that noise is
+   red (plain BIC for white noise: see :func:`~odnn_sep.mismatch.rivals.step_score`).
    Effects with a discrete choice (which harmonic) pay log(choices) instead of log(n) for it;
 2. the best few by score are cross-validated on interleaved contiguous blocks (the model never
    sees the held-out blocks). The held-out gain is the drop of held-out squared error in units of
@@ -17,7 +19,10 @@ with seeds disjoint from the evaluation cases):
    plain words, never named as physics. ``periodic_forcing`` (forcing through the dynamics) is
    eligible only when it beats the additive periodic component by the same BIC threshold;
 5. backward check: with two or more named effects, each must still pass both thresholds
-   against the model without it; one that does not is dropped.
+   against the model without it; one that does not is dropped;
+6. rival check: each named effect is compared with the other physics candidates that passed at
+   its step, each refitted in its place in the final model; the best prewhitened score is named
+   and rivals within 6 of it are reported as equivalent (:mod:`odnn_sep.mismatch.rivals`).
 """
 from __future__ import annotations
 

@@ -7,9 +7,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
-from odnn_sep.mismatch.candidates import Candidate, FailedFit, heldout, passes, refit_robust
+from odnn_sep.mismatch.candidates import (
+    Candidate,
+    FailedFit,
+    FitStub,
+    heldout,
+    passes,
+    rebuild_model,
+    refit_robust,
+)
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, compatible
 from odnn_sep.mismatch.presets import ModelIntegrationError
+from odnn_sep.mismatch.rivals import recheck_rivals, step_score
 
 # the additive stand-in of each effect that a linear model cannot tell from it
 # (a release-time offset of a body falling from rest is a drift plus an offset of its height)
@@ -22,6 +31,10 @@ EQUIVALENT = {"periodic_forcing": "periodic_pickup", "time_delay": "drift"}
 # adjusted gaps up to 3.3, right ones from 0.2 up (a drag law or radiation at these strengths is
 # often a coin toss)
 EQUIVALENCE_GAP = 6.0
+# rivals this far behind at their step are not refitted in the final model (each refit of an ODE
+# model costs seconds); on development seeds (cooling, free fall) no rival more than 7 behind at its
+# step came within 6 on the final model
+RECHECK_GAP = 4 * EQUIVALENCE_GAP
 
 
 def variance_inflation(resid, t) -> float:
@@ -97,6 +110,8 @@ def attach_equivalents(chosen, eligible, bic_threshold, t, gap=EQUIVALENCE_GAP):
             continue
         d = chosen.score - c.score
         chosen.rivals.append({"effect": c.effect, "bic_gap": float(d), "inflation": float(vif)})
+        if hasattr(chosen, "rival_candidates") and d / vif <= RECHECK_GAP:
+            chosen.rival_candidates.append(c)
         if d / vif <= gap:
             chosen.equivalent.append(c.effect)
 
@@ -172,7 +187,7 @@ def _score_step(cur, names, setup, step, failed):
         if f is None:
             failed.append(FailedFit(e, why, step))
             continue
-        cands.append(Candidate(e, float(cur.bic - f.bic), f, step=step))
+        cands.append(Candidate(e, step_score(cur, f.residual, f.n_params, setup.t), f, step=step))
     cands.sort(key=lambda c: -c.score)
     return cands
 
@@ -189,9 +204,7 @@ def _additive_alternative_score(c, cur, t, y, G):
             f = fit(cur.model, t, y, start=cur.params, G=P if G is None else np.column_stack([G, P]), max_nfev=150)
     except ModelIntegrationError:
         return None
-    n = c.fit.n_eff
-    bic_add = float(n * np.log(max(f.rss, 1e-300) / n) + c.fit.n_params * np.log(n))
-    return float(cur.bic - bic_add)
+    return step_score(cur, f.residual, c.fit.n_params, t)
 
 
 def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
@@ -283,32 +296,18 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
         sel.heldout_rmse = chosen.heldout_rmse
         remaining = [e for e in remaining if e != chosen.effect]
     sel.fit = cur
-    physics = [c for c in sel.accepted if c.effect not in DISTURBANCE_EFFECTS]
-    if len(sel.accepted) >= 2 and physics:
+    if len(sel.accepted) >= 2 and any(c.effect not in DISTURBANCE_EFFECTS for c in sel.accepted):
         _backward(sel, base, setup)
-    named = {c.effect for c in sel.accepted}
-    for c in sel.accepted:
-        # an effect that is itself named later is not an alternative to this one: both are in the model
-        c.equivalent = [e for e in c.equivalent if e not in named]
+    recheck_rivals(sel, base, setup, EQUIVALENCE_GAP)
+    _drop_named_equivalents(sel.accepted)
     return sel
 
 
-def _rebuild(base, effects, cur, make_model):
-    """The model with ``effects`` (in order) on top of ``base``, started at ``cur``'s parameters."""
-    m = base
-    for e in effects:
-        me = make_model(e, m, with_starts=False)
-        m = _Stub(me, {**me.start, **{k: v for k, v in cur.params.items() if k in me.start}})
-    return m
-
-
-@dataclass
-class _Stub:
-    """Just enough of a Fit (model, params) for make_model and refit_robust's start."""
-
-    model: object
-    params: dict
-    rss: float = np.inf
+def _drop_named_equivalents(accepted):
+    """An effect that is itself named is not an alternative to another named one: both are in the model."""
+    named = {c.effect for c in accepted}
+    for c in accepted:
+        c.equivalent = [e for e in c.equivalent if e not in named]
 
 
 def _drop_check(c, sel, base, setup):
@@ -317,8 +316,8 @@ def _drop_check(c, sel, base, setup):
     from odnn_sep.mismatch.fitting import cross_validate
 
     others = [o.effect for o in sel.accepted if o is not c]
-    stub = _rebuild(base, others, sel.fit, setup.make_model)
-    f, _ = refit_robust("backward", stub.model, [stub.params], _Stub(None, {}, np.inf), setup.t, setup.y, setup.G)
+    stub = rebuild_model(base, others, sel.fit, setup.make_model)
+    f, _ = refit_robust("backward", stub.model, [stub.params], FitStub(None, {}, np.inf), setup.t, setup.y, setup.G)
     if f is None:
         return None
     try:
@@ -328,7 +327,7 @@ def _drop_check(c, sel, base, setup):
                                      folds=setup.folds)
     except ModelIntegrationError:   # a reduced model that cannot be evaluated keeps c
         return None
-    check = Candidate(c.effect, float(f.bic - sel.fit.bic), sel.fit)
+    check = Candidate(c.effect, step_score(f, sel.fit.residual, sel.fit.n_params, setup.t), sel.fit)
     check.heldout_mse = None
     heldout(check, mse_red, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
     return check, f, mse_red
