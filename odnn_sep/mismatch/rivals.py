@@ -164,6 +164,20 @@ def recheck_rivals(sel, base, setup, gap):
     Returns
     -------
     None
+
+    Examples
+    --------
+    :func:`~odnn_sep.mismatch.explain` calls it after the backward check; each rival's score gap
+    on the final model ends in ``rivals`` of the named effect:
+
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch import explain, make_model
+    >>> t = np.linspace(0, 0.6, 120)
+    >>> truth = make_model("freefall", {"g": 9.81, "h0": 2.0}).with_effect("quadratic_drag", {"q_drag": 0.1})
+    >>> y = truth.predict(t) + 0.001 * np.random.default_rng(0).normal(size=120)
+    >>> res = explain("freefall", t, y)
+    >>> res.effects, res.named[0].equivalent
+    (['quadratic_drag'], [])
     """
     for i, named in enumerate(list(sel.accepted)):
         current = {o.effect for o in sel.accepted}
