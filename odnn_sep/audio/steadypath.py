@@ -28,7 +28,8 @@ from odnn_sep.audio import track as _track
 from odnn_sep.audio.amplitude import local_power
 from odnn_sep.audio.blockplan import BlockPlan, sin2_window
 
-SPANS = (None, 16, 8, 4)    # Hann half-widths tried (blocks); None: one amplitude for the whole input
+SPANS = (None, 16, 8, 4, 3)  # Hann half-widths tried (blocks); None: one amplitude for the whole input;
+                             # when the last (only the blocks next but one) wins, the block fit stays
 MIN_BLOCKS = 6              # fewer blocks: the block fit's own amplitudes are kept
 EXCLUDE = 1                 # blocks this close share samples with the one predicted (50 % overlap)
 
@@ -55,6 +56,8 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     A : (blocks, C, K) complex array
     var : (blocks, C, K) float array
         ``inf`` for a block with no chunk.
+    var_eq : (blocks, C, K) float array
+        The variance of the equal-weight mean over the same window (the noise of a block fit).
 
     Examples
     --------
@@ -62,7 +65,7 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     >>> sr = 1000; t = np.arange(40 * sr) / sr
     >>> x = 0.5 * np.cos(2 * np.pi * 50.0 * t + 1.0) + 0.01 * np.random.default_rng(0).standard_normal(t.size)
     >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1])
-    >>> A, var = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
+    >>> A, var, _ = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
     >>> A.shape, bool(np.allclose(A[2:-2, 0, 0], 0.5 * np.exp(1j), atol=0.01))
     ((11, 1, 1), True)
     """
@@ -75,6 +78,7 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     hi = np.searchsorted(tj, np.arange(nb) * hop + hop)
     A = np.zeros((nb, C, K), complex)
     var = np.full((nb, C, K), np.inf)
+    var_eq = np.full((nb, C, K), np.inf)
     for i, k in enumerate(ks):
         rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
         for c in range(C):
@@ -84,13 +88,15 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
                 if hi[b] <= lo[b]:
                     continue
                 sl = slice(lo[b], hi[b])
-                w = sin2_window(tj[sl] - (b * hop - hop), plan.length) / p_mean[sl]
+                win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
+                w = win / p_mean[sl]
                 sw = w.sum()
                 if sw <= 0:
                     continue
                 A[b, c, i] = (2.0 / m) * np.sum(w * u[sl]) / sw
                 var[b, c, i] = (2.0 / m) ** 2 * np.sum(w * w * p_med[sl]) / sw ** 2
-    return A, var
+                var_eq[b, c, i] = (2.0 / m) ** 2 * np.sum(win * win * p_med[sl]) / win.sum() ** 2
+    return A, var, var_eq
 
 
 def _kernel(nb: int, span) -> np.ndarray:
@@ -100,15 +106,19 @@ def _kernel(nb: int, span) -> np.ndarray:
     return np.where(d < span, np.cos(np.pi * d / (2 * span)) ** 2, 0.0)
 
 
-def smooth_path(A: np.ndarray, var: np.ndarray):
+def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = None):
     """One line's block amplitudes ``A`` (blocks,) smoothed over the span that predicts held-out
     blocks best (see the module text); None where the shortest span wins (the line moves faster
-    than a smoothed path follows).
+    than a smoothed path follows), or where the path is expected to miss the line by more than
+    ``var_fit``, the noise of the block fit's own amplitudes (a strong line that moves is better
+    followed block by block). The path's miss, from the held-out predictions ``pred``: about
+    ``|A - pred|^2 - var``, ``var`` being the held-out blocks' own noise.
 
     Parameters
     ----------
     A : (blocks,) complex array
     var : (blocks,) float array
+    var_fit : (blocks,) float array, optional
 
     Returns
     -------
@@ -123,6 +133,9 @@ def smooth_path(A: np.ndarray, var: np.ndarray):
     (True, True)
     >>> am = 1.0 + 0.3 * np.sin(2 * np.pi * np.arange(16) / 10)                 # fast modulation, no noise
     >>> smooth_path(am.astype(complex), np.full(16, 1e-6)) is None
+    True
+    >>> slow = 1.0 + 0.3 * np.sin(2 * np.pi * np.arange(16) / 40)               # slow, but the block fit is exact
+    >>> smooth_path(slow.astype(complex), np.full(16, 1e-6), np.full(16, 1e-6)) is None
     True
     """
     nb = len(A)
@@ -141,7 +154,9 @@ def smooth_path(A: np.ndarray, var: np.ndarray):
         err = float(np.sum(prec[ok] * np.abs(A[ok] - pred) ** 2) / ok.sum())
         if err < best_err:
             best, best_err = span, err
-    if best_err == np.inf or best == SPANS[-1]:
+            miss = float(np.mean(np.abs(A[ok] - pred) ** 2 - var[ok]))
+            fit_miss = float(np.mean(var_fit[ok])) if var_fit is not None else np.inf
+    if best_err == np.inf or best == SPANS[-1] or miss > fit_miss:
         return None
     kw = _kernel(nb, best) * prec[None, :]
     return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
@@ -184,7 +199,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     """
     from odnn_sep.audio.finetrack import PhaseTrack
 
-    A, var = block_means(D, sr, ks, psi, plan)
+    A, var, var_eq = block_means(D, sr, ks, psi, plan)
     nb, C, K = A.shape
     out = np.full((nb, C, K), np.nan, complex)
     centres = np.arange(nb) * float(plan.hop)
@@ -193,7 +208,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     any_path = False
     for i, k in enumerate(ks):
         for c in range(C):
-            path = smooth_path(A[:, c, i], var[:, c, i])
+            path = smooth_path(A[:, c, i], var[:, c, i], var_eq[:, c, i])
             if path is not None:
                 out[:, c, i] = path * np.exp(2j * np.pi * np.mod(k * cyc, 1.0))
                 any_path = True
