@@ -266,12 +266,18 @@ def main(argv=None):
     ap.add_argument("--json", help="also dump the raw numbers here")
     ap.add_argument("--dev", action="store_true", help="development seeds (for tuning; no BENCHMARKS.md update)")
     ap.add_argument("--cases", type=int, default=24, help="number of generated cases (default 24)")
+    ap.add_argument("--dev-seed0", type=int, default=None,
+                    help="first development seed (>= 1000, e.g. 1024 for a second development set; implies --dev)")
     ap.add_argument("--population-only", action="store_true", help="only the generated cases (no file written)")
     args = ap.parse_args(argv)
     import _audio_population as pop
     from _bench_md import md_table, write_section
 
-    seed0 = pop.cases.DEV_SEED0 if args.dev else pop.cases.EVAL_SEED0
+    if args.dev_seed0 is not None:
+        if args.dev_seed0 < pop.cases.DEV_SEED0:
+            ap.error(f"--dev-seed0 must be >= {pop.cases.DEV_SEED0} (seeds below are the evaluation seeds)")
+        args.dev = True
+    seed0 = args.dev_seed0 if args.dev_seed0 is not None else (pop.cases.DEV_SEED0 if args.dev else pop.cases.EVAL_SEED0)
     n_cases = 3 if args.quick else args.cases
     pop_rows, pop_stats = pop.run_population(n_cases, seed0, quick=args.quick, anchors=True)
     pop_hdr = ["seed", "case", "odnn-sep gain / damage (dB)"] + [f"{m} gain / damage (dB)" for m in pop.ANCHORS]

@@ -271,9 +271,11 @@ def _locked_leave_one_out(fam: _Family, ks, psi0) -> list[int]:
             psi_k = psi0
         kk, inf_k = _lock.locked(fam.D[:, :, [cols[i]]], fam.sr, [k], psi_k, alpha=fam.alpha)
         fam.info[k] = inf_k[k]
-        if not kk and len(ks) > 1:
+        if not kk and len(ks) > 1 and k <= LOWEST_K:
             # under bursty content (ECG beats, speech) the weighted test sees what the equal-weight one
-            # cannot (lock.weighted_lock_p_values); against a track made without the line, as above
+            # cannot (lock.weighted_lock_p_values); against a track made without the line, as above.
+            # Only where hum lives for sure (harmonics 1-LOWEST_K): higher up, lines the spectrum took
+            # for harmonics are mostly note partials, and some of them pass it
             p_w = _lock.weighted_locked(fam.D[:, :, [cols[i]]], fam.sr, [k], psi_k)[k][0]
             kk = [k] if p_w < fam.alpha else []
         if kk:
