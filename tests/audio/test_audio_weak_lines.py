@@ -49,7 +49,7 @@ def test_weak_harmonic_under_bursts_removed_and_partial_left():
     hum = (0.3 * np.cos(2 * np.pi * ph) + 0.15 * np.cos(2 * np.pi * 3 * ph + 1)
            + 0.003 * np.cos(2 * np.pi * 2 * ph + 2))
     partial = _gated_partial(n, 201.0, rng)            # 1 Hz from harmonic 4, which the hum lacks
-    host = 0.1 * _bursty_host(n, rng) + partial
+    host = 0.3 * _bursty_host(n, rng) + partial
     r = denoise(host + hum, SR)
     assert 2 in r.harmonics and 1 in r.harmonics and 3 in r.harmonics
     assert 4 not in r.harmonics and not r.tones and not r.extra_combs
