@@ -166,17 +166,16 @@ def locked(D, sr: int, ks, psi: np.ndarray, *, alpha: float):
 WEIGHTED_SEG_S = 1.0    # units of the weighted test (s): short, so speech pauses and rests between notes count
 
 
+# The chunks are summed with their weights over 1 s units; the test is the same F test on the units'
+# weighted sums (|sum|^2 over their scatter about the weighted mean, which is its own calibration: the
+# weights only set the relative precision of the units). The weights depend on the content's power
+# only, never on its phase, so circular content still has mean zero.
 def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     """Like :func:`lock_p_values`, with every chunk weighted by the inverse of the content power near
     the line at that moment (:func:`odnn_sep.audio.amplitude.local_power`): the generalised
     least-squares mean of the tracked baseband, which takes the pauses of speech and the rests
     between notes at their worth. A weak harmonic under bursty content is then clear where the
     equal-weight test (whose 4 s segments each hold some of the bursts) sees nothing.
-
-    The chunks are summed with their weights over 1 s units; the test is the same F test on the
-    units' weighted sums (``|sum|^2`` over their scatter about the weighted mean, which is its own
-    calibration: the weights only set the relative precision of the units). The weights depend
-    on the content's power only, never on its phase, so circular content still has mean zero.
 
     Parameters
     ----------

@@ -85,18 +85,22 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
             u = D[:, c, i].astype(np.complex128) * rot
             p_mean, p_med = local_power(u, fs)
             for b in range(nb):
-                if hi[b] <= lo[b]:
-                    continue
-                sl = slice(lo[b], hi[b])
-                win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
-                w = win / p_mean[sl]
-                sw = w.sum()
-                if sw <= 0:
-                    continue
-                A[b, c, i] = (2.0 / m) * np.sum(w * u[sl]) / sw
-                var[b, c, i] = (2.0 / m) ** 2 * np.sum(w * w * p_med[sl]) / sw ** 2
-                var_eq[b, c, i] = (2.0 / m) ** 2 * np.sum(win * win * p_med[sl]) / win.sum() ** 2
+                if hi[b] > lo[b]:
+                    sl = slice(lo[b], hi[b])
+                    win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
+                    A[b, c, i], var[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_mean[sl], p_med[sl], m)
     return A, var, var_eq
+
+
+def _weighted_mean(u, win, p_mean, p_med, m: int):
+    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude, its variance, and the
+    variance of the equal-weight mean (``0, inf, inf`` without weight)."""
+    w = win / p_mean
+    sw = w.sum()
+    if sw <= 0:
+        return 0.0, np.inf, np.inf
+    return ((2.0 / m) * np.sum(w * u) / sw, (2.0 / m) ** 2 * np.sum(w * w * p_med) / sw ** 2,
+            (2.0 / m) ** 2 * np.sum(win * win * p_med) / win.sum() ** 2)
 
 
 def _kernel(nb: int, span) -> np.ndarray:
