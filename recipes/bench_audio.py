@@ -341,7 +341,8 @@ def section_body(n_cases, seed0, pop_table, sum_table, counts, clean_table, real
         "### 1. Generated population (known truth)\n",
         f"{n_cases} cases from `recipes/_audio_cases.py`, **evaluation seeds {seed0}-{seed0 + n_cases - 1}** "
         f"(thresholds and methods were chosen on the development seeds {DEV_SEED0}-"
-        f"{DEV_SEED0 + n_cases - 1}: `python recipes/bench_audio.py --dev --population-only`). "
+        f"{DEV_SEED0 + 2 * n_cases - 1} only: `python recipes/bench_audio.py --dev --no-anchors --population-only` "
+        f"and `... --dev-seed0 {DEV_SEED0 + n_cases} --no-anchors --population-only`). "
         "Hosts: tonal music tuned to A440 (7-note scale, 4-7 partials, notes held 0.2-4 s, half of them with a "
         "partial 0.5-3 Hz from a hum harmonic, pitches repeat), speech-like voiced syllables under formants with "
         "gliding pitch, and white/pink/brown noise; drift: the grid frequency measured on "
