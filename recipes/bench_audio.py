@@ -266,17 +266,29 @@ def main(argv=None):
     ap.add_argument("--json", help="also dump the raw numbers here")
     ap.add_argument("--dev", action="store_true", help="development seeds (for tuning; no BENCHMARKS.md update)")
     ap.add_argument("--cases", type=int, default=24, help="number of generated cases (default 24)")
+    ap.add_argument("--no-anchors", action="store_true", help="odnn-sep only on the generated cases (with --dev)")
+    ap.add_argument("--dev-seed0", type=int, default=None,
+                    help="first development seed (>= 1000, e.g. 1024 for a second development set; implies --dev)")
     ap.add_argument("--population-only", action="store_true", help="only the generated cases (no file written)")
     args = ap.parse_args(argv)
     import _audio_population as pop
     from _bench_md import md_table, write_section
 
-    seed0 = pop.cases.DEV_SEED0 if args.dev else pop.cases.EVAL_SEED0
+    if args.dev_seed0 is not None:
+        if args.dev_seed0 < pop.cases.DEV_SEED0:
+            ap.error(f"--dev-seed0 must be >= {pop.cases.DEV_SEED0} (seeds below are the evaluation seeds)")
+        args.dev = True
+    seed0 = args.dev_seed0 if args.dev_seed0 is not None else (pop.cases.DEV_SEED0 if args.dev else pop.cases.EVAL_SEED0)
     n_cases = 3 if args.quick else args.cases
-    pop_rows, pop_stats = pop.run_population(n_cases, seed0, quick=args.quick, anchors=True)
+    if args.no_anchors and not args.dev:
+        ap.error("--no-anchors is for development runs (--dev): the evaluation table compares with the anchors")
+    pop_rows, pop_stats = pop.run_population(n_cases, seed0, quick=args.quick, anchors=not args.no_anchors)
     pop_hdr = ["seed", "case", "odnn-sep gain / damage (dB)"] + [f"{m} gain / damage (dB)" for m in pop.ANCHORS]
     pop_hdr += ["odnn-sep lines removed that are not hum", "odnn-sep time (s)"]
-    if args.quick:
+    if args.no_anchors:
+        pop_hdr = pop_hdr[:3] + pop_hdr[6:]
+        pop_rows = [r[:3] + r[6:] for r in pop_rows]
+    elif args.quick:
         pop_hdr = [h for h in pop_hdr if "MNE" not in h and "pactools" not in h]
         pop_rows = [r[:3] + r[5:] for r in pop_rows]
     print(md_table(pop_hdr, pop_rows))
@@ -329,7 +341,8 @@ def section_body(n_cases, seed0, pop_table, sum_table, counts, clean_table, real
         "### 1. Generated population (known truth)\n",
         f"{n_cases} cases from `recipes/_audio_cases.py`, **evaluation seeds {seed0}-{seed0 + n_cases - 1}** "
         f"(thresholds and methods were chosen on the development seeds {DEV_SEED0}-"
-        f"{DEV_SEED0 + n_cases - 1}: `python recipes/bench_audio.py --dev --population-only`). "
+        f"{DEV_SEED0 + 2 * n_cases - 1} only: `python recipes/bench_audio.py --dev --no-anchors --population-only` "
+        f"and `... --dev-seed0 {DEV_SEED0 + n_cases} --no-anchors --population-only`). "
         "Hosts: tonal music tuned to A440 (7-note scale, 4-7 partials, notes held 0.2-4 s, half of them with a "
         "partial 0.5-3 Hz from a hum harmonic, pitches repeat), speech-like voiced syllables under formants with "
         "gliding pitch, and white/pink/brown noise; drift: the grid frequency measured on "

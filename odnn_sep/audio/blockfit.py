@@ -47,6 +47,7 @@ class FitSettings:
     fixed_psd: np.ndarray | None = None
     main_psd: np.ndarray | None = None
     smooth_blocks: int = 4
+    main_amps: np.ndarray | None = None   # (blocks, C, K) tracked-comb amplitudes to subtract (NaN: fit's own)
 
 
 def fit_pass(source, sink, plan: BlockPlan, trk, lines: LineSet, settings: FitSettings, tick=None):
@@ -163,6 +164,11 @@ class _FitPass:
             self.valid[b] = n == L
             if self.M:
                 zq = self._pool(b, z, n)
+            if self.settings.main_amps is not None:
+                # amplitude paths of the tracked comb (steadypath.py) replace the block's own
+                za = self.settings.main_amps[b].T
+                zk = z[: len(self.ks)]
+                zk[np.isfinite(za)] = za[np.isfinite(za)]
             self.amps[b] = np.abs(z).T
             self.phs[b] = np.angle(z).T
             # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply

@@ -24,8 +24,8 @@ from odnn_sep.audio import track as _track
 DECIM = 10            # chunks (10 ms) per sample of the low-passed baseband: 10 Hz
 SMOOTH_HZ = 0.6       # bandwidth of the phase correction (resolution ~0.5 s)
 K_CAPS = (2, 4, 8, 16, None)  # harmonics used in each round
-PHASE_NOISE_DB = -40.0  # hum left by the track's phase noise, at most (weak lines: longer smoothing)
-MAX_SMOOTH_S = 12.0   # longest phase-correction kernel (s)
+PHASE_NOISE_DB = -50.0  # hum left by the track's phase noise, at most (weak lines: longer smoothing)
+MAX_SMOOTH_S = 24.0   # longest phase-correction kernel (s)
 
 
 def chunk_times(J: int, sr: int) -> np.ndarray:

@@ -161,3 +161,107 @@ def locked(D, sr: int, ks, psi: np.ndarray, *, alpha: float):
         amp[i] = lock_p_values.last_amp[0]
     keep = [int(k) for k, pv in zip(ks, p, strict=True) if pv < alpha]
     return keep, {int(k): (float(pv), float(ix), float(am)) for k, pv, ix, am in zip(ks, p, idx, amp, strict=True)}
+
+
+WEIGHTED_SEG_S = 1.0    # units of the weighted test (s): short, so speech pauses and rests between notes count
+
+
+# The chunks are summed with their weights over 1 s units; the test is the same F test on the units'
+# weighted sums (|sum|^2 over their scatter about the weighted mean, which is its own calibration: the
+# weights only set the relative precision of the units). The weights depend on the content's power
+# only, never on its phase, so circular content still has mean zero.
+def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
+    """Like :func:`lock_p_values`, with every chunk weighted by the inverse of the content power near
+    the line at that moment (:func:`odnn_sep.audio.amplitude.local_power`): the generalised
+    least-squares mean of the tracked baseband, which takes the pauses of speech and the rests
+    between notes at their worth. A weak harmonic under bursty content is then clear where the
+    equal-weight test (whose 4 s segments each hold some of the bursts) sees nothing.
+
+    Parameters
+    ----------
+    u : (J, C, K) complex array
+        Tracked baseband (chunk sums turned by the tracked phase).
+    sr : int
+        Sample rate of the audio (Hz).
+
+    Returns
+    -------
+    p : (K,) array
+        P-values (channels pooled).
+    amp : (K,) array
+        Modulus of the weighted mean (chunk-sum units), mean over channels.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> noise = rng.standard_normal((3000, 1, 2)) + 1j * rng.standard_normal((3000, 1, 2))
+    >>> loud = (np.arange(3000) // 200) % 2 == 0           # bursts: 2 s on, 2 s off, 30 times louder
+    >>> noise[loud] *= 30.0
+    >>> p, amp = weighted_lock_p_values(noise + np.array([0.5, 0.0]), 8000)
+    >>> bool(p[0] < 1e-6), bool(p[1] > 1e-3), round(float(amp[0]), 1)
+    (True, True, 0.5)
+    >>> bool(lock_p_values(noise + np.array([0.5, 0.0]), 8000)[0][0] > 1e-3)   # equal weights: not seen
+    True
+    """
+    from odnn_sep.audio.amplitude import local_power
+
+    J, C, K = u.shape
+    fs = sr / _track.chunk_length(sr)
+    n = max(2, int(round(WEIGHTED_SEG_S * fs)))
+    B = J // n
+    if B < 6:
+        return np.ones(K), np.zeros(K)
+    x = np.zeros(K)
+    amp = np.zeros(K)
+    for c in range(C):
+        for i in range(K):
+            v = u[: B * n, c, i].astype(np.complex128)
+            w = 1.0 / local_power(v, fs)[0]
+            Y = (w * v).reshape(B, n).sum(axis=1)
+            W = w.reshape(B, n).sum(axis=1)
+            m = Y.sum() / W.sum()
+            scat = (np.abs(Y - W * m) ** 2).sum() / (B - 1)
+            # Var(sum Y) is B times a unit's variance; the weighted sum's |.|^2 over that
+            x[i] += np.abs(Y.sum()) ** 2 / max(B * scat, 1e-300) / C
+            amp[i] += np.abs(m) / C
+    p = special.fdtrc(2.0 * C, 2.0 * C * (B - 1), x)
+    return p, amp
+
+
+def weighted_locked(D, sr: int, ks, psi: np.ndarray) -> dict:
+    """Per harmonic of ``ks`` (columns of the chunk sums ``D``), ``(p, amplitude)`` of
+    :func:`weighted_lock_p_values` on its baseband tracked by ``psi`` (as :func:`locked`).
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref``.
+    sr : int
+        Sample rate (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    psi : (J,) float array
+        Tracked phase of the fundamental (cycles, relative to ``f_ref t``).
+
+    Returns
+    -------
+    dict
+        Harmonic -> ``(p, amplitude)``.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
+    >>> sr = 1000; t = np.arange(10 * sr) / sr
+    >>> x = np.cos(2 * np.pi * 50.1 * t) + 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> info = weighted_locked(D, sr, [1, 2], 0.1 * (np.arange(len(D)) * 10 + 4.5) / sr)
+    >>> bool(info[1][0] < 1e-6), bool(info[2][0] > 1e-3)
+    (True, True)
+    """
+    out = {}
+    for i, k in enumerate(ks):
+        rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
+        p, amp = weighted_lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr)
+        out[int(k)] = (float(p[0]), float(amp[0]))
+    return out

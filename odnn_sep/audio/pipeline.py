@@ -28,6 +28,7 @@ from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lockcomb as _lockcomb
+from odnn_sep.audio import steadypath as _steadypath
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.lines import LineSet
@@ -99,6 +100,7 @@ class _Found:
     lines: LineSet
     f_med: float | None
     h_amp: dict
+    main_amps: object = None
 
 
 def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
@@ -131,7 +133,7 @@ def _analyse(source, opts: DenoiseOptions):
     comb = _lockcomb.choose(source, spec_before, det, mains=opts.mains, harmonics=opts.harmonics,
                             alpha=opts.alpha, max_hz=opts.max_hz, tones=det.tones,
                             progress=tick) if det.harmonics else None
-    plan, trk, h_amp = _plan_and_track(source, opts, det, comb)
+    plan, trk, h_amp, main_amps = _plan_and_track(source, opts, det, comb)
     ks = comb.harmonics if comb is not None else []
     if not ks and not det.tones:
         log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and persist); "
@@ -143,7 +145,7 @@ def _analyse(source, opts: DenoiseOptions):
         combs, f_med, spec_fine = _further_combs(source, opts, det, trk, plan, ks, ks_spec, keep_hz)
     tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
     lines = LineSet(harmonics=ks, tones=tones, combs=combs)
-    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp), bar
+    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps), bar
 
 
 def _plan_and_track(source, opts: DenoiseOptions, det, comb):
@@ -158,7 +160,7 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb):
         z = np.zeros(plan.count)
         trk = _track.Track(t=plan.centres_s, f0=z, rate=z, curv=z, confident=np.zeros(plan.count, bool),
                            strength=z)
-        return plan, trk, {}
+        return plan, trk, {}, None
     ks = comb.harmonics
     det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
     det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
@@ -170,8 +172,9 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb):
     trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan)
     # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
     h_amp = dict(zip(ks, _amplitude.steady_amplitudes(comb.D, comb.f_ref, ks, trk, plan).T, strict=True))
+    main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan)
     comb.D = None
-    return plan, trk, h_amp
+    return plan, trk, h_amp, main_amps
 
 
 def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, keep_hz):
@@ -211,7 +214,8 @@ def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
             main_psd, fixed_psd = (psd[: len(ks)] if ks else None), (psd[len(ks):] if fixed_freqs else None)
     settings = _blockfit.FitSettings(solver=opts.solver, random_state=opts.random_state,
                                      gram_step=max(1, int(source.sr // (4 * f_top + 1))), fixed_psd=fixed_psd,
-                                     main_psd=main_psd if POOL_MAIN else None, smooth_blocks=SMOOTH_BLOCKS)
+                                     main_psd=main_psd if POOL_MAIN else None, smooth_blocks=SMOOTH_BLOCKS,
+                                     main_amps=found.main_amps)
     amps, phs, valid, overall = _blockfit.fit_pass(source, sink, found.plan, found.trk, lines, settings, tick=tick)
     if found.h_amp:
         # harmonics: the generalised least-squares amplitudes (amplitude.py) replace the pooled ones

@@ -1,0 +1,219 @@
+"""Amplitude paths of the tracked harmonics: each line's complex amplitude along the shared tracked
+phase, smoothed over as many blocks as the line's own data allow.
+
+A block fit gives every 8-16 s block its own amplitude and phase per line; on a steady line most
+of that freedom fits the content under the line instead (noise, a note partial), and the block
+fit's pooling (blockfit.py) only looks back a few blocks. Here, from pass 1's chunk sums:
+
+1. per block and line, the generalised least-squares mean of the tracked baseband over the
+   block's sin^2 window, every chunk weighted by the inverse content power near the line
+   (:func:`odnn_sep.audio.amplitude.local_power`): the loud moments of music and speech count for
+   what they are worth;
+2. per line, the block amplitudes smoothed by a Hann kernel over ``H`` blocks (or all of them:
+   one steady amplitude), ``H`` chosen by cross-validation: each block predicted from the blocks
+   that share none of its samples. A steady line takes the whole input; a line whose amplitude or
+   phase against the track moves (amplitude modulation, a track error at a high harmonic) takes a
+   shorter span; where even the shortest span is best, the block fit's own amplitudes stay.
+   (The held-out error is compared between spans only: its size against the blocks' own noise
+   says little, that noise being measured beside the line, not under it.)
+
+The block fit (blockfit.py) then subtracts these amplitudes for the tracked comb, in each block's
+own phase reference.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from odnn_sep.audio import track as _track
+from odnn_sep.audio.amplitude import local_power
+from odnn_sep.audio.blockplan import BlockPlan, sin2_window
+
+SPANS = (None, 16, 8, 4, 3)  # Hann half-widths tried (blocks); None: one amplitude for the whole input;
+                             # when the last (only the blocks next but one) wins, the block fit stays
+MIN_BLOCKS = 6              # fewer blocks: the block fit's own amplitudes are kept
+EXCLUDE = 1                 # blocks this close share samples with the one predicted (50 % overlap)
+
+
+def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
+    """Per block the weighted mean tracked baseband of each line, as a peak amplitude in the common
+    reference (``A`` of ``Re(A exp(2 pi i k (f_ref t + psi(t))))``), and its variance.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref`` (:func:`track.demodulate`).
+    sr : int
+        Sample rate (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    psi : (J,) array
+        Tracked phase of the fundamental (cycles, relative to ``f_ref t``) at the chunk centres.
+    plan : BlockPlan
+        The fit blocks.
+
+    Returns
+    -------
+    A : (blocks, C, K) complex array
+    var : (blocks, C, K) float array
+        ``inf`` for a block with no chunk.
+    var_eq : (blocks, C, K) float array
+        The variance of the equal-weight mean over the same window (the noise of a block fit).
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(40 * sr) / sr
+    >>> x = 0.5 * np.cos(2 * np.pi * 50.0 * t + 1.0) + 0.01 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1])
+    >>> A, var, _ = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
+    >>> A.shape, bool(np.allclose(A[2:-2, 0, 0], 0.5 * np.exp(1j), atol=0.01))
+    ((11, 1, 1), True)
+    """
+    J, C, K = D.shape
+    m = _track.chunk_length(sr)
+    fs = sr / m
+    tj = np.arange(J) * m + (m - 1) / 2
+    nb, hop = plan.count, plan.hop
+    lo = np.searchsorted(tj, np.arange(nb) * hop - hop)
+    hi = np.searchsorted(tj, np.arange(nb) * hop + hop)
+    A = np.zeros((nb, C, K), complex)
+    var = np.full((nb, C, K), np.inf)
+    var_eq = np.full((nb, C, K), np.inf)
+    for i, k in enumerate(ks):
+        rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
+        for c in range(C):
+            u = D[:, c, i].astype(np.complex128) * rot
+            p_mean, p_med = local_power(u, fs)
+            for b in range(nb):
+                if hi[b] > lo[b]:
+                    sl = slice(lo[b], hi[b])
+                    win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
+                    A[b, c, i], var[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_mean[sl], p_med[sl], m)
+    return A, var, var_eq
+
+
+def _weighted_mean(u, win, p_mean, p_med, m: int):
+    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude, its variance, and the
+    variance of the equal-weight mean (``0, inf, inf`` without weight)."""
+    w = win / p_mean
+    sw = w.sum()
+    if sw <= 0:
+        return 0.0, np.inf, np.inf
+    return ((2.0 / m) * np.sum(w * u) / sw, (2.0 / m) ** 2 * np.sum(w * w * p_med) / sw ** 2,
+            (2.0 / m) ** 2 * np.sum(win * win * p_med) / win.sum() ** 2)
+
+
+def _kernel(nb: int, span) -> np.ndarray:
+    d = np.abs(np.arange(nb)[:, None] - np.arange(nb)[None, :]).astype(float)
+    if span is None:
+        return np.ones((nb, nb))
+    return np.where(d < span, np.cos(np.pi * d / (2 * span)) ** 2, 0.0)
+
+
+def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = None):
+    """One line's block amplitudes ``A`` (blocks,) smoothed over the span that predicts held-out
+    blocks best (see the module text); None where the shortest span wins (the line moves faster
+    than a smoothed path follows), or where the path is expected to miss the line by more than
+    ``var_fit``, the noise of the block fit's own amplitudes (a strong line that moves is better
+    followed block by block). The path's miss, from the held-out predictions ``pred``: about
+    ``|A - pred|^2 - var``, ``var`` being the held-out blocks' own noise.
+
+    Parameters
+    ----------
+    A : (blocks,) complex array
+    var : (blocks,) float array
+    var_fit : (blocks,) float array, optional
+
+    Returns
+    -------
+    (blocks,) complex array or None
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> A = 1.0 + 0.1 * (rng.standard_normal(12) + 1j * rng.standard_normal(12))   # steady, noisy
+    >>> out = smooth_path(A, np.full(12, 0.02))
+    >>> bool(np.abs(out - 1.0).max() < 0.06), bool(np.ptp(out.real) < 0.05)
+    (True, True)
+    >>> am = 1.0 + 0.3 * np.sin(2 * np.pi * np.arange(16) / 10)                 # fast modulation, no noise
+    >>> smooth_path(am.astype(complex), np.full(16, 1e-6)) is None
+    True
+    >>> slow = 1.0 + 0.3 * np.sin(2 * np.pi * np.arange(16) / 40)               # slow, but the block fit is exact
+    >>> smooth_path(slow.astype(complex), np.full(16, 1e-6), np.full(16, 1e-6)) is None
+    True
+    """
+    nb = len(A)
+    prec = np.where(np.isfinite(var), 1.0 / np.maximum(var, 1e-300), 0.0)
+    if nb < MIN_BLOCKS or (prec > 0).sum() < MIN_BLOCKS:
+        return None
+    near = np.abs(np.arange(nb)[:, None] - np.arange(nb)[None, :]) <= EXCLUDE
+    best, best_err = None, np.inf
+    for span in SPANS:
+        kern = _kernel(nb, span)
+        kw = np.where(near, 0.0, kern) * prec[None, :]
+        ok = (kw.sum(axis=1) > 0) & (prec > 0)
+        if ok.sum() < MIN_BLOCKS // 2:
+            continue
+        pred = (kw @ A)[ok] / kw.sum(axis=1)[ok]
+        err = float(np.sum(prec[ok] * np.abs(A[ok] - pred) ** 2) / ok.sum())
+        if err < best_err:
+            best, best_err = span, err
+            miss = float(np.mean(np.abs(A[ok] - pred) ** 2 - var[ok]))
+            fit_miss = float(np.mean(var_fit[ok])) if var_fit is not None else np.inf
+    if best_err == np.inf or best == SPANS[-1] or miss > fit_miss:
+        return None
+    kw = _kernel(nb, best) * prec[None, :]
+    return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
+
+
+def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan):
+    """Complex amplitudes ``z`` (blocks, C, K) of the tracked harmonics in each block's own phase
+    reference (the block fit's: ``hum = Re(z exp(2 pi i k (phase(t) - phase(centre))))``), NaN
+    where the block fit's own amplitude is kept; None when no line has a smoothed path.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref``.
+    sr : int
+        Sample rate (Hz).
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    psi : (J,) array
+        Tracked phase (cycles, relative to ``f_ref t``) at the chunk centres.
+    plan : BlockPlan
+        The fit blocks.
+
+    Returns
+    -------
+    (blocks, C, K) complex array or None
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; t = np.arange(40 * sr) / sr
+    >>> x = 0.5 * np.cos(2 * np.pi * 50.1 * t) + 0.05 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1])
+    >>> psi = 0.1 * (np.arange(len(D)) * 10 + 4.5) / sr
+    >>> z = comb_block_amplitudes(D, sr, 50.0, [1], psi, BlockPlan.from_block_s(8.0, sr, t.size))
+    >>> z.shape, bool(np.allclose(np.abs(z), 0.5, atol=0.005))
+    ((11, 1, 1), True)
+    """
+    from odnn_sep.audio.finetrack import PhaseTrack
+
+    A, var, var_eq = block_means(D, sr, ks, psi, plan)
+    nb, C, K = A.shape
+    out = np.full((nb, C, K), np.nan, complex)
+    centres = np.arange(nb) * float(plan.hop)
+    ph = PhaseTrack(psi, sr, f_ref)
+    cyc = np.mod(centres * (f_ref / sr), 1.0) + ph.offset_cycles(centres)
+    any_path = False
+    for i, k in enumerate(ks):
+        for c in range(C):
+            path = smooth_path(A[:, c, i], var[:, c, i], var_eq[:, c, i])
+            if path is not None:
+                out[:, c, i] = path * np.exp(2j * np.pi * np.mod(k * cyc, 1.0))
+                any_path = True
+    return out if any_path else None
