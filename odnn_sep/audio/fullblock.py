@@ -211,20 +211,15 @@ class FullBlockFitter:
     def _powers(self, i0, n, centre, f0, rate, curv):
         """The tracked harmonics' phasors over samples ``i0 .. i0 + n`` into ``self.Z[:, :n]``:
         powers of one phasor per sample, by repeated multiplication (as :func:`fit.block_basis`)."""
-        key = (n, i0 - centre)
-        if self.tau_cache.get("key") == key:
-            tau = self.tau_cache["tau"]
-        else:
-            tau = (i0 + np.arange(n) - centre) / self.sr
-            if n >= self.tau_cache["min_n"]:
-                self.tau_cache.update(key=key, tau=tau)
-        # phase in cycles; its fraction is rounded to float32 as it is written
+        # phase in cycles; its fraction is rounded to float32 as it is written (work arrays kept
+        # across blocks: fresh ones of a block's length cost more in page faults than the sums)
         if self.phase is not None:
-            cyc = self.phase.cycles(i0, n, centre)
+            cyc = self.phase.cycles(i0, n, centre, scratch=True)
         else:
-            cyc = _fit.tracked_cycles(tau, f0, rate, curv)
-        r32 = np.empty(n, np.float32)
-        np.subtract(cyc, np.rint(cyc), out=r32, casting="same_kind")
+            cyc = _fit.tracked_cycles(self._tau(i0, n, centre), f0, rate, curv)
+        whole = np.rint(cyc, out=self._buffer("whole", np.float64, self.L)[:n])
+        r32 = self._buffer("r32", np.float32, self.L)[:n]
+        np.subtract(cyc, whole, out=r32, casting="same_kind")
         Z = self.Z[:, :n]
         z = Z[0] if self.ks[0] == 1 else np.empty(n, np.complex64)
         r32 *= np.float32(2 * np.pi)
@@ -238,6 +233,17 @@ class FullBlockFitter:
             for _ in range(k - kprev - 1):
                 np.multiply(Z[i], z, out=Z[i])
             kprev, src = k, Z[i]
+
+    def _tau(self, i0: int, n: int, centre: int) -> np.ndarray:
+        """Times (s) of samples ``i0 .. i0 + n`` from the block centre (kept for full blocks: every
+        full block has the same offsets)."""
+        key = (n, i0 - centre)
+        if self.tau_cache.get("key") == key:
+            return self.tau_cache["tau"]
+        tau = (i0 + np.arange(n) - centre) / self.sr
+        if n >= self.tau_cache["min_n"]:
+            self.tau_cache.update(key=key, tau=tau)
+        return tau
 
     def _buffer(self, name: str, dtype, size: int) -> np.ndarray:
         """A flat work array kept across blocks (no page faults on a fresh 1-2 MB per block)."""
@@ -274,13 +280,16 @@ class FullBlockFitter:
             coef = np.empty((self.pf, C, nch), np.float32)
             coef[0::2], coef[1::2] = b.real, -b.imag
             np.dot(coef.reshape(self.pf, C * nch).T, self.RcT, out=H)
-        else:
-            H[:] = 0.0
         hum = H.reshape(C, nch * self.c)[:, :n]
         if tracked and K:
             T = self._buffer("synth", np.complex64, C * self.L)[: C * n].reshape(C, n)
             np.dot(z[:K].T.astype(np.complex64), self.Z[:, :n], out=T)
-            hum += T.real
+            if self.pf:
+                hum += T.real
+            else:
+                np.add(T.real, np.float32(0.0), out=hum)     # 0 + T.real without zeroing first
+        elif not self.pf:
+            hum[:] = 0.0
         return hum
 
     def _near_gram(self, i0, n, centre, f0, rate, curv, near) -> np.ndarray:

@@ -102,6 +102,8 @@ class FileSource:
         self.frames = int(self.f.frames)
         self.format, self.subtype, self.endian = self.f.format, self.f.subtype, self.f.endian
         self.mono = self.channels == 1
+        # only float subtypes can hold NaN or inf (integer samples need no finiteness check)
+        self._float_samples = not is_integer_subtype(self.subtype)
         if self.frames <= 0:
             self.f.close()
             raise FormatError(f"input audio file {self.name!r} has no samples (0 frames)")
@@ -131,8 +133,8 @@ class FileSource:
         if out.shape[0] < n:
             raise FormatError(f"input audio file {self.name!r} ended at frame {start + out.shape[0]} but its "
                               f"header says {self.frames} frames (truncated or corrupt file)")
-        bad = ~np.isfinite(out)
-        if bad.any():
+        if self._float_samples and not np.isfinite(out).all():
+            bad = ~np.isfinite(out)
             r, c = np.argwhere(bad)[0]
             kind = "NaN" if np.isnan(out[r, c]) else "inf"
             raise InputError(f"input audio file {self.name!r} contains {kind} samples (first at frame "
@@ -233,9 +235,12 @@ class ClipCounter:
         self.peak = 0.0
 
     def __call__(self, block: np.ndarray) -> np.ndarray:
+        peak = 0.0
         if block.size:
-            self.peak = max(self.peak, float(np.abs(block).max()))
-        if self.integer:
+            # max |x| from the extremes: no array of magnitudes per block
+            peak = float(np.maximum(block.max(), -block.min()))
+            self.peak = max(self.peak, peak)
+        if self.integer and not peak <= 1.0:      # (a NaN peak too)
             over = np.abs(block) > 1.0
             if over.any():
                 self.n_clipped += int(over.sum())
