@@ -135,9 +135,15 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
             use = ks == ks.min()
-        rot = np.exp(-2j * np.pi * np.outer(psi, ks[use]))                                 # (J, Ku)
-        v = (D[:, :, use] * rot[:, None, :].astype(np.complex64))[: nd * DECIM]
-        v = v.reshape(nd, DECIM, C, -1).mean(axis=1).astype(np.complex128)              # (nd, C, Ku)
+        # the tracked baseband, decimated: (nd, C, Ku); a stretch of chunks at a time, so that
+        # the rotated copy of the chunk sums never exists for the whole input at once
+        v = np.empty((nd, C, int(use.sum())), np.complex128)
+        step = DECIM * (1 << 12)
+        for a in range(0, nd * DECIM, step):
+            b = min(a + step, nd * DECIM)
+            rot = np.exp(-2j * np.pi * np.outer(psi[a:b], ks[use]))                        # (b - a, Ku)
+            vc = D[a:b][:, :, use] * rot[:, None, :].astype(np.complex64)
+            v[a // DECIM: b // DECIM] = vc.reshape((b - a) // DECIM, DECIM, C, -1).mean(axis=1)
         # each harmonic's complex amplitude over the whole input: hum keeps one phase against
         # the fundamental, so every slow or fast phase error of the track shows against it
         c = v.mean(axis=0, keepdims=True)
