@@ -288,8 +288,10 @@ def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     if not others:
         return []
     info, sr = fam.info, fam.sr
-    _, inf_o = _lock.locked(fam.D[:, :, fam.cols(others)], sr, others, psi, alpha=fam.alpha)
-    info.update(inf_o)
+    # one line at a time through a view of its column (the test treats the columns one by one):
+    # a copy of all the others' chunk sums at once was the run's largest array (100 MB per hour)
+    for k, col in zip(others, fam.cols(others), strict=True):
+        info.update(_lock.locked(fam.D[:, :, col: col + 1], sr, [k], psi, alpha=fam.alpha)[1])
     top_amp = max(info[k][2] for k in ks)
     return [int(k) for k in others if info[k][0] * fam.n_tests < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp]
 
