@@ -349,14 +349,14 @@ class PhaseTrack:
         out += self.psi[j]
         return out
 
-    def cycles(self, i0: int, n: int, centre: int, step: int = 1, scratch: bool = False) -> np.ndarray:
+    def cycles(self, i0: int, n: int, centre: int, step: int = 1, scratch=None) -> np.ndarray:
         """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at
-        ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``. ``scratch``: the result
-        may be a view of a work array kept by the track, valid until the next call (the same
-        values, without fresh arrays of the block's length: their page faults cost more than
-        the sums)."""
-        if scratch and step == 1:
-            cyc = self._cycles_scratch(i0, n, centre)
+        ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``. ``scratch`` (a key, e.g.
+        0 or 1): the result may be a view of a work array kept by the track under that key,
+        valid until the next call with the same key (the same values, without fresh arrays of
+        the block's length; two threads use two keys)."""
+        if scratch is not None and step == 1:
+            cyc = self._cycles_scratch(i0, n, centre, scratch)
             if cyc is not None:
                 return cyc
         if step != 1:
@@ -382,7 +382,7 @@ class PhaseTrack:
         cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
         return cyc
 
-    def _cycles_scratch(self, i0: int, n: int, centre: int):
+    def _cycles_scratch(self, i0: int, n: int, centre: int, key):
         """:meth:`cycles` for contiguous samples inside the track, operation for operation, in a
         work array kept between calls; the time ramp ``(i - centre) f_ref / sr`` is kept too
         (every full block has the same offsets). None where :meth:`cycles` takes another path."""
@@ -395,19 +395,21 @@ class PhaseTrack:
         if hi - lo < 2 or first < 0 or last > len(self.psi) - 1 or start < 0 or start + n > (hi - lo) * m:
             return None
         r = (np.arange(m) + (c0 - x0)) * (1.0 / m)
-        work = getattr(self, "_work", None)
+        scratch = self.__dict__.setdefault("_scratch", {})       # (atomic: two threads may call)
+        work = scratch.get(key)
         if work is None or work.size < (hi - lo) * m:
-            work = self._work = np.empty((hi - lo) * m)
+            work = scratch[key] = np.empty((hi - lo) * m)
         grid = work[: (hi - lo) * m].reshape(hi - lo, m)
         np.multiply(self.slope[lo:hi, None], r[None, :], out=grid)
         np.add(self.psi[lo:hi, None], grid, out=grid)
-        key = (i0 - centre, n)
-        if getattr(self, "_ramp_key", None) != key:
+        ramp_key, ramp = scratch.get("ramp", (None, None))      # shared by the keys: read as one pair
+        if ramp_key != (i0 - centre, n):
+            ramp_key = (i0 - centre, n)
             ramp = np.arange(i0 - centre, i0 - centre + n, dtype=float)
             ramp *= self.f_ref / self.sr
-            self._ramp_key, self._ramp = key, ramp
+            scratch["ramp"] = (ramp_key, ramp)
         cyc = grid.reshape(-1)[start: start + n]
-        cyc += self._ramp           # (i - centre) f_ref / sr + psi(i): the sum of cycles(), in place
+        cyc += ramp                 # (i - centre) f_ref / sr + psi(i): the sum of cycles(), in place
         cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
         return cyc
 
