@@ -8,7 +8,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from odnn_sep.audio.io import ArraySource, ClipCounter, FileSource, is_integer_subtype, output_subtype
+from odnn_sep.audio.io import (
+    ArraySource,
+    BackgroundWriter,
+    ClipCounter,
+    FileSource,
+    is_integer_subtype,
+    output_subtype,
+)
 from odnn_sep.audio.options import DenoiseOptions
 from odnn_sep.audio.pipeline import run
 from odnn_sep.audio.result import DenoiseResult
@@ -211,12 +218,20 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
             with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,
                               **kw) as fo:
                 removed_ss = [0.0]
+                writer = BackgroundWriter(fo)
 
                 def sink(piece, removed):
                     removed_ss[0] += float(np.sum(np.square(removed, dtype=np.float64)))
-                    fo.write(clip(piece - removed))
+                    writer.write(clip(piece - removed))
 
-                res = run(src, sink, opts, after_source_fn=lambda: _flushed(fo, tmp))
+                def written():
+                    writer.wait()
+                    return _flushed(fo, tmp)
+
+                try:
+                    res = run(src, sink, opts, after_source_fn=written)
+                finally:
+                    writer.close()
     finally:
         src.close()
     res.clip_message = clip.message()

@@ -209,6 +209,51 @@ def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str
     return fmt, st
 
 
+class BackgroundWriter:
+    """Writes blocks to an open sound file from one worker thread, in order, with at most one
+    block waiting: the encoding and the disk write (the sound-file library releases the GIL)
+    overlap the fit of the next block. Errors surface at the next :meth:`write` or at
+    :meth:`wait`.
+
+    Parameters
+    ----------
+    fo : soundfile.SoundFile
+        Open for writing; written only through this object until :meth:`wait` returns.
+
+    Examples
+    --------
+    >>> import os, tempfile, numpy as np, soundfile as sf
+    >>> p = os.path.join(tempfile.mkdtemp(), "a.wav")
+    >>> with sf.SoundFile(p, "w", samplerate=8000, channels=1, subtype="PCM_16") as fo:
+    ...     w = BackgroundWriter(fo)
+    ...     w.write(np.zeros(800)); w.write(np.zeros(200)); w.close()
+    >>> sf.info(p).frames
+    1000
+    """
+
+    def __init__(self, fo):
+        from concurrent.futures import ThreadPoolExecutor
+
+        self.fo = fo
+        self.pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="denoise-write")
+        self.pending = None
+
+    def write(self, block: np.ndarray):
+        """Queue ``block`` (not modified afterwards by the caller) after the previous one."""
+        self.wait()
+        self.pending = self.pool.submit(self.fo.write, block)
+
+    def wait(self):
+        """Until every queued block is written (raises the write's error, if any)."""
+        fut, self.pending = self.pending, None
+        if fut is not None:
+            fut.result()
+
+    def close(self):
+        """Wait for the queued block and stop the thread (errors are raised by :meth:`wait`)."""
+        self.pool.shutdown(wait=True)
+
+
 class ClipCounter:
     """Clips to [-1, 1] for integer subtypes and remembers how much was cut (never silently).
 
