@@ -281,9 +281,11 @@ class FullBlockFitter:
     def tracked_sums(self, Yw, n) -> np.ndarray:
         """Sums of ``Yw`` against the tracked columns (cos, sin per harmonic): (pm, C), float64."""
         C = Yw.shape[0]
-        # complex copy of the weighted samples (imaginary part stays zero) for one cgemm
+        # complex copy of the weighted samples (imaginary part zero) for one cgemm; block_hum
+        # uses the same buffer for the synthesis afterwards, so the imaginary part is cleared
         Yc = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
         Yc.real = Yw[:, :n]
+        Yc.imag = 0.0
         X = np.dot(self.Z[:, :n], Yc.T)                                              # (K, C)
         out = np.empty((self.pm, C))
         out[0::2], out[1::2] = X.real, X.imag
@@ -308,7 +310,8 @@ class FullBlockFitter:
             np.dot(coef.reshape(self.pf, C * nch).T, self.RcT, out=H)
         hum = H.reshape(C, nch * self.c)[:, :n]
         if tracked and K:
-            T = self._buffer("synth", np.complex64, C * self.L)[: C * n].reshape(C, n)
+            # (the complex samples' buffer of tracked_sums: free again once the block is solved)
+            T = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
             np.dot(z[:K].T.astype(np.complex64), self.Z[:, :n], out=T)
             if self.pf:
                 hum += T.real
