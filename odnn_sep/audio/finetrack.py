@@ -135,15 +135,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
             use = ks == ks.min()
-        # the tracked baseband, decimated: (nd, C, Ku); a stretch of chunks at a time, so that
-        # the rotated copy of the chunk sums never exists for the whole input at once
-        v = np.empty((nd, C, int(use.sum())), np.complex128)
-        step = DECIM * (1 << 12)
-        for a in range(0, nd * DECIM, step):
-            b = min(a + step, nd * DECIM)
-            rot = np.exp(-2j * np.pi * np.outer(psi[a:b], ks[use]))                        # (b - a, Ku)
-            vc = D[a:b][:, :, use] * rot[:, None, :].astype(np.complex64)
-            v[a // DECIM: b // DECIM] = vc.reshape((b - a) // DECIM, DECIM, C, -1).mean(axis=1)
+        v = decimated_baseband(D, psi, ks, use, nd)                                      # (nd, C, Ku)
         # each harmonic's complex amplitude over the whole input: hum keeps one phase against
         # the fundamental, so every slow or fast phase error of the track shows against it
         c = v.mean(axis=0, keepdims=True)
@@ -160,6 +152,46 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         err = smoothed_correction(num, den, np.abs(c[0]) ** 2, ks[use], n_min, fs_d)
         psi = psi + np.interp(tc, td, err)
     return psi
+
+
+def decimated_baseband(D, psi: np.ndarray, ks: np.ndarray, use: np.ndarray, nd: int) -> np.ndarray:
+    """The chunk sums of the harmonics ``ks[use]`` turned by ``exp(-2 pi i k psi)`` and averaged
+    over DECIM chunks: (nd, C, Ku) complex128. A stretch of chunks at a time, so that the rotated
+    copy of the chunk sums never exists for the whole input at once.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex64 array
+        Chunk sums.
+    psi : (J,) array
+        Phase of the fundamental (cycles).
+    ks : (K,) array
+        Harmonic numbers of ``D``'s columns.
+    use : (K,) bool array
+        The columns taken.
+    nd : int
+        Decimated samples (``nd * DECIM <= J``).
+
+    Returns
+    -------
+    (nd, C, Ku) complex128 array
+
+    Examples
+    --------
+    >>> D = np.ones((40, 1, 2), np.complex64)
+    >>> v = decimated_baseband(D, np.zeros(40), np.array([1.0, 2.0]), np.array([True, False]), 4)
+    >>> v.shape, bool(np.allclose(v, 1.0))
+    ((4, 1, 1), True)
+    """
+    C = D.shape[1]
+    v = np.empty((nd, C, int(use.sum())), np.complex128)
+    step = DECIM * (1 << 12)
+    for a in range(0, nd * DECIM, step):
+        b = min(a + step, nd * DECIM)
+        rot = np.exp(-2j * np.pi * np.outer(psi[a:b], ks[use]))                            # (b - a, Ku)
+        vc = D[a:b][:, :, use] * rot[:, None, :].astype(np.complex64)
+        v[a // DECIM: b // DECIM] = vc.reshape((b - a) // DECIM, DECIM, C, -1).mean(axis=1)
+    return v
 
 
 def smoothed_correction(num, den, power, ks, n_min: int, fs_d: float) -> np.ndarray:
