@@ -257,6 +257,46 @@ def bench_long(tmpdir: Path):
             "generate_s": gen, "load_avg_1min": os.getloadavg()[0]}
 
 
+def bench_room_speed(repeats: int = 3):
+    """The room recording through odnn-sep and MNE spectrum_fit (the lines odnn-sep found,
+    harmonics 1-8), ``repeats`` runs each back to back: wall and CPU seconds of every run."""
+    import soundfile as sf
+
+    room = DATA / "pyenf_hum_recordings" / "room_audio_60hz_hum_8k.wav"
+    if not room.exists():
+        return None
+    x, sr = sf.read(room, always_2d=True)
+    r = run_ours(x, sr)                                    # (also warms the imports up)
+    lines = [k * r.mains_hz for k in range(1, 9) if k * r.mains_hz < sr / 2 - 2]
+    run_mne(x[: sr], sr, lines)
+    out = {"odnn-sep": [], "MNE spectrum_fit": []}
+    for _ in range(repeats):
+        for name, fn, args in (("odnn-sep", run_ours, (x, sr)), ("MNE spectrum_fit", run_mne, (x, sr, lines))):
+            c0, t0 = time.process_time(), time.perf_counter()
+            fn(*args)
+            out[name].append({"wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0})
+    best = {k: {"wall_s": min(v["wall_s"] for v in runs), "cpu_s": min(v["cpu_s"] for v in runs)}
+            for k, runs in out.items()}
+    return {"runs": out, "best": best, "repeats": repeats, "load_avg_1min": os.getloadavg()[0]}
+
+
+def speed_only(tmp: str | None):
+    """``--speed-only``: the one-hour file and the room recording's timing, nothing else."""
+    with tempfile.TemporaryDirectory(dir=tmp) as d:
+        long = bench_long(Path(d))
+    room = bench_room_speed()
+    print(json.dumps({"long": long, "room": room}, indent=1))
+    if room:
+        b = room["best"]
+        print(f"room recording, best of {room['repeats']}: odnn-sep {b['odnn-sep']['wall_s']:.2f} s wall "
+              f"({b['odnn-sep']['cpu_s']:.2f} s CPU), MNE spectrum_fit {b['MNE spectrum_fit']['wall_s']:.2f} s "
+              f"wall ({b['MNE spectrum_fit']['cpu_s']:.2f} s CPU): "
+              f"{b['MNE spectrum_fit']['wall_s'] / b['odnn-sep']['wall_s']:.1f}x wall, "
+              f"{b['MNE spectrum_fit']['cpu_s'] / b['odnn-sep']['cpu_s']:.1f}x CPU")
+    print(f"one hour of 44.1 kHz mono: {long['wall_s']:.1f} s wall, {long['cpu_s']:.1f} s CPU, "
+          f"peak RSS {long['peak_rss_mb']:.0f} MB (1-min load average {long['load_avg_1min']:.1f})")
+
+
 # ---------------------------------------------------------------------------------------------
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -270,7 +310,12 @@ def main(argv=None):
     ap.add_argument("--dev-seed0", type=int, default=None,
                     help="first development seed (>= 1000, e.g. 1024 for a second development set; implies --dev)")
     ap.add_argument("--population-only", action="store_true", help="only the generated cases (no file written)")
+    ap.add_argument("--speed-only", action="store_true",
+                    help="only the one-hour file and the room recording's timing against MNE (no file written)")
     args = ap.parse_args(argv)
+    if args.speed_only:
+        speed_only(os.environ.get("BENCH_TMP"))
+        return 0
     import _audio_population as pop
     from _bench_md import md_table, write_section
 

@@ -8,7 +8,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from odnn_sep.audio.io import ArraySource, ClipCounter, FileSource, is_integer_subtype, output_subtype
+from odnn_sep.audio.io import (
+    ArraySource,
+    BackgroundWriter,
+    ClipCounter,
+    FileSource,
+    is_integer_subtype,
+    output_subtype,
+)
 from odnn_sep.audio.options import DenoiseOptions
 from odnn_sep.audio.pipeline import run
 from odnn_sep.audio.result import DenoiseResult
@@ -210,13 +217,7 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
             kw = {"endian": src.endian} if fmt == src.format else {}
             with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,
                               **kw) as fo:
-                removed_ss = [0.0]
-
-                def sink(piece, removed):
-                    removed_ss[0] += float(np.sum(np.square(removed, dtype=np.float64)))
-                    fo.write(clip(piece - removed))
-
-                res = run(src, sink, opts, after_source_fn=lambda: _flushed(fo, tmp))
+                res, removed_ss = _run_to_file(src, fo, tmp, clip, opts)
     finally:
         src.close()
     res.clip_message = clip.message()
@@ -224,10 +225,31 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
         log.warning(res.clip_message)
     res.info.update({"input": str(src.path), "output": str(out), "format": fmt, "subtype": st,
                      "input_subtype": src.subtype, "truncated": src.truncated})
-    res.requantisation_message = requantisation_note(removed_ss[0] / max(src.frames * src.channels, 1), st)
+    res.requantisation_message = requantisation_note(removed_ss / max(src.frames * src.channels, 1), st)
     if res.requantisation_message:
         log.warning(res.requantisation_message)
     return res
+
+
+def _run_to_file(src, fo, tmp, clip, opts: DenoiseOptions):
+    """All passes over ``src`` with the cleaned blocks written to ``fo`` (open on ``tmp``) by a
+    BackgroundWriter: the result and the sum of the squared hum removed."""
+    removed_ss = [0.0]
+    writer = BackgroundWriter(fo)
+
+    def sink(piece, removed):
+        removed_ss[0] += float(np.sum(np.square(removed, dtype=np.float64)))
+        writer.write(clip(piece - removed))
+
+    def written():
+        writer.wait()
+        return _flushed(fo, tmp)
+
+    try:
+        res = run(src, sink, opts, after_source_fn=written)
+    finally:
+        writer.close()
+    return res, removed_ss[0]
 
 
 def _flushed(fo, tmp):

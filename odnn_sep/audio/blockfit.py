@@ -25,6 +25,7 @@ from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.lines import LineSet
 
 STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line counts as steady (~1 % test)
+AHEAD = True           # evaluate the next block's harmonic powers in a worker thread
 
 
 @dataclass(frozen=True)
@@ -100,10 +101,22 @@ def fit_pass(source, sink, plan: BlockPlan, trk, lines: LineSet, settings: FitSe
     True
     """
     fp = _FitPass(source, plan, trk, lines, settings)
+    ahead = _Ahead(plan, fp) if _Ahead.useful(plan, fp) else None
+    try:
+        return _blocks(source, sink, plan, fp, tick, ahead)
+    finally:
+        if ahead is not None:
+            ahead.close()
+
+
+def _blocks(source, sink, plan: BlockPlan, fp, tick, ahead):
+    """The loop of :func:`fit_pass` over the blocks (pieces from ``ahead`` when given)."""
     C, hop = source.channels, plan.hop
     prev_piece = np.zeros((0, C))
     prev_tail = np.zeros((C, 0), np.float32)
     for b in range(plan.count):
+        if ahead is not None:
+            ahead.ready(b)
         piece = source.read(b * hop, hop)
         parts = [p for p in (prev_piece, piece) if p.shape[0]]
         n = prev_piece.shape[0] + piece.shape[0]
@@ -117,6 +130,46 @@ def fit_pass(source, sink, plan: BlockPlan, trk, lines: LineSet, settings: FitSe
         if tick is not None:
             tick(piece.shape[0])
     return fp.amps, fp.phs, fp.valid, fp.overall()
+
+
+class _Ahead:
+    """Evaluates the next block's tracked-comb powers (fullblock.FullBlockFitter.prepare, into
+    the slot the current block does not use) in one worker thread while the current block is
+    read, fitted and written. NumPy releases the GIL for these array operations, so on two
+    cores the two parts of a block's work overlap; the arithmetic is the same as without the
+    worker. The worker allocates no array of a block's length (its work arrays are kept), so
+    a second malloc arena does not grow the memory."""
+
+    def __init__(self, plan: BlockPlan, fp: "_FitPass"):
+        from concurrent.futures import ThreadPoolExecutor
+
+        self.plan, self.fp = plan, fp
+        self.pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="denoise-ahead")
+        self.future = self.pool.submit(self._job, 0)
+
+    def _job(self, b: int):
+        # block b: samples (b - 1) hop .. (b + 1) hop within the input, as fit_pass joins them
+        hop = self.plan.hop
+        i0 = max((b - 1) * hop, 0)
+        n = min((b + 1) * hop, self.plan.n_frames) - i0
+        trk = self.fp.trk
+        self.fp.fitter.prepare(i0, n, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], slot=b % 2)
+
+    def ready(self, b: int):
+        """Wait for block ``b``'s powers; start those of ``b + 1``."""
+        self.future.result()
+        self.future = self.pool.submit(self._job, b + 1) if b + 1 < self.plan.count else None
+
+    def close(self):
+        if self.future is not None:
+            self.future.cancel()
+        self.pool.shutdown(wait=True)
+
+    @staticmethod
+    def useful(plan: BlockPlan, fp: "_FitPass") -> bool:
+        """Whether there is a tracked comb fitted by the exact solver over several blocks."""
+        return (AHEAD and plan.count > 1 and fp.fitter is not None and fp.fitter.pm > 0
+                and fp.settings.solver == "exact")
 
 
 class _FitPass:
@@ -134,9 +187,10 @@ class _FitPass:
         self.valid = np.zeros(nb, bool)
         self.col_names = [f"{nm}_{cs}" for nm in lines.names for cs in ("cos", "sin")]
         self.w_full = plan.window()
-        self.w32_full = self.w_full.astype(np.float32)
         self.fitter = _fullblock.FullBlockFitter(L, self.sr, ks, lines.fixed_lines, self.w_full,
                                                  settings.gram_step) if nl else None
+        # (the fitter's float32 copy of the same window where there is one)
+        self.w32_full = self.fitter.window(L)[1] if self.fitter is not None else self.w_full.astype(np.float32)
         if self.fitter is not None:
             self.fitter.phase = getattr(trk, "phase", None)
         pool_fixed = settings.fixed_psd is not None and nfix > 0
@@ -191,7 +245,7 @@ class _FitPass:
         theta = Fm = None
         if self.settings.solver == "exact":
             # blocks cut by the signal's ends too: fitted under a Hann over their visible part
-            theta = self.fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n)
+            theta = self.fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n, slot=b % 2)
         if theta is None:
             # fit weights: the block's window, or a Hann over the visible part of a block cut
             # by the signal's start/end (a one-sided window would leak the content onto the lines)

@@ -135,9 +135,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
             use = ks == ks.min()
-        rot = np.exp(-2j * np.pi * np.outer(psi, ks[use]))                                 # (J, Ku)
-        v = (D[:, :, use] * rot[:, None, :].astype(np.complex64))[: nd * DECIM]
-        v = v.reshape(nd, DECIM, C, -1).mean(axis=1).astype(np.complex128)              # (nd, C, Ku)
+        v = decimated_baseband(D, psi, ks, use, nd)                                      # (nd, C, Ku)
         # each harmonic's complex amplitude over the whole input: hum keeps one phase against
         # the fundamental, so every slow or fast phase error of the track shows against it
         c = v.mean(axis=0, keepdims=True)
@@ -154,6 +152,46 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         err = smoothed_correction(num, den, np.abs(c[0]) ** 2, ks[use], n_min, fs_d)
         psi = psi + np.interp(tc, td, err)
     return psi
+
+
+def decimated_baseband(D, psi: np.ndarray, ks: np.ndarray, use: np.ndarray, nd: int) -> np.ndarray:
+    """The chunk sums of the harmonics ``ks[use]`` turned by ``exp(-2 pi i k psi)`` and averaged
+    over DECIM chunks: (nd, C, Ku) complex128. A stretch of chunks at a time, so that the rotated
+    copy of the chunk sums never exists for the whole input at once.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex64 array
+        Chunk sums.
+    psi : (J,) array
+        Phase of the fundamental (cycles).
+    ks : (K,) array
+        Harmonic numbers of ``D``'s columns.
+    use : (K,) bool array
+        The columns taken.
+    nd : int
+        Decimated samples (``nd * DECIM <= J``).
+
+    Returns
+    -------
+    (nd, C, Ku) complex128 array
+
+    Examples
+    --------
+    >>> D = np.ones((40, 1, 2), np.complex64)
+    >>> v = decimated_baseband(D, np.zeros(40), np.array([1.0, 2.0]), np.array([True, False]), 4)
+    >>> v.shape, bool(np.allclose(v, 1.0))
+    ((4, 1, 1), True)
+    """
+    C = D.shape[1]
+    v = np.empty((nd, C, int(use.sum())), np.complex128)
+    step = DECIM * (1 << 12)
+    for a in range(0, nd * DECIM, step):
+        b = min(a + step, nd * DECIM)
+        rot = np.exp(-2j * np.pi * np.outer(psi[a:b], ks[use]))                            # (b - a, Ku)
+        vc = D[a:b][:, :, use] * rot[:, None, :].astype(np.complex64)
+        v[a // DECIM: b // DECIM] = vc.reshape((b - a) // DECIM, DECIM, C, -1).mean(axis=1)
+    return v
 
 
 def smoothed_correction(num, den, power, ks, n_min: int, fs_d: float) -> np.ndarray:
@@ -343,9 +381,16 @@ class PhaseTrack:
         out += self.psi[j]
         return out
 
-    def cycles(self, i0: int, n: int, centre: int, step: int = 1) -> np.ndarray:
+    def cycles(self, i0: int, n: int, centre: int, step: int = 1, scratch=None) -> np.ndarray:
         """Phase in cycles at samples ``i0, i0 + step, ...`` (n samples) relative to the phase at
-        ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``."""
+        ``centre``: ``f_ref (i - centre) / sr + psi(i) - psi(centre)``. ``scratch`` (a key, e.g.
+        0 or 1): the result may be a view of a work array kept by the track under that key,
+        valid until the next call with the same key (the same values, without fresh arrays of
+        the block's length; two threads use two keys)."""
+        if scratch is not None and step == 1:
+            cyc = self._cycles_scratch(i0, n, centre, scratch)
+            if cyc is not None:
+                return cyc
         if step != 1:
             return self.cycles_at(np.arange(i0, i0 + n, step, dtype=float), centre)
         # contiguous samples: on the grid of chunk centres x0 + j m the interpolant is
@@ -366,6 +411,37 @@ class PhaseTrack:
         cyc = np.arange(i0 - centre, i0 - centre + n, dtype=float)
         cyc *= self.f_ref / self.sr
         cyc += psi_s
+        cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
+        return cyc
+
+    def _cycles_scratch(self, i0: int, n: int, centre: int, key):
+        """:meth:`cycles` for contiguous samples inside the track, operation for operation, in a
+        work array kept between calls; the time ramp ``(i - centre) f_ref / sr`` is kept too
+        (every full block has the same offsets). None where :meth:`cycles` takes another path."""
+        m, x0 = self.m, self.x0
+        first = int(np.floor((i0 - x0) / m))
+        last = int(np.floor((i0 + n - 1 - x0) / m)) + 1
+        lo, hi = max(first, 0), min(last, len(self.psi) - 1)
+        c0 = int(np.ceil(x0))
+        start = i0 - (c0 + lo * m)
+        if hi - lo < 2 or first < 0 or last > len(self.psi) - 1 or start < 0 or start + n > (hi - lo) * m:
+            return None
+        r = (np.arange(m) + (c0 - x0)) * (1.0 / m)
+        scratch = self.__dict__.setdefault("_scratch", {})       # (atomic: two threads may call)
+        work = scratch.get(key)
+        if work is None or work.size < (hi - lo) * m:
+            work = scratch[key] = np.empty((hi - lo) * m)
+        grid = work[: (hi - lo) * m].reshape(hi - lo, m)
+        np.multiply(self.slope[lo:hi, None], r[None, :], out=grid)
+        np.add(self.psi[lo:hi, None], grid, out=grid)
+        ramp_key, ramp = scratch.get("ramp", (None, None))      # shared by the keys: read as one pair
+        if ramp_key != (i0 - centre, n):
+            ramp_key = (i0 - centre, n)
+            ramp = np.arange(i0 - centre, i0 - centre + n, dtype=float)
+            ramp *= self.f_ref / self.sr
+            scratch["ramp"] = (ramp_key, ramp)
+        cyc = grid.reshape(-1)[start: start + n]
+        cyc += ramp                 # (i - centre) f_ref / sr + psi(i): the sum of cycles(), in place
         cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
         return cyc
 

@@ -12,6 +12,7 @@ from odnn_sep.core.linalg import factor_gram
 
 NEAR_BINS = 64.0   # lines closer than this many window bins are coupled in the Gram matrix
 CHUNK = 4096       # samples per chunk of the fixed-line table (its products stay in cache)
+WHOLE_CHUNK = 1 << 16   # samples per step of the phase's rounding to whole cycles (a small work array)
 
 
 class FullBlockFitter:
@@ -91,7 +92,11 @@ class FullBlockFitter:
         self.RcT = np.ascontiguousarray(Rc[:, : self.pf].T)             # (pf, c)
         # chunk phasors exp(i theta_l(j c)) relative to the block start (the same for every block)
         self.E = np.exp(2j * np.pi * self.kf[:, None] * np.mod(np.outer(self.fc, np.arange(self.nch) * c) / sr, 1.0))
-        self.Z = np.empty((len(self.ks), L), np.complex64) if self.pm else None
+        # the tracked comb's powers: two slots, so that the next block's can be evaluated ahead
+        # (:meth:`prepare`, in a worker thread) while this block's are in use
+        self._Zs = [np.empty((len(self.ks), L), np.complex64) if self.pm else None, None]
+        self.Z = self._Zs[0]
+        self._ready = {}       # slot -> the block (i0, n, centre) whose powers it holds
         self._Yw = None
         self._bufs = {}
 
@@ -137,14 +142,26 @@ class FullBlockFitter:
         Yw[:, a:] = 0.0
         return Yw
 
-    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts, n: int | None = None):
+    def prepare(self, i0: int, n: int, centre: int, f0: float, rate: float, curv: float, slot: int):
+        """Evaluate the tracked comb's powers for the block ``i0 .. i0 + n`` (centre ``centre``)
+        into ``slot`` (0 or 1) ahead of its :meth:`fit`. Safe in a worker thread while the other
+        slot is in use (every work array it touches is the slot's own)."""
+        self._ready.pop(slot, None)
+        if self.pm and 16 <= n <= self.L:
+            self._powers(i0, n, centre, f0, rate, curv, slot)
+            self._ready[slot] = (i0, n, centre)
+
+    def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts, n: int | None = None,
+            slot: int = 0):
         """``theta (2 * lines, C)`` for the block whose samples ``i0 .. i0 + n`` are ``parts``
         (consecutive (m, C) pieces; ``n`` defaults to the full block, a shorter one is weighted
         by a Hann over its ``n`` samples), or None when the closed-form Gram does not hold (a
         tracked harmonic within NEAR_BINS window bins of 0 Hz, of Nyquist or of another one) or
         the basis is not well conditioned in float32: the caller then uses
         :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`block_hum`
-        until the next call."""
+        until the next call: those :meth:`prepare` left in ``slot`` when they are this block's,
+        else evaluated into ``slot`` here (why nine parameters: the block, its track, its samples
+        and the slot)."""
         n = self.L if n is None else int(n)
         sr = self.sr
         pm = self.pm
@@ -176,7 +193,9 @@ class FullBlockFitter:
         Yw = self.weighted(parts, w32)
         rhs_r = self.fixed_sums(Yw, n)
         if pm:
-            self._powers(i0, n, centre, f0, rate, curv)
+            if self._ready.get(slot) != (i0, n, centre):
+                self.prepare(i0, n, centre, f0, rate, curv, slot)
+            self.Z = self._Zs[slot]
             rhs = np.vstack([self.tracked_sums(Yw, n), rhs_r])
         else:
             rhs = rhs_r
@@ -208,24 +227,25 @@ class FullBlockFitter:
         out[self.pf + 1] = np.dot(S[:, :, self.pf], tr0) + slope * S[:, :, self.pf + 1].sum(axis=1)
         return out
 
-    def _powers(self, i0, n, centre, f0, rate, curv):
-        """The tracked harmonics' phasors over samples ``i0 .. i0 + n`` into ``self.Z[:, :n]``:
-        powers of one phasor per sample, by repeated multiplication (as :func:`fit.block_basis`)."""
-        key = (n, i0 - centre)
-        if self.tau_cache.get("key") == key:
-            tau = self.tau_cache["tau"]
-        else:
-            tau = (i0 + np.arange(n) - centre) / self.sr
-            if n >= self.tau_cache["min_n"]:
-                self.tau_cache.update(key=key, tau=tau)
-        # phase in cycles; its fraction is rounded to float32 as it is written
+    def _powers(self, i0, n, centre, f0, rate, curv, slot: int = 0):
+        """The tracked harmonics' phasors over samples ``i0 .. i0 + n`` into slot ``slot``'s
+        powers (``[:, :n]``): powers of one phasor per sample, by repeated multiplication (as
+        :func:`fit.block_basis`)."""
+        # phase in cycles; its fraction is rounded to float32 as it is written (work arrays kept
+        # across blocks: fresh ones of a block's length cost more in page faults than the sums)
         if self.phase is not None:
-            cyc = self.phase.cycles(i0, n, centre)
+            cyc = self.phase.cycles(i0, n, centre, scratch=slot)
         else:
-            cyc = _fit.tracked_cycles(tau, f0, rate, curv)
-        r32 = np.empty(n, np.float32)
-        np.subtract(cyc, np.rint(cyc), out=r32, casting="same_kind")
-        Z = self.Z[:, :n]
+            cyc = _fit.tracked_cycles(self._tau(i0, n, centre), f0, rate, curv)
+        r32 = self._buffer(f"r32{slot}", np.float32, self.L)[:n]
+        whole = self._buffer(f"whole{slot}", np.float64, WHOLE_CHUNK)
+        for a in range(0, n, WHOLE_CHUNK):          # (elementwise: the chunking changes no value)
+            b = min(a + WHOLE_CHUNK, n)
+            np.rint(cyc[a:b], out=whole[: b - a])
+            np.subtract(cyc[a:b], whole[: b - a], out=r32[a:b], casting="same_kind")
+        if self._Zs[slot] is None:
+            self._Zs[slot] = np.empty_like(self._Zs[0])
+        Z = self._Zs[slot][:, :n]
         z = Z[0] if self.ks[0] == 1 else np.empty(n, np.complex64)
         r32 *= np.float32(2 * np.pi)
         np.cos(r32, out=z.real)
@@ -239,6 +259,18 @@ class FullBlockFitter:
                 np.multiply(Z[i], z, out=Z[i])
             kprev, src = k, Z[i]
 
+    def _tau(self, i0: int, n: int, centre: int) -> np.ndarray:
+        """Times (s) of samples ``i0 .. i0 + n`` from the block centre (kept for full blocks: every
+        full block has the same offsets)."""
+        key = (n, i0 - centre)
+        kept = self.tau_cache.get("kept")          # one (key, tau) pair: read at once by either thread
+        if kept is not None and kept[0] == key:
+            return kept[1]
+        tau = (i0 + np.arange(n) - centre) / self.sr
+        if n >= self.tau_cache["min_n"]:
+            self.tau_cache["kept"] = (key, tau)
+        return tau
+
     def _buffer(self, name: str, dtype, size: int) -> np.ndarray:
         """A flat work array kept across blocks (no page faults on a fresh 1-2 MB per block)."""
         buf = self._bufs.get(name)
@@ -249,9 +281,11 @@ class FullBlockFitter:
     def tracked_sums(self, Yw, n) -> np.ndarray:
         """Sums of ``Yw`` against the tracked columns (cos, sin per harmonic): (pm, C), float64."""
         C = Yw.shape[0]
-        # complex copy of the weighted samples (imaginary part stays zero) for one cgemm
+        # complex copy of the weighted samples (imaginary part zero) for one cgemm; block_hum
+        # uses the same buffer for the synthesis afterwards, so the imaginary part is cleared
         Yc = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
         Yc.real = Yw[:, :n]
+        Yc.imag = 0.0
         X = np.dot(self.Z[:, :n], Yc.T)                                              # (K, C)
         out = np.empty((self.pm, C))
         out[0::2], out[1::2] = X.real, X.imag
@@ -274,13 +308,17 @@ class FullBlockFitter:
             coef = np.empty((self.pf, C, nch), np.float32)
             coef[0::2], coef[1::2] = b.real, -b.imag
             np.dot(coef.reshape(self.pf, C * nch).T, self.RcT, out=H)
-        else:
-            H[:] = 0.0
         hum = H.reshape(C, nch * self.c)[:, :n]
         if tracked and K:
-            T = self._buffer("synth", np.complex64, C * self.L)[: C * n].reshape(C, n)
+            # (the complex samples' buffer of tracked_sums: free again once the block is solved)
+            T = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
             np.dot(z[:K].T.astype(np.complex64), self.Z[:, :n], out=T)
-            hum += T.real
+            if self.pf:
+                hum += T.real
+            else:
+                np.add(T.real, np.float32(0.0), out=hum)     # 0 + T.real without zeroing first
+        elif not self.pf:
+            hum[:] = 0.0
         return hum
 
     def _near_gram(self, i0, n, centre, f0, rate, curv, near) -> np.ndarray:

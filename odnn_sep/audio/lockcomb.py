@@ -296,9 +296,10 @@ def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     if not others:
         return []
     info, sr = fam.info, fam.sr
-    D_o = fam.D[:, :, fam.cols(others)]
-    _, inf_o = _lock.locked(D_o, sr, others, psi, alpha=fam.alpha)
-    info.update(inf_o)
+    # one line at a time through a view of its column (the test treats the columns one by one):
+    # a copy of all the others' chunk sums at once was the run's largest array (100 MB per hour)
+    for k, col in zip(others, fam.cols(others), strict=True):
+        info.update(_lock.locked(fam.D[:, :, col: col + 1], sr, [k], psi, alpha=fam.alpha)[1])
     top_amp = max(info[k][2] for k in ks)
     out = [int(k) for k in others if info[k][0] * fam.n_tests < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp]
     # the rest up to twice the locked comb's reach once more, every moment weighted by the content
@@ -306,7 +307,9 @@ def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     # Bonferroni count, -50 dB of the strongest locked line by the same weighted mean)
     rest = [k for k in others if k not in out and k <= WEIGHTED_REACH * max(ks)]
     if rest:
-        w_inf = _lock.weighted_locked(D_o[:, :, [others.index(k) for k in rest]], sr, rest, psi)
+        w_inf = {}
+        for k, col in zip(rest, fam.cols(rest), strict=True):  # one view at a time, as above
+            w_inf.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], sr, [k], psi))
         top = max(ks, key=lambda k: info[k][2])
         top_w = _lock.weighted_locked(fam.D[:, :, fam.cols([top])], sr, [top], psi)[top][1]
         out += [k for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]

@@ -216,6 +216,7 @@ def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
                                      gram_step=max(1, int(source.sr // (4 * f_top + 1))), fixed_psd=fixed_psd,
                                      main_psd=main_psd if POOL_MAIN else None, smooth_blocks=SMOOTH_BLOCKS,
                                      main_amps=found.main_amps)
+    release_freed_memory()
     amps, phs, valid, overall = _blockfit.fit_pass(source, sink, found.plan, found.trk, lines, settings, tick=tick)
     if found.h_amp:
         # harmonics: the generalised least-squares amplitudes (amplitude.py) replace the pooled ones
@@ -223,6 +224,26 @@ def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
             overall = np.full((source.channels, len(lines.names)), np.nan)
         overall[:, : len(ks)] = np.stack([found.h_amp[k] for k in ks], axis=1)
     return amps, phs, valid, overall
+
+
+def release_freed_memory():
+    """Give the heap memory the analysis freed back to the system before pass 2 (glibc keeps
+    freed chunks of the chunk sums' size for reuse: tens of MB on an hour of audio, which
+    pass 2's own arrays would then add to). Does nothing where the C library has no
+    ``malloc_trim``.
+
+    Examples
+    --------
+    >>> release_freed_memory()
+    """
+    import ctypes
+    import ctypes.util
+
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        libc.malloc_trim(0)
+    except (OSError, AttributeError):  # pragma: no cover - not glibc
+        pass
 
 
 def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, valid, overall, source):

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+FFT_WORKERS = 2    # threads for a batch of segment transforms (each transform is computed whole by one)
+
 
 @dataclass
 class Spectrum:
@@ -147,7 +149,7 @@ def _periodograms(x, sr, nper, keep_hz, batch: int = 16):
             sb = buf[: seg.shape[0]]
             np.subtract(seg, seg.mean(axis=1, keepdims=True), out=sb, casting="same_kind")
             sb *= win
-            X = fft.rfft(sb, axis=1)
+            X = fft.rfft(sb, axis=1, workers=FFT_WORKERS)   # (the segments split between threads: same values)
             Xv = X.view(np.float32).reshape(X.shape + (2,))
             np.square(Xv, out=Xv)
             P = np.add(Xv[..., 0], Xv[..., 1])                   # float32: no cancellation here
