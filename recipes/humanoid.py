@@ -128,7 +128,7 @@ def main(argv=None) -> int:
     torch.set_num_threads(1)
     q = args.quick
     seeds = [100] if q else list(range(100, 100 + args.seeds))
-    size = dict(policies=4, episodes=1, steps=60) if q else dict(policies=8, episodes=2, steps=100)
+    size = dict(policies=4, episodes=1, steps=60) if q else dict(policies=8, episodes=4, steps=100)
     epochs = 20 if q else 500
     t0 = time.time()
     ident = {k: identify(k, seeds, snr_db=args.snr_db, epochs=epochs, size=size) for k in KINDS}
