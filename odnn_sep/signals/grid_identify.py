@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.core.linalg import Z95, intervals, noise_variance, solve, stderr_from_cov
+from odnn_sep.core.linalg import Z95, noise_variance, solve, stderr_from_cov
 from odnn_sep.errors import InputError
 
 #: Relative interval width (of |estimate|) above which a coefficient is never called point-identified.
@@ -140,11 +140,16 @@ def combine(rows, key, bias: dict | None = None) -> tuple:
     Returns
     -------
     tuple of (name, i, k, true, estimate, lo, hi, present, point-identified), sorted by key.
-    Standard errors are the half-widths / 1.96; the combined standard error is multiplied by
-    ``max(1, sqrt(chi2 / (m - 1)))`` (Birge ratio) of the m estimates. An unbounded piece leaves the
-    quantity to the bounded ones; with none bounded the quantity is unbounded. Point-identified: every
-    piece bounded, every piece's noise ratio at most ``NOISE_RATIO``, the bias from voltage noise
-    smaller than the noise half-width, combined width below ``POINT_WIDTH``.
+    Each piece's half-width is split (:func:`split_half_width`) into the part its metering noise
+    explains (standard error = that part / 1.96) and the rest, which the disturbance class leaves
+    open. The estimates are weighted by the inverse noise variance; the combined standard error is
+    multiplied by ``max(1, sqrt(chi2 / (m - 1)))`` (Birge ratio) of the m estimates. The combined
+    half-width is 1.96 combined standard errors **plus** the weighted mean of the pieces' remaining
+    parts and of their |voltage-noise bias|: what the class or the voltage noise can shift in every
+    piece alike is not averaged away by more pieces. An unbounded piece leaves the quantity to the
+    bounded ones; with none bounded the quantity is unbounded. Point-identified: every piece
+    bounded, every piece's noise ratio at most ``NOISE_RATIO``, the bias from voltage noise smaller
+    than the noise half-width, combined width below ``POINT_WIDTH`` of the estimate.
 
     Examples
     --------
@@ -170,15 +175,50 @@ def combine(rows, key, bias: dict | None = None) -> tuple:
             out.append((name, i, k, t, float(np.mean([r[4] for r in grp])), -np.inf, np.inf, present, False))
             continue
         b = np.array([bias.get(r[0], 0.0) for r in fin])
-        se_each = np.array([(r[6] - r[5]) / (2 * Z95) for r in fin])
+        noise_half, set_half = split_half_width([(r[6] - r[5]) / 2 for r in fin], [r[8] for r in fin])
+        se_each = noise_half / Z95
         est, se = _inverse_variance(np.array([r[4] for r in fin]) - b, se_each)
         w = 1.0 / np.maximum(se_each, 1e-300) ** 2
-        widen = float(np.sum(w * np.abs(b)) / np.sum(w))
-        (lo, hi), = intervals([est], [se])
-        point = (len(fin) == len(grp) and all(r[8] <= NOISE_RATIO for r in grp) and widen <= 0.5 * (hi - lo)
-                 and (hi - lo + 2 * widen) <= POINT_WIDTH * abs(est))
-        out.append((name, i, k, t, est, float(lo - widen), float(hi + widen), present, bool(point)))
+        widen = float(np.sum(w * np.abs(b)) / np.sum(w))  # voltage-noise bias, itself estimated
+        systematic = float(np.sum(w * set_half) / np.sum(w))  # what the class leaves open in a piece
+        half = Z95 * se + systematic + widen
+        point = (len(fin) == len(grp) and all(r[8] <= NOISE_RATIO for r in grp) and widen <= Z95 * se
+                 and 2 * half <= POINT_WIDTH * abs(est))
+        out.append((name, i, k, t, est, float(est - half), float(est + half), present, bool(point)))
     return tuple(out)
+
+
+def split_half_width(half, ratio) -> tuple[np.ndarray, np.ndarray]:
+    """Split identified half-widths into the part the metering noise explains and the rest.
+
+    A piece's identified interval is the noise interval of its point estimate widened by the range
+    the disturbance class leaves open (a set). Combining pieces shrinks the first like
+    1/sqrt(pieces), never the second: the same class imitates the same column in every piece.
+
+    Parameters
+    ----------
+    half : sequence of float
+        Identified half-widths, one per piece.
+    ratio : sequence of float
+        Each piece's ratio of its half-width to the noise-only half-width (:func:`noise_only_stderr`);
+        NaN or a value <= 1 counts the whole half-width as noise.
+
+    Returns
+    -------
+    noise_half, set_half : ndarray
+        ``half / max(ratio, 1)`` and the remainder ``half - noise_half``.
+
+    Examples
+    --------
+    >>> noise, rest = split_half_width([2.0, 1.0, 3.0], [2.0, 0.8, float("nan")])
+    >>> noise.tolist(), rest.tolist()
+    ([1.0, 1.0, 3.0], [1.0, 0.0, 0.0])
+    """
+    h = np.asarray(half, dtype=float)
+    q = np.asarray(ratio, dtype=float)
+    q = np.where(np.isfinite(q), np.maximum(q, 1.0), 1.0)
+    noise = h / q
+    return noise, h - noise
 
 
 def _inverse_variance(values, stderr) -> tuple[float, float]:
