@@ -43,3 +43,23 @@ def test_point_identified_needs_a_narrow_combined_interval():
     assert tight[0][8] is True
     loose = combine(_pieces(4, 10.0, 0.2, 2.5, true=10.0, present=True), line_key)  # ratio above NOISE_RATIO
     assert loose[0][8] is False
+
+
+def test_voltage_noise_correction_holds_where_the_noise_is_over_half_the_spread():
+    """y = 2 u with u measured as u + e, the noise 60 % of the measured spread (the feeder's worst
+    equations): the corrected normal equations still apply and restore the slope; at 90 % they do not."""
+    from odnn_sep.core.linalg import solve
+    from odnn_sep.signals.grid_eiv import MAX_NOISE_SHARE, corrected_normal_equations, regressor_noise_bias
+
+    rng = np.random.default_rng(2)
+    n, sigma = 40000, np.sqrt(1.5)
+    u = rng.standard_normal(n)
+    um = u + sigma * rng.standard_normal(n)
+    theta_hat = solve(um[:, None], 2 * u)
+    J = np.zeros((n, 1, 2))
+    J[:, 0, 0] = 1.0
+    b = regressor_noise_bias(um[:, None], um, J, sigma, 0.0, theta_hat, free_part=False)
+    assert theta_hat[0] == pytest.approx(0.8, rel=0.03)  # attenuated to 2 / 2.5
+    assert theta_hat[0] - b[0] == pytest.approx(2.0, rel=0.04)
+    assert 0.6 < MAX_NOISE_SHARE < 0.9
+    assert corrected_normal_equations(np.array([[1.0]]), np.array([[0.9]]), np.array([1.0])) is None
