@@ -192,8 +192,10 @@ LINES_NOTES = """
 "identified": point = in every three-day piece the identified interval is at most twice as wide as the
 metering noise alone makes it, and the combined interval is narrower than 5 % of the estimate; set = a
 wider interval (the convex class, or the noise, leaves a range of values that fit); unbounded = the class
-cannot bound it. Pieces and both ends of a line are combined by inverse variance (Birge-ratio widening
-where they disagree); the bias from voltage noise is subtracted and added to the interval's half-width.
+cannot bound it. Pieces (their least-squares points) and both ends of a line are combined by inverse
+noise variance (Birge-ratio widening where they disagree); the part of each piece's interval the class
+leaves open, and the bias from voltage noise (subtracted), are added whole to the half-width. A
+candidate whose interval (Bonferroni-widened) contains zero is reported absent, i.e. zero with that interval.
 The susceptance columns follow the angles, which a function of v_i cannot follow: precise. The
 conductance columns (v_i v_k cos δ_ik − v_i²) are largely affine in v_i, which the convex class contains:
 identified, several times less precise. Transformer branches have G = 0 (no resistance in case14) but B ≠ 0.
