@@ -122,8 +122,14 @@ def regressor_noise_bias(F: np.ndarray, x: np.ndarray, J: np.ndarray, sigma_v: f
     return (th - corrected)[:p]
 
 
+#: Largest share of the column spread (generalised eigenvalue of S against A^T A) that the voltage
+#: noise may make up for the corrected normal equations; beyond it the correction's own variance grows
+#: like 1 / (1 - share) (five-fold at 0.8) and only the first-order bias is used.
+MAX_NOISE_SHARE = 0.8
+
+
 def corrected_normal_equations(gram: np.ndarray, S: np.ndarray, rhs: np.ndarray,
-                               max_share: float = 0.5) -> np.ndarray | None:
+                               max_share: float = MAX_NOISE_SHARE) -> np.ndarray | None:
     """Solve ``(A^T A - S) t = rhs`` (least squares corrected for known regressor noise, Fuller 1987).
 
     None when the noise makes up more than ``max_share`` of the column spread in some direction

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.core.linalg import Z95, intervals, noise_variance, solve, stderr_from_cov
+from odnn_sep.core.linalg import Z95, noise_variance, solve, stderr_from_cov
 from odnn_sep.errors import InputError
 
 #: Relative interval width (of |estimate|) above which a coefficient is never called point-identified.
@@ -140,11 +140,16 @@ def combine(rows, key, bias: dict | None = None) -> tuple:
     Returns
     -------
     tuple of (name, i, k, true, estimate, lo, hi, present, point-identified), sorted by key.
-    Standard errors are the half-widths / 1.96; the combined standard error is multiplied by
-    ``max(1, sqrt(chi2 / (m - 1)))`` (Birge ratio) of the m estimates. An unbounded piece leaves the
-    quantity to the bounded ones; with none bounded the quantity is unbounded. Point-identified: every
-    piece bounded, every piece's noise ratio at most ``NOISE_RATIO``, the bias from voltage noise
-    smaller than the noise half-width, combined width below ``POINT_WIDTH``.
+    Each piece's half-width is split (:func:`split_half_width`) into the part its metering noise
+    explains (standard error = that part / 1.96) and the rest, which the disturbance class leaves
+    open. The estimates are weighted by the inverse noise variance; the combined standard error is
+    multiplied by ``max(1, sqrt(chi2 / (m - 1)))`` (Birge ratio) of the m estimates. The combined
+    half-width is 1.96 combined standard errors **plus** the weighted mean of the pieces' remaining
+    parts and of their |voltage-noise bias|: what the class or the voltage noise can shift in every
+    piece alike is not averaged away by more pieces. An unbounded piece leaves the quantity to the
+    bounded ones; with none bounded the quantity is unbounded. Point-identified: every piece
+    bounded, every piece's noise ratio at most ``NOISE_RATIO``, the bias from voltage noise smaller
+    than the noise half-width, combined width below ``POINT_WIDTH`` of the estimate.
 
     Examples
     --------
@@ -162,23 +167,59 @@ def combine(rows, key, bias: dict | None = None) -> tuple:
     groups = {}
     for r in rows:
         groups.setdefault(key(r), []).append(r)
-    out = []
-    for (name, i, k), grp in sorted(groups.items()):
-        t, present = grp[0][3], grp[0][7]
-        fin = [r for r in grp if np.isfinite(r[5]) and np.isfinite(r[6])]
-        if not fin:
-            out.append((name, i, k, t, float(np.mean([r[4] for r in grp])), -np.inf, np.inf, present, False))
-            continue
-        b = np.array([bias.get(r[0], 0.0) for r in fin])
-        se_each = np.array([(r[6] - r[5]) / (2 * Z95) for r in fin])
-        est, se = _inverse_variance(np.array([r[4] for r in fin]) - b, se_each)
-        w = 1.0 / np.maximum(se_each, 1e-300) ** 2
-        widen = float(np.sum(w * np.abs(b)) / np.sum(w))
-        (lo, hi), = intervals([est], [se])
-        point = (len(fin) == len(grp) and all(r[8] <= NOISE_RATIO for r in grp) and widen <= 0.5 * (hi - lo)
-                 and (hi - lo + 2 * widen) <= POINT_WIDTH * abs(est))
-        out.append((name, i, k, t, est, float(lo - widen), float(hi + widen), present, bool(point)))
-    return tuple(out)
+    return tuple(_combine_group(name, i, k, grp, bias) for (name, i, k), grp in sorted(groups.items()))
+
+
+def _combine_group(name, i, k, grp, bias) -> tuple:
+    """One combined row of :func:`combine` from the single-fit rows ``grp`` of one quantity."""
+    t, present = grp[0][3], grp[0][7]
+    fin = [r for r in grp if np.isfinite(r[5]) and np.isfinite(r[6])]
+    if not fin:
+        return (name, i, k, t, float(np.mean([r[4] for r in grp])), -np.inf, np.inf, present, False)
+    b = np.array([bias.get(r[0], 0.0) for r in fin])
+    noise_half, set_half = split_half_width([(r[6] - r[5]) / 2 for r in fin], [r[8] for r in fin])
+    se_each = noise_half / Z95
+    est, se = _inverse_variance(np.array([r[4] for r in fin]) - b, se_each)
+    w = 1.0 / np.maximum(se_each, 1e-300) ** 2
+    widen = float(np.sum(w * np.abs(b)) / np.sum(w))  # voltage-noise bias, itself estimated
+    systematic = float(np.sum(w * set_half) / np.sum(w))  # what the class leaves open in a piece
+    half = Z95 * se + systematic + widen
+    point = (len(fin) == len(grp) and all(r[8] <= NOISE_RATIO for r in grp) and widen <= Z95 * se
+             and 2 * half <= POINT_WIDTH * abs(est))
+    return (name, i, k, t, est, float(est - half), float(est + half), present, bool(point))
+
+
+def split_half_width(half, ratio) -> tuple[np.ndarray, np.ndarray]:
+    """Split identified half-widths into the part the metering noise explains and the rest.
+
+    A piece's identified interval is the noise interval of its point estimate widened by the range
+    the disturbance class leaves open (a set). Combining pieces shrinks the first like
+    1/sqrt(pieces), never the second: the same class imitates the same column in every piece.
+
+    Parameters
+    ----------
+    half : sequence of float
+        Identified half-widths, one per piece.
+    ratio : sequence of float
+        Each piece's ratio of its half-width to the noise-only half-width (:func:`noise_only_stderr`);
+        NaN or a value <= 1 counts the whole half-width as noise.
+
+    Returns
+    -------
+    noise_half, set_half : ndarray
+        ``half / max(ratio, 1)`` and the remainder ``half - noise_half``.
+
+    Examples
+    --------
+    >>> noise, rest = split_half_width([2.0, 1.0, 3.0], [2.0, 0.8, float("nan")])
+    >>> noise.tolist(), rest.tolist()
+    ([1.0, 1.0, 3.0], [1.0, 0.0, 0.0])
+    """
+    h = np.asarray(half, dtype=float)
+    q = np.asarray(ratio, dtype=float)
+    q = np.where(np.isfinite(q), np.maximum(q, 1.0), 1.0)
+    noise = h / q
+    return noise, h - noise
 
 
 def _inverse_variance(values, stderr) -> tuple[float, float]:
@@ -293,6 +334,51 @@ def parse_name(name: str) -> tuple[int, int]:
     return int(i), int(k)
 
 
+def fit_pieces(pr, chunk: int, *, solver: str = "exact", random_state: int = 0) -> list:
+    """Fit one bus equation piece by piece: one single-fit row per piece and candidate coefficient.
+
+    Parameters
+    ----------
+    pr : Dataset
+        One bus equation of a :class:`~odnn_sep.signals.power_grid.GridDataset`.
+    chunk : int
+        Snapshots per piece (the record is split into ``n // chunk`` near-equal pieces, at least one).
+    solver : {"exact", "network"}
+    random_state : int
+
+    Returns
+    -------
+    list of tuple
+        ``(name, i, k, true, estimate, lo, hi, present, noise ratio)`` as :func:`combine` takes them.
+
+    Examples
+    --------
+    >>> from odnn_sep.signals.power_grid import three_bus_chain
+    >>> ds, names = three_bus_chain()
+    >>> rows = fit_pieces(ds.problems[0], 60)
+    >>> len(rows), rows[0][:3]
+    (4, ('G[1,0]', 1, 0))
+    """
+    from odnn_sep.core import Basis, Separator
+
+    F, lines, rows = pr.design(), set(pr.extras["lines"]), []
+    for part in np.array_split(np.arange(pr.y.size), max(1, pr.y.size // chunk)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # set-identification warnings are reported in the table
+            r = Separator(Basis.from_matrix(F[part], pr.basis.names), disturbance=pr.disturbance,
+                          solver=solver, random_state=random_state).fit(pr.x[part], pr.y[part]).result_
+        ratio = r.stderr / noise_only_stderr(F[part], pr.x[part], r.diagnostics.get("sigma"))
+        # the least-squares point of a cone fit, not the centre of its identified interval: the
+        # centre is shifted towards the side the class leaves open, alike in every piece, while
+        # the least-squares point scatters about the truth with the noise (averages out)
+        point = r.diagnostics.get("theta_least_squares", r.theta)
+        for name, est, (lo, hi), q in zip(r.names, point, r.interval, ratio):
+            i, k = parse_name(name)
+            rows.append((name, i, k, float(pr.theta_true[name]), float(est), float(lo), float(hi),
+                         k in lines, float(q)))
+    return rows
+
+
 def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state: int = 0) -> GridFit:
     """Fit every bus equation of ``ds`` piece by piece with ``Separator`` and combine the intervals.
 
@@ -330,24 +416,10 @@ def identify_grid(ds, *, chunk: int = CHUNK, solver: str = "exact", random_state
     """
     import time
 
-    from odnn_sep.core import Basis, Separator
-
     if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 2:
         raise InputError(f"chunk must be an integer number of snapshots >= 2; got {chunk!r}")
     t0 = time.perf_counter()
-    rows = []
-    for pr in ds.problems:
-        F, lines = pr.design(), set(pr.extras["lines"])
-        for part in np.array_split(np.arange(pr.y.size), max(1, pr.y.size // chunk)):
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # set-identification warnings are reported in the table
-                r = Separator(Basis.from_matrix(F[part], pr.basis.names), disturbance=pr.disturbance,
-                              solver=solver, random_state=random_state).fit(pr.x[part], pr.y[part]).result_
-            ratio = r.stderr / noise_only_stderr(F[part], pr.x[part], r.diagnostics.get("sigma"))
-            for name, est, (lo, hi), q in zip(r.names, r.theta, r.interval, ratio):
-                i, k = parse_name(name)
-                rows.append((name, i, k, float(pr.theta_true[name]), float(est), float(lo), float(hi),
-                             k in lines, float(q)))
+    rows = [row for pr in ds.problems for row in fit_pieces(pr, chunk, solver=solver, random_state=random_state)]
     bias = voltage_noise_bias(ds, rows)
     return GridFit(table=combine(rows, line_key, bias), seconds=time.perf_counter() - t0,
                    per_row=combine(rows, equation_key, bias), bias=bias)
