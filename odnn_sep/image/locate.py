@@ -39,7 +39,12 @@ FINE_H = 24.0      # glyph height (px) at the refinement level
 # window: the placement is only known to a coarse pixel)
 QUICK = (0.05, 2.5, 0, True)    # position only
 MEDIUM = (0.05, 1.8, 1, True)   # covers half a coarse grid step in size and angle
+# the same, one coordinate at a time (angle, then size): 5 templates instead of 9
+MEDIUM_ANGLE = (0.0, 1.8, 1, True)
+MEDIUM_SIZE = (0.05, 0.0, 1, True)
 FINE = (0.02, 0.7, 1, False)
+CHUNK_W = 96.0   # px at the coarse level: widest template (longer texts: their middle part)
+WIDE_RAD = 16    # px at the refinement level: widest position window of the wide grids
 FONT_PLACES = 3  # without a pinned font, the best places where every font is tried on the finer grids
 
 
@@ -162,6 +167,7 @@ def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coa
     H, W = shape
     w100, h100 = _ink(text, f0)
     h100 = max(h100, 1.0)
+    full_w100 = w100
     # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal; the
     # pyramid starts at <= 768 px, where text must be at least ~8 px tall (smaller only matches noise)
     s_min = max(4.0, min_height_px / h100 * REF_SIZE * 1.4, MIN_COARSE_H / h100 * REF_SIZE / pyr.base)
@@ -170,6 +176,9 @@ def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coa
     # enough to be found there, and the grid below grows with the square of the template's width;
     # never below MIN_COARSE_H, or the letters blur into the photo's texture.
     coarse_h = max(MIN_COARSE_H, min(coarse_height, COARSE_W * coarse_height / COARSE_H * h100 / max(w100, 1.0)))
+    # Longer still: only its middle CHUNK_W px are matched, and the whole text's centre follows
+    text, off100 = coarse_chunk(text, f0, CHUNK_W * h100 / coarse_h)
+    w100 = _ink(text, f0)[0] if off100 is not None else full_w100
     # grid steps keep the template's ends within ~1.5 px at the coarse level
     w_lvl = coarse_h * w100 / h100
     da = float(np.clip(np.rad2deg(2 * 1.5 / (w_lvl / 2)), 1.5, 5.0))
@@ -192,18 +201,84 @@ def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coa
             if r is None:
                 continue
             for v, yy, xx in peaks(r, peaks_per_map, max(2, min(T.shape) // 2), 0.0):
-                found.append((v, s, float(a), *_centre(xx, yy, T, f)))
+                cx, cy = _centre(xx, yy, T, f)
+                if off100 is not None:  # the chunk's centre -> the whole text's
+                    dx, dy = _turn(off100, a, s / REF_SIZE)
+                    cx, cy = cx - dx, cy - dy
+                found.append((v, s, float(a), cx, cy))
         return found
 
     return [c for found in _map(one_size, sizes) for c in found]  # (score, size, angle, cx, cy)
 
 
+def _turn(off, angle, scale) -> tuple[float, float]:
+    """Offset ``off`` (x, y) of an upright rendering, in the image once the rendering is rotated by
+    ``angle`` degrees (counter-clockwise as displayed, y down) and scaled by ``scale``."""
+    t = np.deg2rad(angle)
+    return (scale * (off[0] * np.cos(t) + off[1] * np.sin(t)), scale * (-off[0] * np.sin(t) + off[1] * np.cos(t)))
+
+
+def coarse_chunk(text: str, font, max_w100: float) -> tuple[str, tuple[float, float] | None]:
+    """(the middle part of ``text`` at most ``max_w100`` px wide at ``REF_SIZE``, its centre's offset
+    from the whole text's ink-box centre there, upright); ``(text, None)`` when the whole fits.
+
+    A long text has letters enough to be found by a part of it; the coarse grid grows with the
+    square of the template's width (angle and size steps both shrink as it widens).
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    font : str or Path
+        Font file or name.
+    max_w100 : float
+        Widest part (px at ``REF_SIZE``).
+
+    Returns
+    -------
+    chunk : str
+        The part matched.
+    offset : tuple of float or None
+        (dx, dy) px at ``REF_SIZE`` from the whole text's centre to the chunk's; None for the whole.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.locate import coarse_chunk
+    >>> coarse_chunk("SAMPLE", "DejaVuSans-Bold", 1000.0)
+    ('SAMPLE', None)
+    >>> chunk, off = coarse_chunk("acquisition and representation", "DejaVuSans-Bold", 900.0)
+    >>> chunk, abs(off[0]) < 60, abs(off[1]) < 10
+    ('tion and repres', True, True)
+    """
+    import cv2
+
+    w100 = _ink(text, font)[0]
+    if w100 <= max_w100:
+        return text, None
+    n = max(4, int(len(text) * max_w100 / w100))
+    while n > 4:
+        i = (len(text) - n) // 2
+        chunk = text[i:i + n].strip()
+        if chunk and _ink(chunk, font)[0] <= max_w100:
+            break
+        n -= 1
+    full = render_text(text, font, REF_SIZE).astype(np.float32)
+    part = render_text(chunk, font, REF_SIZE).astype(np.float32)
+    # where the chunk sits in the whole rendering (kerning and ink boxes make arithmetic unreliable)
+    r = cv2.matchTemplate(full, part, cv2.TM_CCORR_NORMED)
+    yy, xx = divmod(int(np.argmax(r)), r.shape[1])
+    off = (xx + (part.shape[1] - 1) / 2 - (full.shape[1] - 1) / 2, yy + (part.shape[0] - 1) / 2 - (full.shape[0] - 1) / 2)
+    return chunk, (float(off[0]), float(off[1]))
+
+
 def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
     """The finer grids of ``search`` for the coarse places ``top``; distinct hypotheses, best first."""
-    def one_hypothesis(c):
-        _, s0, a0, cx0, cy0 = c
+    def one_hypothesis(ic):
+        i, (_, s0, a0, cx0, cy0) = ic
         # several fonts: a quick look (position only) ranks them and the best two go on (the blend
-        # fit that screens the hypotheses afterwards tells similar fonts apart far better)
+        # fit that screens the hypotheses afterwards tells similar fonts apart far better); the
+        # second only at the best-scoring coarse places (the most places are chance matches, and
+        # the best places get every font on the finer grids below anyway)
         picks = [(fonts[0], s0)]
         if len(fonts) > 1:
             quick = []
@@ -212,10 +287,12 @@ def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
                 m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=(QUICK,))
                 if m is not None:
                     quick.append((m.score, fo, sf))
-            picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2]]
-        return [_refine(pyr, text, str(font), s1, a0, cx0, cy0, stages=(MEDIUM,)) for font, s1 in picks]
+            picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2 if i < max_hypotheses else 1]]
+        return [_refine(pyr, text, str(font), s1, a0, cx0, cy0, stages=(MEDIUM_ANGLE, MEDIUM_SIZE))
+                for font, s1 in picks]
 
-    medium = sorted((m for ms in _map(one_hypothesis, top) for m in ms if m is not None), key=lambda m: -m.score)
+    medium = sorted((m for ms in _map(one_hypothesis, list(enumerate(top))) for m in ms if m is not None),
+                    key=lambda m: -m.score)
     keep = _distinct(medium, max_hypotheses * min(2, len(fonts)))
     out = _distinct([m for m in _map(lambda m: _refine(pyr, text, str(m.font), m.size, m.angle, *m.center,
                                                         stages=(FINE,)), keep) if m is not None], len(keep))
@@ -364,12 +441,18 @@ def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=(MEDIUM, FINE)) -> Match |
     h100 = max(_ink(text, font)[1], 1.0)
     R, E, f = pyr.bandpass(FINE_H / (h100 * s0 / REF_SIZE))
     best = None
+    done = set()
     for ds, da, n, wide in stages:
-        for s in s0 * np.exp(np.arange(-n, n + 1) * ds):
-            for a in a0 + np.arange(-n, n + 1) * da:
+        for s in s0 * np.exp(np.arange(-n, n + 1) * ds) if ds else [s0]:
+            for a in a0 + np.arange(-n, n + 1) * da if da else [a0]:
+                if (s, a, wide) in done:  # a coordinate-wise stage's centre was the last stage's best
+                    continue
+                done.add((s, a, wide))
                 T, band = bp_template(text, font, round(s * f, 2), round(float(a), 3))
-                # search a window around the current centre
-                rad = max(6, int(0.1 * T.shape[1])) if wide else 3
+                # search a window around the current centre (off by a few coarse pixels, each about
+                # FINE_H / COARSE_H pixels here): a tenth of the template's width, never more than
+                # WIDE_RAD (a long text's window was far wider than any coarse error)
+                rad = min(WIDE_RAD, max(6, int(0.1 * T.shape[1]))) if wide else 3
                 x0, y0 = _corner(cx0, cy0, T, f)
                 x0, y0 = x0 - rad, y0 - rad
                 xa, ya = max(0, x0), max(0, y0)

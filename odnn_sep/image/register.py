@@ -17,6 +17,11 @@ from odnn_sep.image.estimate import BlendFit, drop_clipped, fit_blend, patch_gri
 from odnn_sep.image.profile import DataProfile, design
 from odnn_sep.image.render import place, render_text
 
+# From this font size (px) on only the nearest whole size to the continuous optimum is tried, not
+# both neighbours: the optimum of a large mark lies within a fraction of a pixel of its size, and on
+# a 12-megapixel photo each extra registration of a large mark costs about half a second.
+WHOLE_SIZE_MAX_PX = 64.0
+
 
 @dataclasses.dataclass
 class Placed:
@@ -126,7 +131,10 @@ def _whole_size(obj, p, f, size, iterations):
     Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one."""
     s_c = size * np.exp(p[3])
     best_int = None
-    for s_int in sorted({int(np.floor(s_c)), int(np.ceil(s_c))}):
+    near = sorted({int(np.floor(s_c)), int(np.ceil(s_c))})
+    if s_c >= WHOLE_SIZE_MAX_PX:  # a large mark's optimum is not a pixel off: the nearest size only
+        near = [int(np.round(s_c))]
+    for s_int in near:
         if s_int < 1 or abs(s_c - s_int) < 1e-3:
             continue
         q3 = np.log(s_int / size)

@@ -30,6 +30,9 @@ FINE_LOOK_HEIGHT = 14.0
 # out, and a rendering without spacing then matches one letter at best (development seeds: marks
 # spaced 0.1-0.25 em were found with this spacing and not without).
 LOOK_TRACKING = 0.18
+# Nelder-Mead iterations of the short registration that chooses among the hypotheses (the chosen one
+# is then registered in full, 60 iterations and the whole font sizes).
+QUICK_ITERATIONS = 30
 
 
 def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_state, reduced=False):
@@ -278,9 +281,10 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
             # explain less than half as much at the same place (their likelihood cannot win)
             continue
         try:
-            # on a reduced copy the placement is only a start for the full-resolution registration
+            # a short registration of every hypothesis to choose among them; only the chosen one is
+            # registered in full below (on a reduced copy that is done at full resolution instead)
             p = refine(y, text, c.font, c.size, c.angle, (c.center[0] + off[0], c.center[1] + off[1]),
-                       iterations=30 if reduced else 60, whole_sizes=not reduced, random_state=random_state)
+                       iterations=QUICK_ITERATIONS, whole_sizes=False, random_state=random_state)
         except NotIdentifiableError:
             continue
         refined.append((p, c))
@@ -298,7 +302,24 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         rivals = [(p, c) for p, c in refined if _overlap(p.box, best.box) > 0.5]
         best, best_nc = rivals[most_likely(y, [p for p, _ in rivals], random_state=random_state)]
         score = scores[id(best)]
+        if not reduced:
+            best, score = _polish(y, text, best, score, random_state)
     return best, best_nc, score, off, ys
+
+
+def _polish(y, text, p, score, random_state):
+    """(placement, detection score) of the full registration (``refine``: more iterations and the
+    whole font sizes) started at the chosen placement ``p``; ``p`` stands if it fits no better."""
+    from odnn_sep.image.register import refine
+
+    try:
+        q = refine(y, text, p.font, p.size, p.angle, p.center, iterations=60, whole_sizes=True,
+                   random_state=random_state)
+    except NotIdentifiableError:
+        return p, score
+    if q.fit.explained < p.fit.explained:
+        return p, score
+    return q, placement_score(y, q, random_state=random_state)
 
 
 def _overlap(a, b) -> float:

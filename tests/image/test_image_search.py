@@ -47,3 +47,19 @@ def test_paste_keeps_grey_and_alpha(shape):
     p = split(a)
     out = paste(p, p.view[5:10, 5:10], (5, 5, 10, 10))
     assert np.array_equal(out, a)
+
+
+@pytest.mark.parametrize("angle", [-30.0, 25.0])
+def test_long_text_found_by_its_middle_part(angle):
+    """The coarse grid matches only the middle of a long text; the whole text's centre follows."""
+    from odnn_sep.image.locate import coarse_chunk, search
+    from odnn_sep.image.render import resolve_font
+
+    text = "ata acquisition and representation."
+    font = resolve_font("DejaVuSans-Bold")
+    assert coarse_chunk(text, font, 900.0)[1] is not None  # the coarse grid sees a part only
+    y, _ = add_text_watermark(photo_like((300, 420), random_state=1), text, size=20, center=(210.0, 150.0),
+                              angle=angle, alpha=0.4)
+    best = search(y / 255.0, text, [font], max_hypotheses=4)[0]
+    assert np.hypot(best.center[0] - 210.0, best.center[1] - 150.0) < 1.5
+    assert abs(best.angle - angle) < 1.0 and abs(best.size - 20.0) < 1.0
