@@ -114,28 +114,53 @@ class DataProfile:
     [0.4, 0.4, 0.0]
     """
 
-    def __init__(self, Yp, Mp, Phi):
+    def __init__(self, Yp, Mp, Phi, _image=None):
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
         self.w = np.ones(len(Mp))
-        self.mm = np.sum(Mp * Mp, axis=1)
-        self.yy = np.sum(Yp * Yp, axis=1)
+        self.mm = np.einsum("pn,pn->p", Mp, Mp)
+        # what depends on the image patches only: shared by ``with_coverage`` (a registration tries
+        # hundreds of coverages on the same patches)
+        if _image is None:
+            Yt = np.ascontiguousarray(np.transpose(Yp, (0, 2, 1)))  # (p, C, n): one GEMM per product below
+            k = Phi.shape[1]
+            _image = (Yt, np.einsum("pcn,pcn->pc", Yt, Yt),
+                      (Phi[:, :, None] * Phi[:, None, :]).reshape(len(Phi), k * k))
+        self._Yt, self.yy, self._pp = _image
+        self._my = np.einsum("pcn,pn->pc", self._Yt, Mp)           # M^T y per patch and channel
+
+    def with_coverage(self, Mp) -> "DataProfile":
+        """The profile of the same image patches under another coverage ``Mp`` (p, n).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.image.profile import DataProfile, design
+        >>> rng = np.random.default_rng(0)
+        >>> Yp, M1, M2 = rng.random((5, 16, 3)), rng.random((5, 16)), rng.random((5, 16))
+        >>> a = DataProfile(Yp, M1, design(4, 1)).with_coverage(M2)
+        >>> bool(np.isclose(a(0.3), DataProfile(Yp, M2, design(4, 1))(0.3)))
+        True
+        """
+        return DataProfile(self.Yp, Mp, self.Phi, (self._Yt, self.yy, self._pp))
 
     def stats(self, alpha: float):
         """Per-patch (sxx (p,), sxy (p, C), syy (p,)) of M and y with the plane part removed."""
         # Gram-matrix form of the per-patch projections (3-6 columns): much faster than a batched QR.
+        # With A = diag(u) Phi: A^T A = (u^2) @ (Phi_k Phi_l), A^T M = (u M) @ Phi and A^T y =
+        # (u y) @ Phi, each one matrix product over all patches.
         u = 1.0 - alpha * self.Mp                                   # (p, n)
-        Phi, Yp, Mp = self.Phi, self.Yp, self.Mp
-        A = u[:, :, None] * Phi[None]                               # (p, n, k)
-        At = A.transpose(0, 2, 1)
-        G = At @ A + 1e-12 * np.eye(Phi.shape[1])[None]
-        am = (At @ Mp[:, :, None])[:, :, 0]                         # A^T M
-        ay = At @ Yp                                                # A^T y  (p, k, C)
+        Phi, Yt, Mp = self.Phi, self._Yt, self.Mp
+        p, C, n = Yt.shape
+        k = Phi.shape[1]
+        G = ((u * u) @ self._pp).reshape(p, k, k) + 1e-12 * np.eye(k)[None]
+        am = (u * Mp) @ Phi                                         # A^T M  (p, k)
+        ay = ((Yt * u[:, None, :]).reshape(p * C, n) @ Phi).reshape(p, C, k).transpose(0, 2, 1)  # A^T y (p, k, C)
         rhs = np.concatenate([am[:, :, None], ay], axis=2)
         # well conditioned by construction (full-rank plane design, u >= 0.005, regularised): no check
         sol = solve_batched(G, rhs, check=False)                    # G^-1 [A^T M, A^T y]
         gm, gy = sol[:, :, :1], sol[:, :, 1:]
         sxx_p = self.mm - np.sum(am * gm[:, :, 0], axis=1)
-        sxy_p = (Mp[:, None, :] @ Yp)[:, 0, :] - np.sum(am[:, :, None] * gy, axis=1)
+        sxy_p = self._my - np.sum(am[:, :, None] * gy, axis=1)
         syy_p = self.yy - np.sum(ay * gy, axis=1)
         return sxx_p, sxy_p, syy_p
 
@@ -188,19 +213,23 @@ class PhotoProfile:
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
         self.w = np.ones(len(Mp))
         self.Q = orthonormal_basis(Phi, method="qr", rtol=None)    # orthonormal plane basis (n, k)
+        # channel-first patches: the plane projections of all patches are then one matrix product
+        self._Yt = np.ascontiguousarray(np.transpose(Yp, (0, 2, 1)))  # (p, C, n)
+        self._y2 = np.einsum("pnc,pnc->pn", Yp, Yp)               # squares summed over channels
 
     def parts(self, alpha: float):
         """(beta (C,), per-patch RSS of the restored photo (p,), u = 1 - alpha M (p, n))."""
         u = 1.0 - alpha * self.Mp
         Q = self.Q
         inv = 1.0 / u
-        Yt = self.Yp * inv[:, :, None]                              # restored patches (p, n, C)
+        p, C, n = self._Yt.shape
+        Yt = self._Yt * inv[:, None, :]                             # restored patches (p, C, n)
         Mt = self.Mp * inv                                          # (p, n)
         # sums of squares and cross products with the plane part removed (no (p, n, C) residual array)
-        qy = np.matmul(Yt.transpose(0, 2, 1), Q)                    # (p, C, k)
+        qy = (Yt.reshape(p * C, n) @ Q).reshape(p, C, -1)           # (p, C, k)
         qm = Mt @ Q                                                 # (p, k)
-        syy = np.einsum("pnc,pnc->p", Yt, Yt) - np.einsum("pck,pck->p", qy, qy)
-        sxy = np.matmul(Mt[:, None, :], Yt)[:, 0, :] - np.einsum("pk,pck->pc", qm, qy)
+        syy = np.einsum("pn,pn->p", inv * inv, self._y2) - np.einsum("pck,pck->p", qy, qy)
+        sxy = np.einsum("pcn,pn->pc", Yt, Mt) - np.einsum("pk,pck->pc", qm, qy)
         sxx = np.einsum("pn,pn->p", Mt, Mt) - np.einsum("pk,pk->p", qm, qm)
         w = self.w
         beta = np.clip((w @ sxy) / max(float(w @ sxx), 1e-300), 0.0, alpha)

@@ -218,9 +218,10 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
     Phi = design(ps, 1)
     a0 = float(np.clip(fit0.alpha, 0.05, 0.98))
 
+    base = DataProfile(Yp, take_patches(M, py, px, ps)[:, :, 0], Phi)  # the image patches' part, once
+
     def obj(p):
-        prof = DataProfile(Yp, take_patches(cov(p), py, px, ps)[:, :, 0], Phi)
-        return prof(a0)
+        return base.with_coverage(take_patches(cov(p), py, px, ps)[:, :, 0])(a0)
 
     f_start = obj(np.zeros(4))
     p, f = nelder_mead(obj, np.zeros(4), np.array([0.5, 0.5, 0.3, 0.01]), iterations)
