@@ -80,8 +80,15 @@ def read_meta(path) -> ImageMeta:
         with Image.open(path) as im:
             meta = ImageMeta(mode=im.mode, frames=int(getattr(im, "n_frames", 1) or 1))
             meta.icc = im.info.get("icc_profile") or None
-            meta.text = {str(k): str(v) for k, v in getattr(im, "text", {}).items()} if im.format == "PNG" else {}
-            exif = im.getexif()
+            # Pillow decodes a whole PNG to reach text or EXIF chunks that may follow the pixel data;
+            # when none does (the usual case), what it read before the pixels is all there is
+            header_only = im.format == "PNG" and meta.frames == 1 and not png_has_late_metadata(path)
+            text = getattr(getattr(im, "png", None), "im_text", None) if header_only else None
+            if text is None:
+                header_only = False
+                text = getattr(im, "text", {}) if im.format == "PNG" else {}
+            meta.text = {str(k): str(v) for k, v in text.items()}
+            exif = im.getexif() if not header_only or "exif" in im.info else {}
             if len(exif):
                 meta.orientation = int(exif.get(ORIENTATION_TAG, 1) or 1)
                 if meta.orientation not in range(1, 9):
@@ -93,6 +100,55 @@ def read_meta(path) -> ImageMeta:
         log.debug("no metadata read from %s: %s", path, exc)
         return ImageMeta()
     return meta
+
+
+# PNG chunks of metadata that may come after the pixel data (IDAT)
+LATE_PNG_CHUNKS = (b"tEXt", b"zTXt", b"iTXt", b"eXIf")
+
+
+def png_has_late_metadata(path) -> bool:
+    """Whether a PNG file has text or EXIF chunks after its first pixel-data chunk (chunk headers
+    only are read; the pixel data are skipped). True when the file cannot be walked.
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG file.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from PIL import Image, PngImagePlugin
+    >>> from odnn_sep.image.io_meta import png_has_late_metadata
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     Image.new("RGB", (48, 32)).save(os.path.join(d, "x.png"))
+    ...     info = PngImagePlugin.PngInfo(); info.add_text("Title", "t")
+    ...     Image.new("RGB", (48, 32)).save(os.path.join(d, "t.png"), pnginfo=info)
+    ...     png_has_late_metadata(os.path.join(d, "x.png")), png_has_late_metadata(os.path.join(d, "t.png"))
+    (False, False)
+    """
+    try:
+        with open(path, "rb") as fh:
+            if fh.read(8) != b"\x89PNG\r\n\x1a\n":
+                return True
+            seen_idat = False
+            while True:
+                head = fh.read(8)
+                if len(head) < 8:
+                    return True  # truncated: let Pillow decide
+                n, kind = struct.unpack(">I4s", head)
+                if kind == b"IEND":
+                    return False
+                seen_idat = seen_idat or kind == b"IDAT"
+                if seen_idat and kind in LATE_PNG_CHUNKS:
+                    return True
+                fh.seek(n + 4, 1)  # the chunk's data and CRC
+    except OSError:
+        return True
 
 
 def apply_orientation(a: np.ndarray, orientation: int) -> np.ndarray:
