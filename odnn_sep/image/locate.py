@@ -279,17 +279,18 @@ def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
         # fit that screens the hypotheses afterwards tells similar fonts apart far better); the
         # second only at the best-scoring coarse places (the most places are chance matches, and
         # the best places get every font on the finer grids below anyway)
-        picks = [(fonts[0], s0)]
+        picks: list[tuple] = [(fonts[0], s0)]
         if len(fonts) > 1:
             quick = []
             for fo in fonts:
                 sf = s0 * w100 / _ink(text, fo)[0]  # match the coarse text width with this font
                 m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=(QUICK,))
                 if m is not None:
-                    quick.append((m.score, fo, sf))
-            picks = [(fo, sf) for _, fo, sf in sorted(quick, key=lambda q: -q[0])[:2 if i < max_hypotheses else 1]]
-        return [_refine(pyr, text, str(font), s1, a0, cx0, cy0, stages=(MEDIUM_ANGLE, MEDIUM_SIZE))
-                for font, s1 in picks]
+                    quick.append((m.score, fo, sf, m))
+            picks = [(fo, sf, m) for _, fo, sf, m in sorted(quick, key=lambda q: -q[0])[:2 if i < max_hypotheses else 1]]
+        # the quick look's template is the medium grid's centre one, in the same window: not matched twice
+        return [_refine(pyr, text, str(pick[0]), pick[1], a0, cx0, cy0, stages=(MEDIUM_ANGLE, MEDIUM_SIZE),
+                        known=pick[2] if len(pick) > 2 else None) for pick in picks]
 
     medium = sorted((m for ms in _map(one_hypothesis, list(enumerate(top))) for m in ms if m is not None),
                     key=lambda m: -m.score)
@@ -435,13 +436,20 @@ def _select(cands, w100, max_hypotheses, per_size_bin):
     return top
 
 
-def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=(MEDIUM, FINE)) -> Match | None:
+def _refine(pyr, text, font, s0, a0, cx0, cy0, stages=(MEDIUM, FINE), known=None) -> Match | None:
     """Finer (size, angle, position) grids (``stages``: size step, angle step, half-width) at a level
-    where the glyphs are ~FINE_H px tall."""
+    where the glyphs are ~FINE_H px tall. ``known``: the match of the template (``s0``, ``a0``) in
+    the first stage's window, found before (a ``QUICK`` look from the same centre).
+
+    Why long (9 parameters): the search's pyramid, the text and font, the starting placement, then
+    the grids."""
     h100 = max(_ink(text, font)[1], 1.0)
     R, E, f = pyr.bandpass(FINE_H / (h100 * s0 / REF_SIZE))
     best = None
     done = set()
+    if known is not None and stages[0][3]:
+        best = (known.score, known.size, known.angle, *known.center)
+        done.add((s0, a0, True))
     for ds, da, n, wide in stages:
         for s in s0 * np.exp(np.arange(-n, n + 1) * ds) if ds else [s0]:
             for a in a0 + np.arange(-n, n + 1) * da if da else [a0]:
