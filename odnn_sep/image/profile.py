@@ -213,23 +213,19 @@ class PhotoProfile:
         self.Yp, self.Mp, self.Phi = Yp, Mp, Phi
         self.w = np.ones(len(Mp))
         self.Q = orthonormal_basis(Phi, method="qr", rtol=None)    # orthonormal plane basis (n, k)
-        # channel-first patches: the plane projections of all patches are then one matrix product
-        self._Yt = np.ascontiguousarray(np.transpose(Yp, (0, 2, 1)))  # (p, C, n)
-        self._y2 = np.einsum("pnc,pnc->pn", Yp, Yp)               # squares summed over channels
 
     def parts(self, alpha: float):
         """(beta (C,), per-patch RSS of the restored photo (p,), u = 1 - alpha M (p, n))."""
         u = 1.0 - alpha * self.Mp
         Q = self.Q
         inv = 1.0 / u
-        p, C, n = self._Yt.shape
-        Yt = self._Yt * inv[:, None, :]                             # restored patches (p, C, n)
+        Yt = self.Yp * inv[:, :, None]                              # restored patches (p, n, C)
         Mt = self.Mp * inv                                          # (p, n)
         # sums of squares and cross products with the plane part removed (no (p, n, C) residual array)
-        qy = (Yt.reshape(p * C, n) @ Q).reshape(p, C, -1)           # (p, C, k)
+        qy = np.matmul(Yt.transpose(0, 2, 1), Q)                    # (p, C, k)
         qm = Mt @ Q                                                 # (p, k)
-        syy = np.einsum("pn,pn->p", inv * inv, self._y2) - np.einsum("pck,pck->p", qy, qy)
-        sxy = np.einsum("pcn,pn->pc", Yt, Mt) - np.einsum("pk,pck->pc", qm, qy)
+        syy = np.einsum("pnc,pnc->p", Yt, Yt) - np.einsum("pck,pck->p", qy, qy)
+        sxy = np.matmul(Mt[:, None, :], Yt)[:, 0, :] - np.einsum("pk,pck->pc", qm, qy)
         sxx = np.einsum("pn,pn->p", Mt, Mt) - np.einsum("pk,pk->p", qm, qm)
         w = self.w
         beta = np.clip((w @ sxy) / max(float(w @ sxx), 1e-300), 0.0, alpha)
