@@ -341,15 +341,18 @@ def match_bandpass(R: np.ndarray, E: np.ndarray, T: np.ndarray, band: np.ndarray
     """
     import cv2
 
-    if T.shape[0] >= R.shape[1] or T.shape[1] >= R.shape[2]:
+    C, h, w = R.shape
+    if T.shape[0] >= h or T.shape[1] >= w:
         return None
-    num = None
-    for c in range(R.shape[0]):
-        r = cv2.matchTemplate(R[c], T, cv2.TM_CCORR)
-        if num is None:
-            num = r * r
-        else:
-            num += r * r
+    # the channels stacked into one tall image, one correlation: the template is transformed once
+    # instead of once per channel (the rows that straddle two channels are dropped)
+    Rs = R.reshape(C * h, w) if R.flags["C_CONTIGUOUS"] else np.ascontiguousarray(R).reshape(C * h, w)
+    r = cv2.matchTemplate(Rs, T, cv2.TM_CCORR)
+    oh = h - T.shape[0] + 1
+    num = r[:oh] * r[:oh]
+    for c in range(1, C):
+        rc = r[c * h:c * h + oh]
+        num += rc * rc
     den = cv2.matchTemplate(E, band, cv2.TM_CCORR)
     # E is floored above zero, so only rounding in the correlation can bring den to ~0
     np.maximum(den, 1e-30, out=den)
