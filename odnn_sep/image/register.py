@@ -21,6 +21,9 @@ from odnn_sep.image.render import place, render_text
 # both neighbours: the optimum of a large mark lies within a fraction of a pixel of its size, and on
 # a 12-megapixel photo each extra registration of a large mark costs about half a second.
 WHOLE_SIZE_MAX_PX = 64.0
+# The registration samples the rendering at its patches' pixels instead of warping the whole crop
+# when the crop has more than this many times as many pixels as the patches.
+SAMPLE_RATIO = 3.0
 
 
 @dataclasses.dataclass
@@ -267,10 +270,17 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
     oy, ox = np.divmod(np.arange(ps * ps), ps)
     rows, cols = py[:, None] + oy[None], px[:, None] + ox[None]   # the patches' pixels in the crop
 
+    # A large mark's crop holds many more pixels than its patches: the rendering is then sampled at
+    # the patches' pixels only (per pixel that costs about 2.5 times a whole warp's, so a small crop is
+    # warped whole and then cut into patches)
+    sampled = shape[0] * shape[1] > SAMPLE_RATIO * rows.size
+
     def obj(p):
-        # the rendering sampled at the patches' pixels only (a large mark's whole warp cost 3x more)
-        Mp = coverage_at(render_text(text, font, size * np.exp(p[3])), (local[0] + p[0], local[1] + p[1]),
-                         angle + p[2], rows, cols)
+        if sampled:
+            Mp = coverage_at(render_text(text, font, size * np.exp(p[3])), (local[0] + p[0], local[1] + p[1]),
+                             angle + p[2], rows, cols)
+        else:
+            Mp = take_patches(cov(p), py, px, ps)[:, :, 0]
         return base.with_coverage(Mp)(a0)
 
     f_start = obj(np.zeros(4))
