@@ -195,6 +195,32 @@ def _whole_size(obj, p, f, size, iterations):
     return p, f
 
 
+def _objective(crop, M, fit0, cov, geometry, random_state):
+    """The registration's objective of the geometry offset p = (dx, dy, d angle, log size ratio): the
+    blend model's residual at the opacity of ``fit0`` on a frozen patch grid; None without patches.
+
+    ``cov(p)``: the coverage over the whole crop; ``geometry(p)``: (upright rendering, centre, angle)."""
+    rng = np.random.default_rng(random_state)
+    py, px, ps = patch_grid(M, fit0.patch, 400, rng)
+    if len(py) == 0:
+        return None
+    Yp, py, px = drop_clipped(take_patches(crop, py, px, ps), py, px)
+    a0 = float(np.clip(fit0.alpha, 0.05, 0.98))
+    base = DataProfile(Yp, take_patches(M, py, px, ps)[:, :, 0], design(ps, 1))  # the image patches' part, once
+    oy, ox = np.divmod(np.arange(ps * ps), ps)
+    rows, cols = py[:, None] + oy[None], px[:, None] + ox[None]   # the patches' pixels in the crop
+    # A large mark's crop holds many more pixels than its patches: the rendering is then sampled at
+    # the patches' pixels only (per pixel that costs about 2.5 times a whole warp's, so a small crop is
+    # warped whole and then cut into patches)
+    sampled = M.shape[0] * M.shape[1] > SAMPLE_RATIO * rows.size
+
+    def obj(p):
+        Mp = coverage_at(*geometry(p), rows, cols) if sampled else take_patches(cov(p), py, px, ps)[:, :, 0]
+        return base.with_coverage(Mp)(a0)
+
+    return obj
+
+
 def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *, iterations: int = 60,
            whole_sizes: bool = True, random_state=0) -> Placed:
     """Refine (centre, angle, size) of one mark by the blend model's residual, then fit opacity/colour.
@@ -258,31 +284,10 @@ def refine(y: np.ndarray, text: str, font, size: float, angle: float, center, *,
 
     M = cov(np.zeros(4))
     fit0 = fit_blend(crop, M, random_state=random_state)
-    rng = np.random.default_rng(random_state)
-    py, px, ps = patch_grid(M, fit0.patch, 400, rng)
-    if len(py) == 0:
+    obj = _objective(crop, M, fit0, cov, lambda p: (render_text(text, font, size * np.exp(p[3])),
+                                                    (local[0] + p[0], local[1] + p[1]), angle + p[2]), random_state)
+    if obj is None:
         return Placed(Path(font), size, angle, center, bx, M, fit0)
-    Yp, py, px = drop_clipped(take_patches(crop, py, px, ps), py, px)
-    Phi = design(ps, 1)
-    a0 = float(np.clip(fit0.alpha, 0.05, 0.98))
-
-    base = DataProfile(Yp, take_patches(M, py, px, ps)[:, :, 0], Phi)  # the image patches' part, once
-    oy, ox = np.divmod(np.arange(ps * ps), ps)
-    rows, cols = py[:, None] + oy[None], px[:, None] + ox[None]   # the patches' pixels in the crop
-
-    # A large mark's crop holds many more pixels than its patches: the rendering is then sampled at
-    # the patches' pixels only (per pixel that costs about 2.5 times a whole warp's, so a small crop is
-    # warped whole and then cut into patches)
-    sampled = shape[0] * shape[1] > SAMPLE_RATIO * rows.size
-
-    def obj(p):
-        if sampled:
-            Mp = coverage_at(render_text(text, font, size * np.exp(p[3])), (local[0] + p[0], local[1] + p[1]),
-                             angle + p[2], rows, cols)
-        else:
-            Mp = take_patches(cov(p), py, px, ps)[:, :, 0]
-        return base.with_coverage(Mp)(a0)
-
     f_start = obj(np.zeros(4))
     p, f = nelder_mead(obj, np.zeros(4), np.array([0.5, 0.5, 0.3, 0.01]), iterations)
     if f > f_start:
