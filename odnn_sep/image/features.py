@@ -387,14 +387,22 @@ def peaks(r: np.ndarray, n: int, radius: int, floor: float) -> list[tuple[float,
     >>> peaks(r, 5, 2, 0.1)
     [(1.0, 2, 3), (0.5, 7, 8)]
     """
-    out = []
-    r = r.copy()
-    for _ in range(n):
-        i = int(np.argmax(r))
-        yy, xx = divmod(i, r.shape[1])
-        v = float(r[yy, xx])
-        if v < floor:
-            break
-        out.append((v, yy, xx))
-        r[max(0, yy - radius):yy + radius + 1, max(0, xx - radius):xx + radius + 1] = -1.0
+    out: list[tuple[float, int, int]] = []
+    cleared = []  # (window, its values): ``r`` is restored afterwards instead of copied whole first
+    try:
+        for _ in range(n):
+            i = int(np.argmax(r))
+            yy, xx = divmod(i, r.shape[1])
+            v = float(r[yy, xx])
+            if v < floor:
+                break
+            out.append((v, yy, xx))
+            if len(out) == n:
+                break
+            win = (slice(max(0, yy - radius), yy + radius + 1), slice(max(0, xx - radius), xx + radius + 1))
+            cleared.append((win, r[win].copy()))
+            r[win] = -1.0
+    finally:
+        for win, vals in reversed(cleared):
+            r[win] = vals
     return out
