@@ -184,6 +184,23 @@ def _source_starts(p, r, tt, base, model, t):
     return out
 
 
+def _pattern_starts(p, r, tt, base, model, t, *, max_cycles=8.0, step=0.25):
+    """Wave vectors of the two strongest plane waves in the residual of a field (up to ``max_cycles``
+    cycles across its span, on a grid of ``step`` cycles), with least-squares amplitudes."""
+    xy = np.asarray(t, float)
+    span = np.maximum(np.ptp(xy, axis=0), 1e-300)
+    u = np.arange(0.0, max_cycles + step / 2, step)
+    v = np.arange(-max_cycles, max_cycles + step / 2, step)
+    K = 2 * np.pi * np.array([(a, b) for a in u for b in v if a > 0 or b > 0]) / span
+    phase = xy @ K.T
+    power = (r @ np.cos(phase)) ** 2 + (r @ np.sin(phase)) ** 2
+    out = []
+    for j in np.argsort(-power)[:2]:
+        a, b = _ls([np.cos(phase[:, j]), np.sin(phase[:, j])], r)
+        out.append({**p, "kx_pp": float(K[j, 0]), "ky_pp": float(K[j, 1]), "a_pp": float(a), "b_pp": float(b)})
+    return out
+
+
 def _moved_starts(p, r, tt, base, model, t):
     from odnn_sep.mismatch.presets_heat2d import moved_starts  # the rule lives with the heat2d preset
     return moved_starts(p, r, tt, base, model, t)
@@ -198,6 +215,7 @@ _START_RULES = {
     "missing_harmonic": (_harmonic_starts, True),
     "extra_source": (_source_starts, False),
     "source_moved": (lambda *a: _moved_starts(*a), False),
+    "periodic_pattern": (_pattern_starts, False),
     "offset": (lambda p, r, tt, base, model, t: [{**p, "offset": float(np.mean(r))}], None),
 }
 
