@@ -273,6 +273,13 @@ def summarize_population(rows):
                                                lambda r: bool(r["named"])), k) for k in kinds),
         "coverage_effect": float(np.mean(c)) if (c := [c for r in rows for c in r["covered"]]) else None,
         "coverage_base_nulls": float(np.mean(c)) if (c := [c for r in rows for c in r["base_covered"]]) else None,
+        # the same effect intervals, only where the final model is the true one: a model that leaves
+        # out one true effect biases the other's parameter, which no interval of that model can cover
+        "coverage_effect_true_model": float(np.mean(c)) if (c := [c for r in rows if r["mode"] != "null"
+                                                                  and sorted(r["named"]) == sorted(r["truth"])
+                                                                  for c in r["covered"]]) else None,
+        "coverage_effect_true_model_n": len([c for r in rows if r["mode"] != "null"
+                                             and sorted(r["named"]) == sorted(r["truth"]) for c in r["covered"]]),
         "fits_failed": sum(len(r["failed"]) for r in rows),
     }
     confusions = {}

@@ -495,7 +495,9 @@ def pop_text(pop, args):
         f"false physics on nulls "
         f"<= 5% for every kind: worst {o['false_physics_worst_kind'][1]} {o['false_physics_worst_kind'][0]:.1%} "
         f"(all {o['false_physics_nulls']:.1%}); 95% intervals covering 90-98%: effect parameters "
-        f"{'-' if cov is None else f'{cov:.1%}'}, base parameters on nulls "
+        f"{'-' if cov is None else f'{cov:.1%}'} (where the final model is the true one: "
+        f"{'-' if o.get('coverage_effect_true_model') is None else format(o['coverage_effect_true_model'], '.1%')}, "
+        f"n={o.get('coverage_effect_true_model_n', 0)}), base parameters on nulls "
         f"{'-' if o['coverage_base_nulls'] is None else format(o['coverage_base_nulls'], '.1%')}; "
         f"effect fits reported failed: {o['fits_failed']}.\n\n"
         f"Population confusions (mode kind: truth -> named): {pop['confusions'] or 'none'}\n")

@@ -156,7 +156,7 @@ class SandwichErrors(NamedTuple):
     Attributes
     ----------
     stderr : ndarray, shape (q,)
-        The larger of the classical and the block-sandwich standard error, per parameter.
+        The largest of the classical, the block-sandwich and the AR(p) sandwich standard error.
     classical : ndarray, shape (q,)
         Gauss-Newton ``sqrt(diag(s^2 (J^T J)^-1))``.
     block : int
@@ -175,7 +175,7 @@ class SandwichErrors(NamedTuple):
     True
     """
 
-    stderr: np.ndarray     # the larger of the classical and the block-sandwich standard error
+    stderr: np.ndarray     # the largest of the classical, block-sandwich and AR(p) sandwich errors
     classical: np.ndarray  # Gauss-Newton ``sqrt(diag(s^2 (J^T J)^-1))``
     block: int             # samples per block
     n_blocks: int          # blocks (the sandwich's own degrees of freedom are n_blocks - 1)
@@ -267,7 +267,8 @@ def sandwich_standard_errors(J: ArrayLike, resid: ArrayLike, dof: int, *, block:
 
     The block sandwich ``(J'J)^-1 (sum_b J_b' r_b r_b' J_b) (J'J)^-1`` over contiguous blocks of
     ``block`` samples (default :func:`block_length` of ``resid``), with the small-sample factor
-    ``nb / (nb - 1) * n / dof``; the reported error is the larger of it and the classical one.
+    ``nb / (nb - 1) * n / dof``; the reported error is the largest of it, the classical one and the
+    AR(p) sandwich (:func:`~odnn_sep.core.whitening.ar_sandwich_stderr`).
 
     Parameters
     ----------
@@ -306,7 +307,11 @@ def sandwich_standard_errors(J: ArrayLike, resid: ArrayLike, dof: int, *, block:
     meat = S.T @ S * (nb / max(nb - 1, 1)) * (n / dof)
     sandwich = np.diag(JtJ_inv @ meat @ JtJ_inv)
     classical = np.sqrt(np.maximum(classical, 0.0))
-    stderr = np.maximum(classical, np.sqrt(np.maximum(sandwich, 0.0)))
+    # the larger of the three: the block sandwich is noisy with few long blocks (persistent noise),
+    # the AR one assumes the residual is AR(p); neither is allowed to shrink the classical error
+    from odnn_sep.core.whitening import ar_sandwich_stderr
+
+    stderr = np.maximum.reduce([classical, np.sqrt(np.maximum(sandwich, 0.0)), ar_sandwich_stderr(J, r)])
     return SandwichErrors(stderr, classical, L, nb)
 
 

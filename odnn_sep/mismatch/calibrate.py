@@ -19,6 +19,7 @@ from odnn_sep.core.linalg import orthonormal_basis
 from odnn_sep.errors import InputError, NotIdentifiableError
 from odnn_sep.mismatch.fitting import Fit, fit
 from odnn_sep.mismatch.presets import dominant_omega
+from odnn_sep.mismatch.starts import difference_jacobian
 
 SLOW_FAMILIES = {"oscillator", "pendulum", "hum"}
 # at most 10 modes: with 20 cross-validation blocks the slowest held-out gap must stay
@@ -184,14 +185,7 @@ def tangent_separation(model, t, y, params, G):
     if not free:
         return {}
     pred = model.predict(t, params)
-    cols = []
-    for k in free:
-        x = abs(float(params[k]))
-        h = 1e-5 * x if x > 1e-6 else 1e-5
-        q = dict(params)
-        q[k] = float(params[k]) + h
-        cols.append((model.predict(t, q) - pred) / h)
-    F = np.column_stack(cols)
+    F = difference_jacobian(model, params, t, pred, 1e-5, abs_step=1e-5)
     dist = Subspace(G) if G is not None else Orthogonal()
     import warnings
     with warnings.catch_warnings():
@@ -202,6 +196,23 @@ def tangent_separation(model, t, y, params, G):
     return {"outside_fraction": d.get("outside_fraction"), "projected_condition": d.get("projected_condition"),
             "disturbance_in_basis_span": d.get("disturbance_in_basis_span"),
             "gauss_newton_step": dict(zip(free, (float(v) for v in r.theta), strict=True))}
+
+
+def _calibration_starts(model, t, y, user_params):
+    """Starts of the calibration: the preset's data-driven guess with and without the user's values."""
+    if model.preset is None:
+        return [dict(model.start)]
+    guess = model.preset.initial_guess(t, y, {**model.start, **user_params})
+    s = dict(model.start)
+    s.update(guess)
+    s.update({k: v for k, v in user_params.items() if k in s and not isinstance(v, str)
+              and k not in model.fixed})
+    s2 = dict(model.start)
+    s2.update({k: v for k, v in guess.items() if k not in user_params})
+    g2 = dict(model.start)
+    g2.update(guess)
+    # data-driven but honouring what the user set; the user's values as given; purely data-driven
+    return [s, s2, g2]
 
 
 @dataclass
@@ -270,23 +281,7 @@ def calibrate(model, t, y, *, user_params=None, G=None, max_nfev=400) -> Calibra
     >>> round(cal.fit.params["k"], 4), round(cal.fit.params["c"], 3)   # k = 2^2 + c^2/4
     (4.0025, 0.1)
     """
-    user_params = dict(user_params or {})
-    starts = []
-    if model.preset is not None:
-        guess = model.preset.initial_guess(t, y, {**model.start, **user_params})
-        s = dict(model.start)
-        s.update(guess)
-        s.update({k: v for k, v in user_params.items() if k in s and not isinstance(v, str)
-                  and k not in model.fixed})
-        starts.append(s)   # data-driven, but honouring what the user set
-        s2 = dict(model.start)
-        s2.update({k: v for k, v in guess.items() if k not in user_params})
-        starts.append(s2)  # the user's values as given
-        g2 = dict(model.start)
-        g2.update(guess)
-        starts.append(g2)  # purely data-driven
-    else:
-        starts.append(dict(model.start))
+    starts = _calibration_starts(model, t, y, dict(user_params or {}))
     best = None
     seen = []
     for s in starts:

@@ -264,11 +264,15 @@ def heldout(c, cur_mse, t, y, G, block_id, folds):
     sizes = np.bincount(block_id)[held]
     sigma2 = c.fit.rss / max(c.fit.n_eff - len(c.fit.free), 1)
     c.heldout_gain = float(np.sum(d * sizes) / max(sigma2, 1e-300))
+    c.cv_p_value = _signed_rank_p(d)
+
+
+def _signed_rank_p(d):
+    """One-sided Wilcoxon signed-rank p-value that the held-out gains ``d`` are positive (1 when all 0)."""
     if np.all(d == 0):
-        c.cv_p_value = 1.0
-    else:
-        from scipy import stats  # on use: the package is imported by every subcommand
-        c.cv_p_value = float(stats.wilcoxon(d, alternative="greater").pvalue)
+        return 1.0
+    from scipy import stats  # on use: the package is imported by every subcommand
+    return float(stats.wilcoxon(d, alternative="greater").pvalue)
 
 
 def passes(c, bic_threshold, heldout_threshold):

@@ -157,7 +157,7 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
     Parameters
     ----------
     effect : str
-        ``periodic_pickup``, ``offset`` or ``drift`` (any other name is returned as is).
+        ``periodic_pickup``, ``periodic_pattern``, ``offset`` or ``drift`` (any other name is returned as is).
     params : dict
         Fitted parameters.
     model_family : str
@@ -189,6 +189,12 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
         else:
             why = "the data cannot tell a periodic drive from a periodic pickup in the recording"
         return f"a periodic component at {f:.4g} Hz, {amp:.3g}{u}; {why}"
+    if effect == "periodic_pattern":
+        wavelength = 2 * np.pi / max(float(np.hypot(params["kx_pp"], params["ky_pp"])), 1e-300)
+        direction = float(np.degrees(np.arctan2(params["ky_pp"], params["kx_pp"]))) % 180.0
+        amp = float(np.hypot(params["a_pp"], params["b_pp"]))
+        return (f"a periodic pattern (stripes) of wavelength {wavelength:.3g}, wave vector at {direction:.0f} deg, "
+                f"{amp:.3g}{u}; a pattern added by the instrument and one in the field give the same data")
     if effect == "offset":
         return (f"a constant offset of {params['offset']:.4g}{u}; a sensor bias and a constant disturbance "
                 f"give the same data")

@@ -72,6 +72,12 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
            {"a_pk": 0.0, "b_pk": 0.0, "omega_pk": 1.0},
            {"a_pk": (-INF, INF), "b_pk": (-INF, INF), "omega_pk": (0.0, INF)},
            _MECH | {"cooling", "freefall", "hum", "user"}, generic=True),
+    # its 2D counterpart: a stripe across a field (interference, a scanner artefact), wave vector (kx, ky)
+    Effect("periodic_pattern", "an additive spatial periodic pattern a cos(kx x + ky y) + b sin(kx x + ky y) "
+           "(a stripe across the field)",
+           {"a_pp": 0.0, "b_pp": 0.0, "kx_pp": 1.0, "ky_pp": 0.0},
+           {"a_pp": (-INF, INF), "b_pp": (-INF, INF), "kx_pp": (-INF, INF), "ky_pp": (-INF, INF)},
+           frozenset({"heat2d"}), generic=True),
     Effect("offset", "constant offset added to the observations (sensor bias)",
            {"offset": 0.0}, {"offset": (-INF, INF)},
            _MECH | {"hum", "heat2d", "user"}, generic=True),
@@ -112,7 +118,7 @@ VOCABULARY = tuple(EFFECTS)
 
 # effects the data cannot tell apart from an additive disturbance: found, absorbed and reported as
 # disturbances (verdict.disturbances), never named as missing physics
-DISTURBANCE_EFFECTS = ("periodic_pickup", "offset", "drift")
+DISTURBANCE_EFFECTS = ("periodic_pickup", "periodic_pattern", "offset", "drift")
 
 # effects that are alternatives, never added together (two drag laws for one falling body)
 EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),
@@ -232,6 +238,9 @@ def apply_generic(names, predict_fn, *, t0: float):
             out = out + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
         if "periodic_pickup" in names:
             out = out + p["a_pk"] * np.cos(p["omega_pk"] * t) + p["b_pk"] * np.sin(p["omega_pk"] * t)
+        if "periodic_pattern" in names:
+            ph = p["kx_pp"] * t[:, 0] + p["ky_pp"] * t[:, 1]
+            out = out + p["a_pp"] * np.cos(ph) + p["b_pp"] * np.sin(ph)
         if "offset" in names:
             out = out + p["offset"]
         if "drift" in names:

@@ -264,6 +264,39 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     (9.8, 30, True)
     """
     free = model.free
+    pt = _point_fit(model, t, y, start, G, rows, max_nfev)
+    idx, r = pt.idx, pt.residual
+    rss = float(np.sum(r[idx] ** 2))
+    n_eff = len(idx) - pt.rank
+    stderr, interval_dof = {}, np.inf
+    if free:
+        errs = sandwich_standard_errors(pt.jac, r[idx], max(n_eff - len(free), 1))
+        stderr = dict(zip(free, (float(s) for s in errs.stderr), strict=True))
+        interval_dof = float(max(errs.n_blocks - 1, 1))
+    if not pt.converged and warn:
+        warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
+                      f"{max_nfev} evaluations before converging; treat its numbers with care",
+                      ConvergenceWarning, stacklevel=2)
+    return Fit(model, pt.params, free, stderr, rss, n_eff, pt.prediction, pt.disturbance, r, pt.converged,
+               interval_dof)
+
+
+@dataclass
+class _PointFit:
+    """Least-squares point estimate: what :func:`fit` needs before the spread (a held-out refit needs no more)."""
+
+    params: dict
+    jac: np.ndarray
+    converged: bool
+    prediction: np.ndarray
+    disturbance: np.ndarray
+    residual: np.ndarray
+    idx: np.ndarray
+    rank: int
+
+
+def _point_fit(model, t, y, start, G, rows, max_nfev):
+    """Optimise (again from the canonical labelling when there is one); disturbance and residual at the optimum."""
     idx = np.arange(len(y)) if rows is None else np.asarray(rows)
     P = disturbance_projector(G, idx)
     p, J, converged = _optimise(model, t, y, idx, P, dict(model.start if start is None else start), max_nfev)
@@ -272,25 +305,8 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
         p, J, converged = _optimise(model, t, y, idx, P, relabelled, max_nfev)
     pred = model.predict(t, p)
     r_all = y - pred
-    if P is not None:
-        beta = solve(G[idx], r_all[idx], method="lstsq")
-        dist = G @ beta
-    else:
-        dist = np.zeros_like(y)
-    r = (r_all - dist)
-    rss = float(np.sum(r[idx] ** 2))
-    n_eff = len(idx) - (0 if P is None else P.rank)
-    dof = max(n_eff - len(free), 1)
-    stderr, interval_dof = {}, np.inf
-    if free:
-        spread = sandwich_standard_errors(J, r[idx], dof)
-        stderr = dict(zip(free, (float(s) for s in spread.stderr), strict=True))
-        interval_dof = float(max(spread.n_blocks - 1, 1))
-    if not converged and warn:
-        warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
-                      f"{max_nfev} evaluations before converging; treat its numbers with care",
-                      ConvergenceWarning, stacklevel=2)
-    return Fit(model, p, free, stderr, rss, n_eff, pred, dist, r, converged, interval_dof)
+    dist = G @ solve(G[idx], r_all[idx], method="lstsq") if P is not None else np.zeros_like(y)
+    return _PointFit(p, J, converged, pred, dist, r_all - dist, idx, 0 if P is None else P.rank)
 
 
 def t_over_normal(dof, level=0.95):
@@ -403,7 +419,7 @@ def cross_validate(model, t, y, start, *, G=None, block_id, folds=4, max_nfev=30
             continue
         test = np.isin(block_id, test_blocks)
         train = np.flatnonzero(~test)
-        fr = fit(model, t, y, start=start, G=G, rows=train, max_nfev=max_nfev, warn=False)
+        fr = _point_fit(model, t, y, start, G, train, max_nfev)
         err = y - fr.prediction - fr.disturbance
         for b in test_blocks:
             mse[b] = float(np.mean(err[block_id == b] ** 2))

@@ -85,32 +85,10 @@ def result_dict(res) -> dict:
     """
     base = res.calibration.fit
     final = res.final_fit or base
-    effects = [_effect_entry(c, final, base) for c in res.named]
-    if not effects:
-        verdict = {"effect": None,
-                   "description": "nothing missing that the data can show: no effect improved the fit "
-                                  "beyond the noise and disturbance (BIC and held-out test)",
-                   "parameters": {}}
-    else:
-        first = res.named[0]
-        verdict = dict(effects[0])
-        # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
-        verdict["ambiguous_with"] = list(first.equivalent)
-    verdict["effects"] = effects
-    verdict["disturbances"] = list(res.disturbances)
-    verdict["declared_disturbances"] = list(res.declared)
-    verdict["dropped_by_backward_check"] = list(res.dropped)
-    verdict["warnings"] = list(res.warnings)
-    verdict["notes"] = list(res.notes)
+    verdict = _verdict(res, [_effect_entry(c, final, base) for c in res.named])
     after = _fit_summary(final, res.heldout_rmse_after)
     if final is not base:
-        # how the calibrated parameters were biased by leaving the effects out
-        after["bias_of_calibration"] = {
-            k: {"without_effect": base.params[k], "with_effect": final.params[k],
-                "shift": base.params[k] - final.params[k],
-                "shift_in_stderr": ((base.params[k] - final.params[k]) / final.stderr[k]
-                                    if final.stderr.get(k) else None)}
-            for k in base.free if k in final.params}
+        after["bias_of_calibration"] = _calibration_bias(base, final)
     return {
         "verdict": verdict,
         "candidates": [c.as_dict() for c in res.candidates],
@@ -121,6 +99,35 @@ def result_dict(res) -> dict:
         "noise_sigma": res.noise_sigma,
         "n_samples": int(len(res.y)),
     }
+
+
+def _verdict(res, effects):
+    """The verdict: the first named effect (or "nothing missing"), every named effect and the rest."""
+    if not effects:
+        verdict = {"effect": None,
+                   "description": "nothing missing that the data can show: no effect improved the fit "
+                                  "beyond the noise and disturbance (BIC and held-out test)",
+                   "parameters": {}}
+    else:
+        verdict = dict(effects[0])
+        # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
+        verdict["ambiguous_with"] = list(res.named[0].equivalent)
+    verdict["effects"] = effects
+    verdict["disturbances"] = list(res.disturbances)
+    verdict["declared_disturbances"] = list(res.declared)
+    verdict["dropped_by_backward_check"] = list(res.dropped)
+    verdict["warnings"] = list(res.warnings)
+    verdict["notes"] = list(res.notes)
+    return verdict
+
+
+def _calibration_bias(base, final):
+    """How the calibrated parameters were biased by leaving the effects out (shift, also in stderr)."""
+    return {k: {"without_effect": base.params[k], "with_effect": final.params[k],
+                "shift": base.params[k] - final.params[k],
+                "shift_in_stderr": ((base.params[k] - final.params[k]) / final.stderr[k]
+                                    if final.stderr.get(k) else None)}
+            for k in base.free if k in final.params}
 
 
 def _fmt(v):

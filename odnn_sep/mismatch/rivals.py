@@ -192,20 +192,25 @@ def recheck_rivals(sel, base, setup, gap):
             f = _refit_with(sel, base, setup, named, r)
             if f is not None:
                 scores[r.effect] = (prewhitened_score(f.residual, ref, f.n_params, coefs, mask), f, r)
-        if len(scores) == 1:
-            continue
-        best = min(scores, key=lambda e: scores[e][0])
-        s_best, f_best, c_best = scores[best]
-        if best != named.effect:
-            c_best = replace(c_best, fit=f_best, step=named.step, rivals=[], equivalent=[],
-                             rival_candidates=[scores[e][2] for e in scores if e != best],
-                             note=f"preferred to {named.effect} on the final model (prewhitened score "
-                                  f"{scores[named.effect][0] - s_best:+.1f})")
-            sel.accepted[i] = c_best
-            sel.fit = f_best
-        c_best.equivalent = [e for e in scores if e != best and scores[e][0] - s_best <= gap]
-        c_best.rivals = [{"effect": e, "prewhitened_gap": float(scores[e][0] - s_best), "ar_order": len(coefs),
-                          "outliers": int(mask.sum())} for e in scores if e != best]
+        if len(scores) > 1:
+            _name_best(sel, i, named, scores, gap, {"ar_order": len(coefs), "outliers": int(mask.sum())})
+
+
+def _name_best(sel, i, named, scores, gap, info):
+    """Put the best-scoring of ``scores`` ({effect: (score, fit, candidate)}) in place ``i`` of the
+    selection, with its rivals' gaps (and ``info``) and the equivalent ones (within ``gap``)."""
+    best = min(scores, key=lambda e: scores[e][0])
+    s_best, f_best, c_best = scores[best]
+    if best != named.effect:
+        c_best = replace(c_best, fit=f_best, step=named.step, rivals=[], equivalent=[],
+                         rival_candidates=[scores[e][2] for e in scores if e != best],
+                         note=f"preferred to {named.effect} on the final model (prewhitened score "
+                              f"{scores[named.effect][0] - s_best:+.1f})")
+        sel.accepted[i] = c_best
+        sel.fit = f_best
+    c_best.equivalent = [e for e in scores if e != best and scores[e][0] - s_best <= gap]
+    c_best.rivals = [{"effect": e, "prewhitened_gap": float(scores[e][0] - s_best), **info}
+                     for e in scores if e != best]
 
 
 def step_score(cur, resid, n_params, t) -> float:

@@ -35,6 +35,48 @@ def _ls(cols, r):
     return solve(np.column_stack(cols), r, method="lstsq")
 
 
+def difference_jacobian(model, start, t, base_pred, rel_step, abs_step=1e-3):
+    """Forward-difference Jacobian of the prediction in the free parameters, one column each.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    start : dict
+        Parameters to differentiate at.
+    t : ndarray
+        Sample times (or coordinates).
+    base_pred : ndarray
+        ``model.predict(t, start)``.
+    rel_step : float
+        Relative step.
+    abs_step : float, optional
+        Step of a parameter at (about) zero.
+
+    Returns
+    -------
+    ndarray, shape (n, free parameters)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = make_model("freefall"); t = np.array([0.0, 1.0])
+    >>> np.round(difference_jacobian(m, m.start, t, m.predict(t), 1e-6), 3).tolist()
+    [[0.0, 1.0], [-0.5, 1.0]]
+    """
+    cols = []
+    for k in model.free:
+        # parameters at their neutral value 0 get an absolute step: a relative one would be
+        # lost in the ODE solver's error
+        x = abs(float(start[k]))
+        h = rel_step * x if x > 1e-6 else abs_step
+        p = dict(start)
+        p[k] = float(start[k]) + h
+        cols.append((model.predict(t, p) - base_pred) / h)
+    return np.column_stack(cols)
+
+
 def one_step(model, start, t, y, G=None, rel_step=1e-4):
     """One Gauss-Newton step from ``start`` (finite-difference Jacobian), or None if it fails.
 
@@ -75,18 +117,9 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
     free = model.free
     try:
         base_pred = model.predict(t, start)
-        cols = []
-        for k in free:
-            # parameters at their neutral value 0 get an absolute step: a relative one would be
-            # lost in the ODE solver's error
-            x = abs(float(start[k]))
-            h = rel_step * x if x > 1e-6 else 1e-3
-            p = dict(start)
-            p[k] = float(start[k]) + h
-            cols.append((model.predict(t, p) - base_pred) / h)
+        J = difference_jacobian(model, start, t, base_pred, rel_step)
     except Exception:  # noqa: BLE001 - any failure just means "no extra start"
         return None
-    J = np.column_stack(cols)
     r = y - base_pred
     from odnn_sep.mismatch.fitting import disturbance_projector
 
@@ -97,14 +130,19 @@ def one_step(model, start, t, y, G=None, rel_step=1e-4):
     delta = solve(J, r, method="lstsq")
     out = dict(start)
     for k, d in zip(free, delta, strict=True):
-        lo, hi = model.bounds.get(k, (-np.inf, np.inf))
-        v = float(start[k]) + float(d)
-        if v <= lo:
-            v = lo + max(abs(float(d)), 1e-12)   # reflect off the bound: stay strictly inside
-        if v >= hi:
-            v = hi - max(abs(float(d)), 1e-12)
-        out[k] = v
+        out[k] = _inside_bounds(float(start[k]), float(d), model.bounds.get(k, (-np.inf, np.inf)))
     return out
+
+
+def _inside_bounds(v0, d, bounds):
+    """``v0 + d``, reflected off a bound it reaches so that it stays strictly inside."""
+    lo, hi = bounds
+    v = v0 + d
+    if v <= lo:
+        v = lo + max(abs(d), 1e-12)
+    if v >= hi:
+        v = hi - max(abs(d), 1e-12)
+    return v
 
 
 def _forcing_starts(p, r, tt, base, model, t):
@@ -184,6 +222,23 @@ def _source_starts(p, r, tt, base, model, t):
     return out
 
 
+def _pattern_starts(p, r, tt, base, model, t, *, max_cycles=8.0, step=0.25):
+    """Wave vectors of the two strongest plane waves in the residual of a field (up to ``max_cycles``
+    cycles across its span, on a grid of ``step`` cycles), with least-squares amplitudes."""
+    xy = np.asarray(t, float)
+    span = np.maximum(np.ptp(xy, axis=0), 1e-300)
+    u = np.arange(0.0, max_cycles + step / 2, step)
+    v = np.arange(-max_cycles, max_cycles + step / 2, step)
+    K = 2 * np.pi * np.array([(a, b) for a in u for b in v if a > 0 or b > 0]) / span
+    phase = xy @ K.T
+    power = (r @ np.cos(phase)) ** 2 + (r @ np.sin(phase)) ** 2
+    out = []
+    for j in np.argsort(-power)[:2]:
+        a, b = _ls([np.cos(phase[:, j]), np.sin(phase[:, j])], r)
+        out.append({**p, "kx_pp": float(K[j, 0]), "ky_pp": float(K[j, 1]), "a_pp": float(a), "b_pp": float(b)})
+    return out
+
+
 def _moved_starts(p, r, tt, base, model, t):
     from odnn_sep.mismatch.presets_heat2d import moved_starts  # the rule lives with the heat2d preset
     return moved_starts(p, r, tt, base, model, t)
@@ -198,6 +253,7 @@ _START_RULES = {
     "missing_harmonic": (_harmonic_starts, True),
     "extra_source": (_source_starts, False),
     "source_moved": (lambda *a: _moved_starts(*a), False),
+    "periodic_pattern": (_pattern_starts, False),
     "offset": (lambda p, r, tt, base, model, t: [{**p, "offset": float(np.mean(r))}], None),
 }
 
