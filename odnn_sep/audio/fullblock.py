@@ -152,7 +152,7 @@ class FullBlockFitter:
             self._ready[slot] = (i0, n, centre)
 
     def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts, n: int | None = None,
-            slot: int = 0):
+            slot: int = 0, known_tracked: bool = False):
         """``theta (2 * lines, C)`` for the block whose samples ``i0 .. i0 + n`` are ``parts``
         (consecutive (m, C) pieces; ``n`` defaults to the full block, a shorter one is weighted
         by a Hann over its ``n`` samples), or None when the closed-form Gram does not hold (a
@@ -160,8 +160,14 @@ class FullBlockFitter:
         the basis is not well conditioned in float32: the caller then uses
         :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`block_hum`
         until the next call: those :meth:`prepare` left in ``slot`` when they are this block's,
-        else evaluated into ``slot`` here (why nine parameters: the block, its track, its samples
-        and the slot)."""
+        else evaluated into ``slot`` here (why ten parameters: the block, its track, its samples,
+        the slot and what is known).
+
+        ``known_tracked``: the caller replaces the tracked comb's fitted amplitudes by amplitudes
+        it already has (the amplitude paths). Where no fixed line is coupled to a harmonic (the
+        Gram matrix is block diagonal), the fixed lines' solution does not depend on the tracked
+        sums, so they are not formed (their rows of ``theta`` are zero); without fixed lines the
+        samples are not weighted at all. The fixed lines' values are the same either way."""
         n = self.L if n is None else int(n)
         sr = self.sr
         pm = self.pm
@@ -182,6 +188,7 @@ class FullBlockFitter:
             # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
             # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
             near = np.abs(kk[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
+            known_tracked = known_tracked and not near.any()
             if near.any():
                 G[:pm, pm: pm + self.pf] = self._near_gram(i0, n, centre, f0, rate, curv, near)
                 G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
@@ -190,13 +197,20 @@ class FullBlockFitter:
         fac = factor_gram(G)
         if fac.rcond < 1e-3:                 # not positive definite (rcond 0) or cond > 1e3: general path
             return None
-        Yw = self.weighted(parts, w32)
-        rhs_r = self.fixed_sums(Yw, n)
+        C = parts[0].shape[1]
         if pm:
             if self._ready.get(slot) != (i0, n, centre):
                 self.prepare(i0, n, centre, f0, rate, curv, slot)
             self.Z = self._Zs[slot]
-            rhs = np.vstack([self.tracked_sums(Yw, n), rhs_r])
+        if pm and known_tracked and not self.pf:
+            # only the tracked comb, its amplitudes given: nothing to sum (the nuisance columns'
+            # coefficients are not part of the hum)
+            return np.zeros((pm, C))
+        Yw = self.weighted(parts, w32)
+        rhs_r = self.fixed_sums(Yw, n)
+        if pm:
+            rhs_m = np.zeros((pm, C)) if known_tracked else self.tracked_sums(Yw, n)
+            rhs = np.vstack([rhs_m, rhs_r])
         else:
             rhs = rhs_r
         theta = fac.solve(rhs)
