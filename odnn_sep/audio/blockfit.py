@@ -26,6 +26,7 @@ from odnn_sep.audio.lines import LineSet
 
 STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line counts as steady (~1 % test)
 AHEAD = True           # evaluate the next block's harmonic powers in a worker thread
+STRETCHES = True       # along a refined phase: the powers once per half block (stretch.py), not per block
 
 
 @dataclass(frozen=True)
@@ -193,6 +194,8 @@ class _FitPass:
         self.w32_full = self.fitter.window(L)[1] if self.fitter is not None else self.w_full.astype(np.float32)
         if self.fitter is not None:
             self.fitter.phase = getattr(trk, "phase", None)
+            if STRETCHES:
+                self.fitter.use_stretches(plan.hop, plan.n_frames)
         pool_fixed = settings.fixed_psd is not None and nfix > 0
         self.pool_main = settings.main_psd is not None and len(ks) > 0
         self.M = settings.smooth_blocks if (pool_fixed or self.pool_main) else 0
