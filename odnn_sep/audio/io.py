@@ -88,6 +88,7 @@ class FileSource:
 
         from odnn_sep.io_utils import check_input_path
 
+        self._ahead = self._end = self._reader = None     # read-ahead state (:meth:`read`)
         self.path = check_input_path(path, what="input audio file")
         self.name = str(self.path)
         try:
@@ -118,12 +119,41 @@ class FileSource:
             log.warning(self.truncated)
 
     def read(self, start: int, n: int) -> np.ndarray:
-        import soundfile as sf
-
+        """Samples ``start .. start + n`` (clipped to the file), float64 (m, channels). After two
+        consecutive reads the next stretch of the same length is read ahead in a worker thread
+        (the sound-file library releases the GIL), so a pass over the file decodes while the
+        caller computes; the values are the same."""
         start = max(start, 0)
         n = max(0, min(n, self.frames - start))
         if n == 0:
             return np.zeros((0, self.channels))
+        ahead, self._ahead = self._ahead, None
+        if ahead is not None and ahead[0] == (start, n):
+            out = ahead[1].result()
+        else:
+            if ahead is not None:
+                # a read-ahead not asked for: let it finish (the file has one position), unused
+                from concurrent.futures import wait
+
+                wait([ahead[1]])
+            out = self._read_now(start, n)
+        if self._end == start and start + n < self.frames:
+            nxt = (start + n, min(n, self.frames - start - n))
+            self._ahead = (nxt, self._pool().submit(self._read_now, *nxt))
+        self._end = start + n
+        return out
+
+    def _pool(self):
+        pool = self._reader
+        if pool is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            pool = self._reader = ThreadPoolExecutor(max_workers=1, thread_name_prefix="audio-read")
+        return pool
+
+    def _read_now(self, start: int, n: int) -> np.ndarray:
+        import soundfile as sf
+
         try:
             self.f.seek(start)
             out = self.f.read(n, dtype="float64", always_2d=True)
@@ -142,6 +172,13 @@ class FileSource:
         return out
 
     def close(self):
+        ahead, self._ahead = self._ahead, None
+        pool = self._reader
+        if ahead is not None:
+            ahead[1].cancel()
+        if pool is not None:
+            pool.shutdown(wait=True)
+            self._reader = None
         self.f.close()
 
 
