@@ -60,6 +60,10 @@ class ArraySource:
     def read(self, start: int, n: int) -> np.ndarray:
         return self.data[max(start, 0): max(start + n, 0)]
 
+    def reopen(self) -> ArraySource:
+        """A source for another thread (an array is read without state: itself)."""
+        return self
+
     def close(self):
         pass
 
@@ -142,6 +146,29 @@ class FileSource:
             self._ahead = (nxt, self._pool().submit(self._read_now, *nxt))
         self._end = start + n
         return out
+
+    def reopen(self) -> FileSource:
+        """The same file opened again, for reading from another thread (a sound file has one
+        position); close it after use. The checks of the first opening are not repeated.
+
+        Examples
+        --------
+        >>> import os, tempfile, numpy as np, soundfile as sf
+        >>> p = os.path.join(tempfile.mkdtemp(), "a.wav")
+        >>> sf.write(p, np.arange(8) / 10, 8000, subtype="FLOAT")
+        >>> src = FileSource(p); other = src.reopen()
+        >>> other.read(2, 3).ravel().round(3).tolist(), src.read(0, 1).ravel().tolist()
+        ([0.2, 0.3, 0.4], [0.0])
+        >>> other.close(); src.close()
+        """
+        import copy
+
+        import soundfile as sf
+
+        other = copy.copy(self)
+        other.f = sf.SoundFile(str(self.path))
+        other._ahead = other._end = other._reader = None
+        return other
 
     def _pool(self):
         pool = self._reader
