@@ -209,7 +209,8 @@ class _FitPass:
         # every tracked line of every block gets its amplitude from the paths (steadypath.py): the
         # block fit's own tracked amplitudes are then never used (pooled history included)
         ma = settings.main_amps
-        self.known_tracked = ma is not None and len(ks) > 0 and bool(np.isfinite(ma).all())
+        if self.fitter is not None:
+            self.fitter.amplitudes_given = ma is not None and len(ks) > 0 and bool(np.isfinite(ma).all())
         self.zs, self.vs = [], []
 
     def block(self, b: int, parts, n: int):
@@ -252,8 +253,7 @@ class _FitPass:
         theta = Fm = None
         if self.settings.solver == "exact":
             # blocks cut by the signal's ends too: fitted under a Hann over their visible part
-            theta = self.fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n, slot=b % 2,
-                                    known_tracked=self.known_tracked)
+            theta = self.fitter.fit(i0, b * hop, trk.f0[b], trk.rate[b], trk.curv[b], parts, n=n, slot=b % 2)
         if theta is None:
             # fit weights: the block's window, or a Hann over the visible part of a block cut
             # by the signal's start/end (a one-sided window would leak the content onto the lines)

@@ -84,6 +84,7 @@ class FullBlockFitter:
         self.phase = None      # finetrack.PhaseTrack: set to fit along the refined phase
         self.stretches = None  # stretch.StretchPowers: powers per half block (:meth:`use_stretches`)
         self._parts = None     # the last fitted block's stretches (:meth:`fit`, :meth:`block_hum`)
+        self.amplitudes_given = False   # the caller replaces the tracked amplitudes (:meth:`fit`)
         # chunk table: fixed columns over one chunk (as block_basis from sample 0), then 1 and u
         c = int(max(1, min(chunk, L)))
         self.c, self.nch = c, -(-L // c)
@@ -166,7 +167,7 @@ class FullBlockFitter:
             self._ready[slot] = (i0, n, centre)
 
     def fit(self, i0: int, centre: int, f0: float, rate: float, curv: float, parts, n: int | None = None,
-            slot: int = 0, known_tracked: bool = False):
+            slot: int = 0):
         """``theta (2 * lines, C)`` for the block whose samples ``i0 .. i0 + n`` are ``parts``
         (consecutive (m, C) pieces; ``n`` defaults to the full block, a shorter one is weighted
         by a Hann over its ``n`` samples), or None when the closed-form Gram does not hold (a
@@ -174,40 +175,24 @@ class FullBlockFitter:
         the basis is not well conditioned in float32: the caller then uses
         :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`block_hum`
         until the next call: those :meth:`prepare` left in ``slot`` when they are this block's,
-        else evaluated into ``slot`` here (why ten parameters: the block, its track, its samples,
-        the slot and what is known).
+        else evaluated into ``slot`` here (why nine parameters: the block, its track, its samples
+        and the slot).
 
-        ``known_tracked``: the caller replaces the tracked comb's fitted amplitudes by amplitudes
-        it already has (the amplitude paths). Where no fixed line is coupled to a harmonic (the
-        Gram matrix is block diagonal), the fixed lines' solution does not depend on the tracked
-        sums, so they are not formed (their rows of ``theta`` are zero); without fixed lines the
-        samples are not weighted at all. The fixed lines' values are the same either way."""
+        With :attr:`amplitudes_given` set (the caller replaces the tracked comb's fitted
+        amplitudes by amplitudes it already has, the amplitude paths), where no fixed line is
+        coupled to a harmonic (the Gram matrix is block diagonal) the fixed lines' solution does
+        not depend on the tracked sums, so they are not formed (their rows of ``theta`` are zero);
+        without fixed lines the samples are not weighted at all. The fixed lines' values are the
+        same either way."""
         n = self.L if n is None else int(n)
-        sr = self.sr
         pm = self.pm
         if n < 16 or n > self.L:
             return None
-        w, w32, wsum = self.window(n)
-        G_rr = self.gram_fixed(n)
-        if pm:
-            kk = np.asarray(self.ks, float)
-            fk = kk * f0
-            margin = NEAR_BINS * sr / n
-            if fk.min() < margin or fk.max() > sr / 2 - margin or (len(kk) > 1 and np.diff(fk).min() < margin):
-                return None
-            G = np.zeros((pm + G_rr.shape[0],) * 2)
-            G[:pm, :pm] = np.diag(np.full(pm, 0.5 * wsum))
-            G[pm:, pm:] = G_rr
-            # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
-            # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
-            # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
-            near = np.abs(kk[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
-            known_tracked = known_tracked and not near.any()
-            if near.any():
-                G[:pm, pm: pm + self.pf] = self._near_gram(i0, n, centre, f0, rate, curv, near)
-                G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
-        else:
-            G = G_rr
+        w32 = self.window(n)[1]
+        G, coupled = self._block_gram(i0, n, centre, f0, rate, curv)
+        if G is None:
+            return None
+        known_tracked = self.amplitudes_given and not coupled
         fac = factor_gram(G)
         if fac.rcond < 1e-3:                 # not positive definite (rcond 0) or cond > 1e3: general path
             return None
@@ -238,6 +223,30 @@ class FullBlockFitter:
             th_f = np.empty_like(th_f)
             th_f[0::2], th_f[1::2] = z.real, -z.imag
         return np.vstack([th_m, th_f])
+
+    def _block_gram(self, i0: int, n: int, centre: int, f0: float, rate: float, curv: float):
+        """The block's Gram matrix and whether a fixed line is coupled to a tracked harmonic;
+        ``(None, False)`` where the closed form does not hold (see :meth:`fit`)."""
+        pm, sr = self.pm, self.sr
+        G_rr = self.gram_fixed(n)
+        if not pm:
+            return G_rr, False
+        kk = np.asarray(self.ks, float)
+        fk = kk * f0
+        margin = NEAR_BINS * sr / n
+        if fk.min() < margin or fk.max() > sr / 2 - margin or (len(kk) > 1 and np.diff(fk).min() < margin):
+            return None, False
+        G = np.zeros((pm + G_rr.shape[0],) * 2)
+        G[:pm, :pm] = np.diag(np.full(pm, 0.5 * self.window(n)[2]))
+        G[pm:, pm:] = G_rr
+        # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
+        # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
+        # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
+        near = np.abs(kk[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
+        if near.any():
+            G[:pm, pm: pm + self.pf] = self._near_gram(i0, n, centre, f0, rate, curv, near)
+            G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
+        return G, bool(near.any())
 
     def fixed_sums(self, Yw, n: int) -> np.ndarray:
         """Sums of the weighted samples ``Yw`` (C, nch * c; zero past ``n``) against the fixed

@@ -92,7 +92,7 @@ class FileSource:
 
         from odnn_sep.io_utils import check_input_path
 
-        self._ahead = self._end = self._reader = None     # read-ahead state (:meth:`read`)
+        self.reset_read_ahead()                               # read-ahead state (:meth:`read`)
         self.path = check_input_path(path, what="input audio file")
         self.name = str(self.path)
         try:
@@ -167,8 +167,12 @@ class FileSource:
 
         other = copy.copy(self)
         other.f = sf.SoundFile(str(self.path))
-        other._ahead = other._end = other._reader = None
+        other.reset_read_ahead()
         return other
+
+    def reset_read_ahead(self):
+        """Start without read-ahead state (no read in flight, no previous read, no worker)."""
+        self._ahead = self._end = self._reader = None
 
     def _pool(self):
         pool = self._reader

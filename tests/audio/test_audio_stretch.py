@@ -60,11 +60,13 @@ def test_known_tracked_amplitudes_leave_the_fixed_lines_unchanged():
     Y = (np.cos(2 * np.pi * 60 * t / sr) + 0.3 * np.cos(2 * np.pi * 333.3 * t / sr + 1)
          + 0.1 * rng.standard_normal(L))[:, None]
     full = fr.fit(0, L // 2, 60.0, 0.0, 0.0, [Y])
-    part = fr.fit(0, L // 2, 60.0, 0.0, 0.0, [Y], known_tracked=True)
+    fr.amplitudes_given = True
+    part = fr.fit(0, L // 2, 60.0, 0.0, 0.0, [Y])
     np.testing.assert_array_equal(part[4:], full[4:])     # the fixed line: the same bits
     assert np.all(part[:4] == 0.0) and np.abs(full[:2]).max() > 0.5
     only = _fitter(L, sr, [1, 2], [], ph)
-    assert np.all(only.fit(0, L // 2, 60.0, 0.0, 0.0, [Y], known_tracked=True) == 0.0)
+    only.amplitudes_given = True
+    assert np.all(only.fit(0, L // 2, 60.0, 0.0, 0.0, [Y]) == 0.0)
 
 
 def test_file_read_ahead_returns_the_same_samples(tmp_path):
