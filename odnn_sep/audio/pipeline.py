@@ -128,6 +128,9 @@ def _analyse(source, opts: DenoiseOptions):
     det = _detect.detect_hum(spec_before, sr, mains=opts.mains, harmonics=opts.harmonics, tones=opts.tones,
                              alpha=opts.alpha, max_hz=opts.max_hz)
     ks_spec = list(det.harmonics)
+    # the spectrum's work arrays (two threads, two heap arenas) are freed: handed back before the
+    # chunk sums, the analysis's largest arrays, are made
+    release_freed_memory()
     bar = progress_bar(opts.progress, (2 if det.harmonics else 1) * N, "denoise")
     tick = (lambda k: bar.update(k)) if bar is not None else None
     comb = _lockcomb.choose(source, spec_before, det, mains=opts.mains, harmonics=opts.harmonics,
