@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from odnn_sep.audio.readahead import ReadAhead
 from odnn_sep.errors import FormatError, InputError, as_float_array
 
 log = logging.getLogger(__name__)
@@ -92,7 +93,6 @@ class FileSource:
 
         from odnn_sep.io_utils import check_input_path
 
-        self.reset_read_ahead()                               # read-ahead state (:meth:`read`)
         self.path = check_input_path(path, what="input audio file")
         self.name = str(self.path)
         try:
@@ -113,6 +113,7 @@ class FileSource:
             self.f.close()
             raise FormatError(f"input audio file {self.name!r} has no samples (0 frames)")
         self.truncated = None
+        self.reset_read_ahead()
         declared = wav_declared_frames(self.path, self.channels, self.subtype) if self.format == "WAV" else None
         if declared is not None and declared > self.frames:
             self.truncated = (
@@ -123,29 +124,13 @@ class FileSource:
             log.warning(self.truncated)
 
     def read(self, start: int, n: int) -> np.ndarray:
-        """Samples ``start .. start + n`` (clipped to the file), float64 (m, channels). After two
-        consecutive reads the next stretch of the same length is read ahead in a worker thread
-        (the sound-file library releases the GIL), so a pass over the file decodes while the
-        caller computes; the values are the same."""
+        """Samples ``start .. start + n`` (clipped to the file), float64 (m, channels); reads that
+        follow each other are read ahead in a worker thread (readahead.py), the same values."""
         start = max(start, 0)
         n = max(0, min(n, self.frames - start))
         if n == 0:
             return np.zeros((0, self.channels))
-        ahead, self._ahead = self._ahead, None
-        if ahead is not None and ahead[0] == (start, n):
-            out = ahead[1].result()
-        else:
-            if ahead is not None:
-                # a read-ahead not asked for: let it finish (the file has one position), unused
-                from concurrent.futures import wait
-
-                wait([ahead[1]])
-            out = self._read_now(start, n)
-        if self._end == start and start + n < self.frames:
-            nxt = (start + n, min(n, self.frames - start - n))
-            self._ahead = (nxt, self._pool().submit(self._read_now, *nxt))
-        self._end = start + n
-        return out
+        return self._reader.read(start, n)
 
     def reopen(self) -> FileSource:
         """The same file opened again, for reading from another thread (a sound file has one
@@ -172,15 +157,7 @@ class FileSource:
 
     def reset_read_ahead(self):
         """Start without read-ahead state (no read in flight, no previous read, no worker)."""
-        self._ahead = self._end = self._reader = None
-
-    def _pool(self):
-        pool = self._reader
-        if pool is None:
-            from concurrent.futures import ThreadPoolExecutor
-
-            pool = self._reader = ThreadPoolExecutor(max_workers=1, thread_name_prefix="audio-read")
-        return pool
+        self._reader = ReadAhead(self._read_now, self.frames)
 
     def _read_now(self, start: int, n: int) -> np.ndarray:
         import soundfile as sf
@@ -203,13 +180,7 @@ class FileSource:
         return out
 
     def close(self):
-        ahead, self._ahead = self._ahead, None
-        pool = self._reader
-        if ahead is not None:
-            ahead[1].cancel()
-        if pool is not None:
-            pool.shutdown(wait=True)
-            self._reader = None
+        self._reader.close()
         self.f.close()
 
 

@@ -30,6 +30,7 @@ from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lockcomb as _lockcomb
 from odnn_sep.audio import steadypath as _steadypath
 from odnn_sep.audio import track as _track
+from odnn_sep.audio.background import Background
 from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.lines import LineSet
 from odnn_sep.audio.options import DenoiseOptions, progress_bar
@@ -139,7 +140,7 @@ def _analyse(source, opts: DenoiseOptions):
     ks = comb.harmonics if comb is not None else []
     # only when the harmonics are the data's choice: a given count or list is removed as given
     further = bool(ks) and opts.harmonics == "auto" and MAX_COMBS > 1
-    with _Background() as bg:
+    with Background() as bg:
         # the finer spectrum of the further-comb search depends on the input only: it is computed
         # (from a second handle on the file) while the track and amplitudes are made
         fine = bg.spectrum(source, keep_hz) if further else None
@@ -157,7 +158,7 @@ def _analyse(source, opts: DenoiseOptions):
     return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps), bar
 
 
-def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: _Background):
+def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
     """Block plan, track (all zeros without hum) and whole-input harmonic amplitudes (one of the
     two computations from the chunk sums in ``bg``'s thread); the locked comb's family and lock
     statistics go into ``det``."""
@@ -188,53 +189,9 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: _Background):
     return plan, trk, h_amp, main_amps
 
 
-class _Background:
-    """One worker thread for analysis steps that do not depend on each other (NumPy releases the
-    GIL in their array work, so on two cores they overlap); the same computations as in turn.
-    A context manager: leaving it waits for what is still running."""
-
-    def __enter__(self):
-        from concurrent.futures import ThreadPoolExecutor
-
-        self.pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="denoise-analysis")
-        return self
-
-    def __exit__(self, *exc):
-        self.pool.shutdown(wait=True, cancel_futures=True)
-        return False
-
-    def submit(self, fn, *args):
-        return self.pool.submit(fn, *args)
-
-    def spectrum(self, source, keep_hz: float):
-        """The further-comb search's finer spectrum (:func:`fine_spectrum`), from a second handle."""
-        return self.submit(fine_spectrum, source, keep_hz)
-
-
-def fine_spectrum(source, keep_hz: float):
-    """The spectrum of the further-comb search: segments of a quarter of the input, 4-16 s, read
-    through a second handle on ``source`` (safe beside reads of the first one in another thread).
-
-    Examples
-    --------
-    >>> from odnn_sep.audio.io import ArraySource
-    >>> s = fine_spectrum(ArraySource(np.zeros(8000 * 20), 8000), 500.0)
-    >>> round(1 / s.df, 1)
-    5.0
-    """
-    sr, N = source.sr, source.frames
-    seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
-    src = source.reopen()
-    try:
-        return _detect.excerpt_spectrum(src, seg_s=seg_hr, keep_segments_hz=keep_hz)
-    finally:
-        if src is not source:
-            src.close()
-
-
 def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, spec_fine):
     """Further combs near the same nominal frequency, on the finer spectrum ``spec_fine``
-    (:func:`fine_spectrum`) with the tracked comb's lines (widened by how far the track wandered)
+    (:func:`background.fine_spectrum`) with the tracked comb's lines (widened by how far the track wandered)
     masked out: ``(combs, f_med, spec_fine)``."""
     sr = source.sr
     f_med = trk.median_f0(det.mains_hz)
