@@ -157,14 +157,14 @@ class FileSource:
 
     def reset_read_ahead(self):
         """Start without read-ahead state (no read in flight, no previous read, no worker)."""
-        self._reader = ReadAhead(self._read_now, self.frames)
+        self._reader = ReadAhead(self._read_now, self.frames, lambda n: np.empty((n, self.channels)))
 
-    def _read_now(self, start: int, n: int) -> np.ndarray:
+    def _read_now(self, start: int, n: int, out: np.ndarray | None = None) -> np.ndarray:
         import soundfile as sf
 
         try:
             self.f.seek(start)
-            out = self.f.read(n, dtype="float64", always_2d=True)
+            out = self.f.read(n, dtype="float64", always_2d=True, out=out)
         except (sf.LibsndfileError, RuntimeError) as exc:
             raise FormatError(f"could not read input audio file {self.name!r} at frame {start}: "
                               f"{str(exc).splitlines()[0]} (the file may be truncated or corrupt)") from None

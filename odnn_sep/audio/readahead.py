@@ -11,25 +11,36 @@ class ReadAhead:
     so a pass over a file decodes while the caller computes; the values are those of
     ``read_now``. Errors of a read ahead surface only when that stretch is asked for.
 
+    The array a read ahead fills is allocated by the caller's thread (``alloc``): freed there
+    later, its memory goes back to that thread's heap, where the caller's next arrays reuse it
+    (memory allocated by the worker would stay with the worker's heap arena, unused).
+
     Parameters
     ----------
     read_now : callable
-        ``read_now(start, n)`` -> the samples (not called from two threads at once).
+        ``read_now(start, n, out=None)`` -> the samples, into ``out`` when given (not called from
+        two threads at once).
     frames : int
         Length of the source.
+    alloc : callable
+        ``alloc(n)`` -> an empty array for ``n`` samples.
 
     Examples
     --------
     >>> import numpy as np
     >>> x = np.arange(10.0)
-    >>> ra = ReadAhead(lambda s, n: x[s: s + n].copy(), 10)
+    >>> def read_now(s, n, out=None):
+    ...     out = np.empty(n) if out is None else out
+    ...     out[:] = x[s: s + n]
+    ...     return out
+    >>> ra = ReadAhead(read_now, 10, np.empty)
     >>> [ra.read(s, min(3, 10 - s)).tolist() for s in (0, 3, 6, 9)]
     [[0.0, 1.0, 2.0], [3.0, 4.0, 5.0], [6.0, 7.0, 8.0], [9.0]]
     >>> ra.close()
     """
 
-    def __init__(self, read_now, frames: int):
-        self.read_now, self.frames = read_now, int(frames)
+    def __init__(self, read_now, frames: int, alloc):
+        self.read_now, self.frames, self.alloc = read_now, int(frames), alloc
         self._ahead = self._end = self._pool = None
 
     def read(self, start: int, n: int):
@@ -45,7 +56,7 @@ class ReadAhead:
             nxt = (start + n, min(n, self.frames - start - n))
             if self._pool is None:
                 self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="audio-read")
-            self._ahead = (nxt, self._pool.submit(self.read_now, *nxt))
+            self._ahead = (nxt, self._pool.submit(self.read_now, *nxt, self.alloc(nxt[1])))
         self._end = start + n
         return out
 
