@@ -33,6 +33,7 @@ POWER_FLOOR = 0.05           # weights capped at 1 / (this x the median power): 
                              # must not carry a whole block
 STEADY_SCATTER = 2.0
 BATCH_CHUNKS = 1 << 16       # chunks of blocks processed at once
+SEGMENT_BATCH = 1024         # local power: segments transformed at once (bounded work arrays)
 
 
 def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
@@ -76,11 +77,18 @@ def local_power(u: np.ndarray, fs: float) -> tuple[np.ndarray, np.ndarray]:
         band = f > 0
     hop = max(1, n // 4)
     starts = np.arange(0, J - n + 1, hop)
-    seg = r[starts[:, None] + np.arange(n)[None, :]] * win
-    # per-bin power of a windowed segment of white content of variance s^2 is s^2 sum(win^2)
-    P = np.abs(np.fft.fft(seg, axis=1)[:, band]) ** 2 / np.sum(win ** 2)
+    p_mean, p_med = np.empty(len(starts)), np.empty(len(starts))
+    # segments a batch at a time (each row on its own, so the same values): all of them at once
+    # were several times the chunk sums' size (the largest arrays of the analysis on long inputs)
+    for a in range(0, len(starts), SEGMENT_BATCH):
+        st = starts[a: a + SEGMENT_BATCH]
+        seg = r[st[:, None] + np.arange(n)[None, :]] * win
+        # per-bin power of a windowed segment of white content of variance s^2 is s^2 sum(win^2)
+        P = np.abs(np.fft.fft(seg, axis=1)[:, band]) ** 2 / np.sum(win ** 2)
+        p_mean[a: a + len(st)] = P.mean(axis=1)
+        p_med[a: a + len(st)] = np.median(P, axis=1)
     out = []
-    for p in (P.mean(axis=1), np.median(P, axis=1) / np.log(2.0)):
+    for p in (p_mean, p_med / np.log(2.0)):
         pj = np.interp(np.arange(J), starts + (n - 1) / 2, p)
         med = float(np.median(pj))
         out.append(np.maximum(pj, POWER_FLOOR * med) if med > 0 else np.maximum(pj, 1e-300))

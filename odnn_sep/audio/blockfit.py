@@ -26,6 +26,7 @@ from odnn_sep.audio.lines import LineSet
 
 STEADY_SCATTER = 2.0   # scatter over the noise prediction below which a line counts as steady (~1 % test)
 AHEAD = True           # evaluate the next block's harmonic powers in a worker thread
+STRETCHES = True       # along a refined phase: the powers once per half block (stretch.py), not per block
 
 
 @dataclass(frozen=True)
@@ -193,6 +194,8 @@ class _FitPass:
         self.w32_full = self.fitter.window(L)[1] if self.fitter is not None else self.w_full.astype(np.float32)
         if self.fitter is not None:
             self.fitter.phase = getattr(trk, "phase", None)
+            if STRETCHES:
+                self.fitter.use_stretches(plan.hop, plan.n_frames)
         pool_fixed = settings.fixed_psd is not None and nfix > 0
         self.pool_main = settings.main_psd is not None and len(ks) > 0
         self.M = settings.smooth_blocks if (pool_fixed or self.pool_main) else 0
@@ -203,6 +206,11 @@ class _FitPass:
         self.Phi = _block_phase(trk, plan.hop, self.sr) if self.pool_main else None
         self.kk = np.asarray(ks, float)
         self.basis_cache, self.sub_cache = {"min_n": L}, {"min_n": L}
+        # every tracked line of every block gets its amplitude from the paths (steadypath.py): the
+        # block fit's own tracked amplitudes are then never used (pooled history included)
+        ma = settings.main_amps
+        if self.fitter is not None:
+            self.fitter.amplitudes_given = ma is not None and len(ks) > 0 and bool(np.isfinite(ma).all())
         self.zs, self.vs = [], []
 
     def block(self, b: int, parts, n: int):

@@ -8,11 +8,11 @@ from odnn_sep.audio import fit as _fit
 from odnn_sep.audio import gram as _gram
 from odnn_sep.audio.blockplan import sin2_window
 from odnn_sep.audio.lines import as_combs
+from odnn_sep.audio.stretch import WHOLE_CHUNK, StretchPowers, phasor_powers
 from odnn_sep.core.linalg import factor_gram
 
 NEAR_BINS = 64.0   # lines closer than this many window bins are coupled in the Gram matrix
 CHUNK = 4096       # samples per chunk of the fixed-line table (its products stay in cache)
-WHOLE_CHUNK = 1 << 16   # samples per step of the phase's rounding to whole cycles (a small work array)
 
 
 class FullBlockFitter:
@@ -82,6 +82,9 @@ class FullBlockFitter:
         self._grr, self._near = {}, {}
         self.tau_cache = {"min_n": L}
         self.phase = None      # finetrack.PhaseTrack: set to fit along the refined phase
+        self.stretches = None  # stretch.StretchPowers: powers per half block (:meth:`use_stretches`)
+        self._parts = None     # the last fitted block's stretches (:meth:`fit`, :meth:`block_hum`)
+        self.amplitudes_given = False   # the caller replaces the tracked amplitudes (:meth:`fit`)
         # chunk table: fixed columns over one chunk (as block_basis from sample 0), then 1 and u
         c = int(max(1, min(chunk, L)))
         self.c, self.nch = c, -(-L // c)
@@ -99,6 +102,14 @@ class FullBlockFitter:
         self._ready = {}       # slot -> the block (i0, n, centre) whose powers it holds
         self._Yw = None
         self._bufs = {}
+
+    def use_stretches(self, hop: int, n_frames: int):
+        """Evaluate the tracked comb's powers once per half block (stretch.py) instead of once per
+        block: needs the refined phase (``self.phase``) and blocks of ``2 hop`` samples centred
+        at multiples of ``hop``. The same sums and hum as per block, to single-precision rounding
+        of the powers (half the evaluations)."""
+        if self.pm and self.phase is not None and self.L == 2 * hop:
+            self.stretches = StretchPowers(self.ks, hop, n_frames, self.phase)
 
     def window(self, n: int):
         """``(w, w float32, sum w)``: the sin^2 fit window over ``n`` samples (the block's own for
@@ -146,6 +157,10 @@ class FullBlockFitter:
         """Evaluate the tracked comb's powers for the block ``i0 .. i0 + n`` (centre ``centre``)
         into ``slot`` (0 or 1) ahead of its :meth:`fit`. Safe in a worker thread while the other
         slot is in use (every work array it touches is the slot's own)."""
+        if self.stretches is not None:
+            # this block's own stretch (the one before it was its predecessor's)
+            self.stretches.compute(centre // self.stretches.hop)
+            return
         self._ready.pop(slot, None)
         if self.pm and 16 <= n <= self.L:
             self._powers(i0, n, centre, f0, rate, curv, slot)
@@ -161,42 +176,42 @@ class FullBlockFitter:
         :func:`fit.solve_block`. The tracked comb's powers are kept for :meth:`block_hum`
         until the next call: those :meth:`prepare` left in ``slot`` when they are this block's,
         else evaluated into ``slot`` here (why nine parameters: the block, its track, its samples
-        and the slot)."""
+        and the slot).
+
+        With :attr:`amplitudes_given` set (the caller replaces the tracked comb's fitted
+        amplitudes by amplitudes it already has, the amplitude paths), where no fixed line is
+        coupled to a harmonic (the Gram matrix is block diagonal) the fixed lines' solution does
+        not depend on the tracked sums, so they are not formed (their rows of ``theta`` are zero);
+        without fixed lines the samples are not weighted at all. The fixed lines' values are the
+        same either way."""
         n = self.L if n is None else int(n)
-        sr = self.sr
         pm = self.pm
         if n < 16 or n > self.L:
             return None
-        w, w32, wsum = self.window(n)
-        G_rr = self.gram_fixed(n)
-        if pm:
-            kk = np.asarray(self.ks, float)
-            fk = kk * f0
-            margin = NEAR_BINS * sr / n
-            if fk.min() < margin or fk.max() > sr / 2 - margin or (len(kk) > 1 and np.diff(fk).min() < margin):
-                return None
-            G = np.zeros((pm + G_rr.shape[0],) * 2)
-            G[:pm, :pm] = np.diag(np.full(pm, 0.5 * wsum))
-            G[pm:, pm:] = G_rr
-            # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
-            # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
-            # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
-            near = np.abs(kk[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
-            if near.any():
-                G[:pm, pm: pm + self.pf] = self._near_gram(i0, n, centre, f0, rate, curv, near)
-                G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
-        else:
-            G = G_rr
+        w32 = self.window(n)[1]
+        G, coupled = self._block_gram(i0, n, centre, f0, rate, curv)
+        if G is None:
+            return None
+        known_tracked = self.amplitudes_given and not coupled
         fac = factor_gram(G)
         if fac.rcond < 1e-3:                 # not positive definite (rcond 0) or cond > 1e3: general path
             return None
-        Yw = self.weighted(parts, w32)
-        rhs_r = self.fixed_sums(Yw, n)
-        if pm:
+        C = parts[0].shape[1]
+        if pm and self.stretches is not None:
+            self._parts = self.stretches.parts(i0, n, centre)
+        elif pm:
             if self._ready.get(slot) != (i0, n, centre):
                 self.prepare(i0, n, centre, f0, rate, curv, slot)
             self.Z = self._Zs[slot]
-            rhs = np.vstack([self.tracked_sums(Yw, n), rhs_r])
+        if pm and known_tracked and not self.pf:
+            # only the tracked comb, its amplitudes given: nothing to sum (the nuisance columns'
+            # coefficients are not part of the hum)
+            return np.zeros((pm, C))
+        Yw = self.weighted(parts, w32)
+        rhs_r = self.fixed_sums(Yw, n)
+        if pm:
+            rhs_m = np.zeros((pm, C)) if known_tracked else self.tracked_sums(Yw, n)
+            rhs = np.vstack([rhs_m, rhs_r])
         else:
             rhs = rhs_r
         theta = fac.solve(rhs)
@@ -208,6 +223,30 @@ class FullBlockFitter:
             th_f = np.empty_like(th_f)
             th_f[0::2], th_f[1::2] = z.real, -z.imag
         return np.vstack([th_m, th_f])
+
+    def _block_gram(self, i0: int, n: int, centre: int, f0: float, rate: float, curv: float):
+        """The block's Gram matrix and whether a fixed line is coupled to a tracked harmonic;
+        ``(None, False)`` where the closed form does not hold (see :meth:`fit`)."""
+        pm, sr = self.pm, self.sr
+        G_rr = self.gram_fixed(n)
+        if not pm:
+            return G_rr, False
+        kk = np.asarray(self.ks, float)
+        fk = kk * f0
+        margin = NEAR_BINS * sr / n
+        if fk.min() < margin or fk.max() > sr / 2 - margin or (len(kk) > 1 and np.diff(fk).min() < margin):
+            return None, False
+        G = np.zeros((pm + G_rr.shape[0],) * 2)
+        G[:pm, :pm] = np.diag(np.full(pm, 0.5 * self.window(n)[2]))
+        G[pm:, pm:] = G_rr
+        # couplings between a tracked harmonic and a fixed line more than NEAR_BINS window
+        # bins away are below the window's sidelobes there (~1e-6): left at zero, so only
+        # the few close pairs (a second comb's k-th line beside the k-th harmonic) are summed
+        near = np.abs(kk[:, None] * f0 - (self.kf * self.fc)[None, :]) < margin
+        if near.any():
+            G[:pm, pm: pm + self.pf] = self._near_gram(i0, n, centre, f0, rate, curv, near)
+            G[pm: pm + self.pf, :pm] = G[:pm, pm: pm + self.pf].T
+        return G, bool(near.any())
 
     def fixed_sums(self, Yw, n: int) -> np.ndarray:
         """Sums of the weighted samples ``Yw`` (C, nch * c; zero past ``n``) against the fixed
@@ -229,35 +268,17 @@ class FullBlockFitter:
 
     def _powers(self, i0, n, centre, f0, rate, curv, slot: int = 0):
         """The tracked harmonics' phasors over samples ``i0 .. i0 + n`` into slot ``slot``'s
-        powers (``[:, :n]``): powers of one phasor per sample, by repeated multiplication (as
-        :func:`fit.block_basis`)."""
+        powers (``[:, :n]``): powers of one phasor per sample (stretch.phasor_powers)."""
         # phase in cycles; its fraction is rounded to float32 as it is written (work arrays kept
         # across blocks: fresh ones of a block's length cost more in page faults than the sums)
         if self.phase is not None:
             cyc = self.phase.cycles(i0, n, centre, scratch=slot)
         else:
             cyc = _fit.tracked_cycles(self._tau(i0, n, centre), f0, rate, curv)
-        r32 = self._buffer(f"r32{slot}", np.float32, self.L)[:n]
-        whole = self._buffer(f"whole{slot}", np.float64, WHOLE_CHUNK)
-        for a in range(0, n, WHOLE_CHUNK):          # (elementwise: the chunking changes no value)
-            b = min(a + WHOLE_CHUNK, n)
-            np.rint(cyc[a:b], out=whole[: b - a])
-            np.subtract(cyc[a:b], whole[: b - a], out=r32[a:b], casting="same_kind")
         if self._Zs[slot] is None:
             self._Zs[slot] = np.empty_like(self._Zs[0])
-        Z = self._Zs[slot][:, :n]
-        z = Z[0] if self.ks[0] == 1 else np.empty(n, np.complex64)
-        r32 *= np.float32(2 * np.pi)
-        np.cos(r32, out=z.real)
-        np.sin(r32, out=z.imag)
-        kprev, src = 1, z
-        for i, k in enumerate(self.ks):
-            if k == 1:
-                continue
-            np.multiply(src, z, out=Z[i])
-            for _ in range(k - kprev - 1):
-                np.multiply(Z[i], z, out=Z[i])
-            kprev, src = k, Z[i]
+        phasor_powers(cyc, self.ks, self._Zs[slot], self._buffer(f"r32{slot}", np.float32, self.L),
+                      self._buffer(f"whole{slot}", np.float64, WHOLE_CHUNK))
 
     def _tau(self, i0: int, n: int, centre: int) -> np.ndarray:
         """Times (s) of samples ``i0 .. i0 + n`` from the block centre (kept for full blocks: every
@@ -286,7 +307,13 @@ class FullBlockFitter:
         Yc = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
         Yc.real = Yw[:, :n]
         Yc.imag = 0.0
-        X = np.dot(self.Z[:, :n], Yc.T)                                              # (K, C)
+        if self.stretches is not None:
+            X = np.zeros((len(self.ks), C), complex)
+            for P, a, m, rho in self._parts:
+                Xp = np.dot(P, Yc[:, a: a + m].T)
+                X += Xp if rho is None else rho[:, None] * Xp
+        else:
+            X = np.dot(self.Z[:, :n], Yc.T)                                          # (K, C)
         out = np.empty((self.pm, C))
         out[0::2], out[1::2] = X.real, X.imag
         return out
@@ -309,7 +336,9 @@ class FullBlockFitter:
             coef[0::2], coef[1::2] = b.real, -b.imag
             np.dot(coef.reshape(self.pf, C * nch).T, self.RcT, out=H)
         hum = H.reshape(C, nch * self.c)[:, :n]
-        if tracked and K:
+        if tracked and K and self.stretches is not None:
+            self._stretch_hum(z[:K], hum)
+        elif tracked and K:
             # (the complex samples' buffer of tracked_sums: free again once the block is solved)
             T = self._buffer("yc", np.complex64, C * self.L)[: C * n].reshape(C, n)
             np.dot(z[:K].T.astype(np.complex64), self.Z[:, :n], out=T)
@@ -320,6 +349,19 @@ class FullBlockFitter:
         elif not self.pf:
             hum[:] = 0.0
         return hum
+
+    def _stretch_hum(self, zk: np.ndarray, hum: np.ndarray):
+        """Add (or, without fixed lines, write) the tracked comb with amplitudes ``zk`` (K, C; block
+        reference) into ``hum`` (C, n) from the last fitted block's stretches."""
+        C = zk.shape[1]
+        for P, a, m, rho in self._parts:
+            coef = (zk if rho is None else zk * rho[:, None]).T.astype(np.complex64)
+            T = self._buffer("yc", np.complex64, C * self.L)[: C * m].reshape(C, m)
+            np.dot(coef, P, out=T)
+            if self.pf:
+                hum[:, a: a + m] += T.real
+            else:
+                np.add(T.real, np.float32(0.0), out=hum[:, a: a + m])
 
     def _near_gram(self, i0, n, centre, f0, rate, curv, near) -> np.ndarray:
         """Gram entries between the tracked columns and the fixed columns (pm, pf).

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from odnn_sep.audio.readahead import ReadAhead
 from odnn_sep.errors import FormatError, InputError, as_float_array
 
 log = logging.getLogger(__name__)
@@ -60,6 +61,10 @@ class ArraySource:
     def read(self, start: int, n: int) -> np.ndarray:
         return self.data[max(start, 0): max(start + n, 0)]
 
+    def reopen(self) -> ArraySource:
+        """A source for another thread (an array is read without state: itself)."""
+        return self
+
     def close(self):
         pass
 
@@ -108,6 +113,7 @@ class FileSource:
             self.f.close()
             raise FormatError(f"input audio file {self.name!r} has no samples (0 frames)")
         self.truncated = None
+        self.reset_read_ahead()
         declared = wav_declared_frames(self.path, self.channels, self.subtype) if self.format == "WAV" else None
         if declared is not None and declared > self.frames:
             self.truncated = (
@@ -118,15 +124,47 @@ class FileSource:
             log.warning(self.truncated)
 
     def read(self, start: int, n: int) -> np.ndarray:
-        import soundfile as sf
-
+        """Samples ``start .. start + n`` (clipped to the file), float64 (m, channels); reads that
+        follow each other are read ahead in a worker thread (readahead.py), the same values."""
         start = max(start, 0)
         n = max(0, min(n, self.frames - start))
         if n == 0:
             return np.zeros((0, self.channels))
+        return self._reader.read(start, n)
+
+    def reopen(self) -> FileSource:
+        """The same file opened again, for reading from another thread (a sound file has one
+        position); close it after use. The checks of the first opening are not repeated.
+
+        Examples
+        --------
+        >>> import os, tempfile, numpy as np, soundfile as sf
+        >>> p = os.path.join(tempfile.mkdtemp(), "a.wav")
+        >>> sf.write(p, np.arange(8) / 10, 8000, subtype="FLOAT")
+        >>> src = FileSource(p); other = src.reopen()
+        >>> other.read(2, 3).ravel().round(3).tolist(), src.read(0, 1).ravel().tolist()
+        ([0.2, 0.3, 0.4], [0.0])
+        >>> other.close(); src.close()
+        """
+        import copy
+
+        import soundfile as sf
+
+        other = copy.copy(self)
+        other.f = sf.SoundFile(str(self.path))
+        other.reset_read_ahead()
+        return other
+
+    def reset_read_ahead(self):
+        """Start without read-ahead state (no read in flight, no previous read, no worker)."""
+        self._reader = ReadAhead(self._read_now, self.frames, lambda n: np.empty((n, self.channels)))
+
+    def _read_now(self, start: int, n: int, out: np.ndarray | None = None) -> np.ndarray:
+        import soundfile as sf
+
         try:
             self.f.seek(start)
-            out = self.f.read(n, dtype="float64", always_2d=True)
+            out = self.f.read(n, dtype="float64", always_2d=True, out=out)
         except (sf.LibsndfileError, RuntimeError) as exc:
             raise FormatError(f"could not read input audio file {self.name!r} at frame {start}: "
                               f"{str(exc).splitlines()[0]} (the file may be truncated or corrupt)") from None
@@ -142,6 +180,7 @@ class FileSource:
         return out
 
     def close(self):
+        self._reader.close()
         self.f.close()
 
 

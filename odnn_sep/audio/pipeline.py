@@ -30,6 +30,7 @@ from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lockcomb as _lockcomb
 from odnn_sep.audio import steadypath as _steadypath
 from odnn_sep.audio import track as _track
+from odnn_sep.audio.background import Background
 from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.lines import LineSet
 from odnn_sep.audio.options import DenoiseOptions, progress_bar
@@ -128,29 +129,39 @@ def _analyse(source, opts: DenoiseOptions):
     det = _detect.detect_hum(spec_before, sr, mains=opts.mains, harmonics=opts.harmonics, tones=opts.tones,
                              alpha=opts.alpha, max_hz=opts.max_hz)
     ks_spec = list(det.harmonics)
+    # the spectrum's work arrays (two threads, two heap arenas) are freed: handed back before the
+    # chunk sums, the analysis's largest arrays, are made
+    release_freed_memory()
     bar = progress_bar(opts.progress, (2 if det.harmonics else 1) * N, "denoise")
     tick = (lambda k: bar.update(k)) if bar is not None else None
     comb = _lockcomb.choose(source, spec_before, det, mains=opts.mains, harmonics=opts.harmonics,
                             alpha=opts.alpha, max_hz=opts.max_hz, tones=det.tones,
                             progress=tick) if det.harmonics else None
-    plan, trk, h_amp, main_amps = _plan_and_track(source, opts, det, comb)
     ks = comb.harmonics if comb is not None else []
-    if not ks and not det.tones:
-        log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and persist); "
-                    "the output equals the input", "50 and 60 Hz" if opts.mains == "auto" else f"{opts.mains:g} Hz")
-    # the finest spectrum at hand: the high-resolution one when the comb is looked at again
-    combs, f_med, spec_fine = [], det.mains_hz, spec_before
     # only when the harmonics are the data's choice: a given count or list is removed as given
-    if ks and opts.harmonics == "auto" and MAX_COMBS > 1:
-        combs, f_med, spec_fine = _further_combs(source, opts, det, trk, plan, ks, ks_spec, keep_hz)
+    further = bool(ks) and opts.harmonics == "auto" and MAX_COMBS > 1
+    with Background() as bg:
+        # the finer spectrum of the further-comb search depends on the input only: it is computed
+        # (from a second handle on the file) while the track and amplitudes are made
+        fine = bg.spectrum(source, keep_hz) if further else None
+        plan, trk, h_amp, main_amps = _plan_and_track(source, opts, det, comb, bg)
+        if not ks and not det.tones:
+            log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
+                        "persist); the output equals the input",
+                        "50 and 60 Hz" if opts.mains == "auto" else f"{opts.mains:g} Hz")
+        # the finest spectrum at hand: the high-resolution one when the comb is looked at again
+        combs, f_med, spec_fine = [], det.mains_hz, spec_before
+        if further:
+            combs, f_med, spec_fine = _further_combs(source, opts, det, trk, plan, ks, ks_spec, fine.result())
     tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
     lines = LineSet(harmonics=ks, tones=tones, combs=combs)
     return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps), bar
 
 
-def _plan_and_track(source, opts: DenoiseOptions, det, comb):
-    """Block plan, track (all zeros without hum) and whole-input harmonic amplitudes; the locked
-    comb's family and lock statistics go into ``det``."""
+def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
+    """Block plan, track (all zeros without hum) and whole-input harmonic amplitudes (one of the
+    two computations from the chunk sums in ``bg``'s thread); the locked comb's family and lock
+    statistics go into ``det``."""
     sr, N = source.sr, source.frames
     block_s = opts.block_s
     if opts.auto_block and (comb is None or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
@@ -171,21 +182,21 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb):
     plan = BlockPlan.from_block_s(block_s, sr, N)
     trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan)
     # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
-    h_amp = dict(zip(ks, _amplitude.steady_amplitudes(comb.D, comb.f_ref, ks, trk, plan).T, strict=True))
+    steady = bg.submit(_amplitude.steady_amplitudes, comb.D, comb.f_ref, ks, trk, plan)
     main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan)
+    h_amp = dict(zip(ks, steady.result().T, strict=True))
     comb.D = None
     return plan, trk, h_amp, main_amps
 
 
-def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, keep_hz):
-    """Further combs near the same nominal frequency, on a finer spectrum with the tracked comb's
-    lines (widened by how far the track wandered) masked out: ``(combs, f_med, spec_fine)``."""
-    sr, N = source.sr, source.frames
+def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, spec_fine):
+    """Further combs near the same nominal frequency, on the finer spectrum ``spec_fine``
+    (:func:`background.fine_spectrum`) with the tracked comb's lines (widened by how far the track wandered)
+    masked out: ``(combs, f_med, spec_fine)``."""
+    sr = source.sr
     f_med = trk.median_f0(det.mains_hz)
     spread = float(np.ptp(trk.f0)) if len(trk.f0) > 1 else 0.0
     log.debug("track spread %.4f Hz", spread)
-    seg_hr = float(np.clip(N / sr / 4, 4.0, 16.0))
-    spec_fine = _detect.excerpt_spectrum(source, seg_s=seg_hr, keep_segments_hz=keep_hz)
     df_hr = spec_fine.df
     # as far up as the comb the spectrum showed (a line there that is not locked to the
     # track may belong to a further comb), at most twice the locked comb's reach
