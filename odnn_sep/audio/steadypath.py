@@ -6,16 +6,19 @@ of that freedom fits the content under the line instead (noise, a note partial),
 fit's pooling (blockfit.py) only looks back a few blocks. Here, from pass 1's chunk sums:
 
 1. per block and line, the generalised least-squares mean of the tracked baseband over the
-   block's sin^2 window, every chunk weighted by the inverse content power near the line
-   (:func:`odnn_sep.audio.amplitude.local_power`): the loud moments of music and speech count for
-   what they are worth;
+   block's sin^2 window, every chunk weighted by the inverse content power right beside the line
+   (:func:`odnn_sep.audio.nearpower.near_power`, a note partial 0.5 Hz away included): the loud
+   moments of music and speech count for what they are worth, the hum is read in the rests;
 2. per line, the block amplitudes smoothed by a Hann kernel over ``H`` blocks (or all of them:
    one steady amplitude), ``H`` chosen by cross-validation: each block predicted from the blocks
    that share none of its samples. A steady line takes the whole input; a line whose amplitude or
    phase against the track moves (amplitude modulation, a track error at a high harmonic) takes a
-   shorter span; where even the shortest span is best, the block fit's own amplitudes stay.
-   (The held-out error is compared between spans only: its size against the blocks' own noise
-   says little, that noise being measured beside the line, not under it.)
+   shorter span. The block fit's own amplitudes stay where even the shortest span is best while
+   the blocks scatter more than their noise, or where the path's miss exceeds the block fit's own
+   error (measured per block, see :func:`_weighted_mean`; medians over the blocks, so that one
+   block held by a loud partial does not decide). (The held-out error is compared between spans
+   only: its size against the blocks' own noise says little, that noise being measured beside
+   the line, not under it.)
 
 The block fit (blockfit.py) then subtracts these amplitudes for the tracked comb, in each block's
 own phase reference.
@@ -27,10 +30,13 @@ import numpy as np
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.amplitude import local_power
 from odnn_sep.audio.blockplan import BlockPlan, sin2_window
+from odnn_sep.audio.nearpower import near_power
 
 SPANS = (None, 16, 8, 4, 3)  # Hann half-widths tried (blocks); None: one amplitude for the whole input;
-                             # when the last (only the blocks next but one) wins, the block fit stays
+                             # when the last (only the blocks next but one) wins and the blocks scatter
+                             # more than their noise, the block fit stays
 MIN_BLOCKS = 6              # fewer blocks: the block fit's own amplitudes are kept
+SHORTER_MARGIN = 0.02       # a shorter span must predict held-out blocks this much better to be chosen
 EXCLUDE = 1                 # blocks this close share samples with the one predicted (50 % overlap)
 
 
@@ -83,24 +89,36 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
         rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
         for c in range(C):
             u = D[:, c, i].astype(np.complex128) * rot
-            p_mean, p_med = local_power(u, fs)
+            # weights: the content right beside the line, moment by moment (a note partial 0.5 Hz
+            # away included); variance: the larger of that and the content 1.5-6 Hz away (the
+            # median over the offsets), so a block held by a partial throughout is not trusted
+            p_w = near_power(u, fs)
+            p_var = np.maximum(local_power(u, fs)[1], p_w)
             for b in range(nb):
                 if hi[b] > lo[b]:
                     sl = slice(lo[b], hi[b])
                     win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
-                    A[b, c, i], var[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_mean[sl], p_med[sl], m)
+                    A[b, c, i], var[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
     return A, var, var_eq
 
 
-def _weighted_mean(u, win, p_mean, p_med, m: int):
-    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude, its variance, and the
-    variance of the equal-weight mean (``0, inf, inf`` without weight)."""
-    w = win / p_mean
+def _weighted_mean(u, win, p_w, p_var, m: int):
+    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude (weights ``win / p_w``),
+    its variance (from ``p_var``), and the error variance of the equal-weight mean, the block
+    fit's (``0, inf, inf`` without weight).
+
+    The latter is measured, not modelled: the weighted mean being the generalised least-squares
+    one, the equal-weight mean differs from it by a term uncorrelated with it, so its variance is
+    ``E|a_eq - a_w|^2 + var(a_w)``; a partial that leaks into the block fit shows in that difference
+    whatever its offset from the line."""
+    w = win / p_w
     sw = w.sum()
     if sw <= 0:
         return 0.0, np.inf, np.inf
-    return ((2.0 / m) * np.sum(w * u) / sw, (2.0 / m) ** 2 * np.sum(w * w * p_med) / sw ** 2,
-            (2.0 / m) ** 2 * np.sum(win * win * p_med) / win.sum() ** 2)
+    a_w = (2.0 / m) * np.sum(w * u) / sw
+    var_w = (2.0 / m) ** 2 * np.sum(w * w * p_var) / sw ** 2
+    a_eq = (2.0 / m) * np.sum(win * u) / win.sum()
+    return a_w, var_w, abs(a_eq - a_w) ** 2 + var_w
 
 
 def _kernel(nb: int, span) -> np.ndarray:
@@ -156,11 +174,14 @@ def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = Non
             continue
         pred = (kw @ A)[ok] / kw.sum(axis=1)[ok]
         err = float(np.sum(prec[ok] * np.abs(A[ok] - pred) ** 2) / ok.sum())
-        if err < best_err:
+        if err < best_err * (1.0 - SHORTER_MARGIN):
             best, best_err = span, err
-            miss = float(np.mean(np.abs(A[ok] - pred) ** 2 - var[ok]))
-            fit_miss = float(np.mean(var_fit[ok])) if var_fit is not None else np.inf
-    if best_err == np.inf or best == SPANS[-1] or miss > fit_miss:
+            # medians over the blocks: one block held by a loud partial must not decide for all
+            miss = float(np.median(np.abs(A[ok] - pred) ** 2 - var[ok]))
+            fit_miss = float(np.median(var_fit[ok])) if var_fit is not None else np.inf
+    # the shortest span winning means the line moves, unless the blocks scatter no more than
+    # their own noise (then the spans differ by chance)
+    if best_err == np.inf or (best == SPANS[-1] and miss > 0) or miss > fit_miss:
         return None
     kw = _kernel(nb, best) * prec[None, :]
     return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
