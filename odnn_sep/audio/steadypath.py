@@ -63,7 +63,11 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     var : (blocks, C, K) float array
         ``inf`` for a block with no chunk.
     var_eq : (blocks, C, K) float array
-        The variance of the equal-weight mean over the same window (the noise of a block fit).
+        The error variance of the equal-weight mean over the same window (the block fit's), as
+        measured (see :func:`_weighted_mean`).
+    var_noise : (blocks, C, K) float array
+        The variance of ``A`` from the content 1.5-6 Hz from the line alone (``var`` also counts
+        the content right beside it).
 
     Examples
     --------
@@ -71,7 +75,7 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     >>> sr = 1000; t = np.arange(40 * sr) / sr
     >>> x = 0.5 * np.cos(2 * np.pi * 50.0 * t + 1.0) + 0.01 * np.random.default_rng(0).standard_normal(t.size)
     >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1])
-    >>> A, var, _ = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
+    >>> A, var, _, _ = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
     >>> A.shape, bool(np.allclose(A[2:-2, 0, 0], 0.5 * np.exp(1j), atol=0.01))
     ((11, 1, 1), True)
     """
@@ -85,21 +89,26 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     A = np.zeros((nb, C, K), complex)
     var = np.full((nb, C, K), np.inf)
     var_eq = np.full((nb, C, K), np.inf)
+    var_n = np.full((nb, C, K), np.inf)
     for i, k in enumerate(ks):
         rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
         for c in range(C):
             u = D[:, c, i].astype(np.complex128) * rot
             # weights: the content right beside the line, moment by moment (a note partial 0.5 Hz
-            # away included); variance: the larger of that and the content 1.5-6 Hz away (the
-            # median over the offsets), so a block held by a partial throughout is not trusted
+            # away included); variance for the blocks' relative precision: the larger of that and
+            # the content 1.5-6 Hz away (the median over the offsets), so a block held by a partial
+            # throughout is not trusted; variance for the path-or-block-fit decision: the latter
+            # alone (the near power also holds the line's own fast changes, which are not noise)
             p_w = near_power(u, fs)
-            p_var = np.maximum(local_power(u, fs)[1], p_w)
+            p_med = local_power(u, fs)[1]
+            p_var = np.maximum(p_med, p_w)
             for b in range(nb):
                 if hi[b] > lo[b]:
                     sl = slice(lo[b], hi[b])
                     win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
-                    A[b, c, i], var[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
-    return A, var, var_eq
+                    A[b, c, i], var[b, c, i], _ = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
+                    _, var_n[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_w[sl], p_med[sl], m)
+    return A, var, var_eq, var_n
 
 
 def _weighted_mean(u, win, p_w, p_var, m: int):
@@ -128,19 +137,25 @@ def _kernel(nb: int, span) -> np.ndarray:
     return np.where(d < span, np.cos(np.pi * d / (2 * span)) ** 2, 0.0)
 
 
-def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = None):
+def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = None,
+                var_noise: np.ndarray | None = None):
     """One line's block amplitudes ``A`` (blocks,) smoothed over the span that predicts held-out
     blocks best (see the module text); None where the shortest span wins (the line moves faster
     than a smoothed path follows), or where the path is expected to miss the line by more than
     ``var_fit``, the noise of the block fit's own amplitudes (a strong line that moves is better
     followed block by block). The path's miss, from the held-out predictions ``pred``: about
-    ``|A - pred|^2 - var``, ``var`` being the held-out blocks' own noise.
+    ``|A - pred|^2 - var_noise``, ``var_noise`` being the held-out blocks' own noise; medians over
+    the blocks. The shortest span winning while that miss is not positive (the blocks scatter no
+    more than their noise) is chance, and the path is kept.
 
     Parameters
     ----------
     A : (blocks,) complex array
     var : (blocks,) float array
+        Variances of ``A`` (the blocks' relative precision).
     var_fit : (blocks,) float array, optional
+    var_noise : (blocks,) float array, optional
+        Variances of ``A`` for the miss (default ``var``).
 
     Returns
     -------
@@ -177,7 +192,7 @@ def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = Non
         if err < best_err * (1.0 - SHORTER_MARGIN):
             best, best_err = span, err
             # medians over the blocks: one block held by a loud partial must not decide for all
-            miss = float(np.median(np.abs(A[ok] - pred) ** 2 - var[ok]))
+            miss = float(np.median(np.abs(A[ok] - pred) ** 2 - (var if var_noise is None else var_noise)[ok]))
             fit_miss = float(np.median(var_fit[ok])) if var_fit is not None else np.inf
     # the shortest span winning means the line moves, unless the blocks scatter no more than
     # their own noise (then the spans differ by chance)
@@ -224,7 +239,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     """
     from odnn_sep.audio.finetrack import PhaseTrack
 
-    A, var, var_eq = block_means(D, sr, ks, psi, plan)
+    A, var, var_eq, var_n = block_means(D, sr, ks, psi, plan)
     nb, C, K = A.shape
     out = np.full((nb, C, K), np.nan, complex)
     centres = np.arange(nb) * float(plan.hop)
@@ -233,7 +248,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     any_path = False
     for i, k in enumerate(ks):
         for c in range(C):
-            path = smooth_path(A[:, c, i], var[:, c, i], var_eq[:, c, i])
+            path = smooth_path(A[:, c, i], var[:, c, i], var_eq[:, c, i], var_n[:, c, i])
             if path is not None:
                 out[:, c, i] = path * np.exp(2j * np.pi * np.mod(k * cyc, 1.0))
                 any_path = True
