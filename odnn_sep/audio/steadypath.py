@@ -87,27 +87,32 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     lo = np.searchsorted(tj, np.arange(nb) * hop - hop)
     hi = np.searchsorted(tj, np.arange(nb) * hop + hop)
     A = np.zeros((nb, C, K), complex)
-    var = np.full((nb, C, K), np.inf)
-    var_eq = np.full((nb, C, K), np.inf)
-    var_n = np.full((nb, C, K), np.inf)
+    var, var_eq, var_n = (np.full((nb, C, K), np.inf) for _ in range(3))
     for i, k in enumerate(ks):
         rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
         for c in range(C):
             u = D[:, c, i].astype(np.complex128) * rot
-            # weights: the content right beside the line, moment by moment (a note partial 0.5 Hz
-            # away included); variance for the blocks' relative precision: the larger of that and
-            # the content 1.5-6 Hz away (the median over the offsets), so a block held by a partial
-            # throughout is not trusted; variance for the path-or-block-fit decision: the latter
-            # alone (the near power also holds the line's own fast changes, which are not noise)
-            p_w = near_power(u, fs)
-            p_med = local_power(u, fs)[1]
-            p_var = np.maximum(p_med, p_w)
-            for b in range(nb):
-                if hi[b] > lo[b]:
-                    sl = slice(lo[b], hi[b])
-                    win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
-                    A[b, c, i], var[b, c, i], _ = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
-                    _, var_n[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_w[sl], p_med[sl], m)
+            A[:, c, i], var[:, c, i], var_eq[:, c, i], var_n[:, c, i] = _line_means(u, fs, tj, lo, hi, plan, m)
+    return A, var, var_eq, var_n
+
+
+def _line_means(u, fs: float, tj, lo, hi, plan: BlockPlan, m: int):
+    """:func:`block_means` of one line and channel (tracked baseband ``u``; the blocks' chunks
+    ``lo[b]:hi[b]`` of centres ``tj``)."""
+    nb, hop = plan.count, plan.hop
+    A = np.zeros(nb, complex)
+    var, var_eq, var_n = (np.full(nb, np.inf) for _ in range(3))
+    # weights: the content right beside the line (a note partial 0.5 Hz away included); variance
+    # for the blocks' relative precision: the larger of that and the content 1.5-6 Hz away, so a
+    # block held by a partial throughout is not trusted; for the path-or-block-fit decision the
+    # latter alone (the near power also holds the line's own fast changes, which are not noise)
+    p_w, p_med = near_power(u, fs), local_power(u, fs)[1]
+    p_var = np.maximum(p_med, p_w)
+    for b in np.flatnonzero(hi > lo):
+        sl = slice(lo[b], hi[b])
+        win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
+        A[b], var[b], _ = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
+        _, var_n[b], var_eq[b] = _weighted_mean(u[sl], win, p_w[sl], p_med[sl], m)
     return A, var, var_eq, var_n
 
 
@@ -179,11 +184,25 @@ def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = Non
     prec = np.where(np.isfinite(var), 1.0 / np.maximum(var, 1e-300), 0.0)
     if nb < MIN_BLOCKS or (prec > 0).sum() < MIN_BLOCKS:
         return None
+    best, best_err, miss, fit_miss = _best_span(A, prec, var if var_noise is None else var_noise, var_fit)
+    # the shortest span winning means the line moves, unless the blocks scatter no more than
+    # their own noise (then the spans differ by chance)
+    if best_err == np.inf or (best == SPANS[-1] and miss > 0) or miss > fit_miss:
+        return None
+    kw = _kernel(nb, best) * prec[None, :]
+    return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
+
+
+def _best_span(A, prec, var_noise, var_fit):
+    """The span of :data:`SPANS` that predicts held-out blocks best (a shorter one only when better
+    by ``SHORTER_MARGIN``), its precision-weighted held-out error, the path's miss there and the
+    block fit's error (medians over the blocks: one block held by a loud partial must not decide
+    for all)."""
+    nb = len(A)
     near = np.abs(np.arange(nb)[:, None] - np.arange(nb)[None, :]) <= EXCLUDE
-    best, best_err = None, np.inf
+    best, best_err, miss, fit_miss = None, np.inf, np.inf, np.inf
     for span in SPANS:
-        kern = _kernel(nb, span)
-        kw = np.where(near, 0.0, kern) * prec[None, :]
+        kw = np.where(near, 0.0, _kernel(nb, span)) * prec[None, :]
         ok = (kw.sum(axis=1) > 0) & (prec > 0)
         if ok.sum() < MIN_BLOCKS // 2:
             continue
@@ -191,15 +210,9 @@ def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = Non
         err = float(np.sum(prec[ok] * np.abs(A[ok] - pred) ** 2) / ok.sum())
         if err < best_err * (1.0 - SHORTER_MARGIN):
             best, best_err = span, err
-            # medians over the blocks: one block held by a loud partial must not decide for all
-            miss = float(np.median(np.abs(A[ok] - pred) ** 2 - (var if var_noise is None else var_noise)[ok]))
+            miss = float(np.median(np.abs(A[ok] - pred) ** 2 - var_noise[ok]))
             fit_miss = float(np.median(var_fit[ok])) if var_fit is not None else np.inf
-    # the shortest span winning means the line moves, unless the blocks scatter no more than
-    # their own noise (then the spans differ by chance)
-    if best_err == np.inf or (best == SPANS[-1] and miss > 0) or miss > fit_miss:
-        return None
-    kw = _kernel(nb, best) * prec[None, :]
-    return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
+    return best, best_err, miss, fit_miss
 
 
 def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan):
