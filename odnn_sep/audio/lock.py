@@ -172,7 +172,7 @@ WEIGHTED_SEG_S = 1.0    # units of the weighted test (s): short, so speech pause
 # only, never on its phase, so circular content still has mean zero.
 def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     """Like :func:`lock_p_values`, with every chunk weighted by the inverse of the content power near
-    the line at that moment (:func:`odnn_sep.audio.amplitude.local_power`): the generalised
+    the line at that moment, whatever its offset (:func:`odnn_sep.audio.nearpower.near_power`): the generalised
     least-squares mean of the tracked baseband, which takes the pauses of speech and the rests
     between notes at their worth. A weak harmonic under bursty content is then clear where the
     equal-weight test (whose 4 s segments each hold some of the bursts) sees nothing.
@@ -203,7 +203,7 @@ def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarr
     >>> bool(lock_p_values(noise + np.array([0.5, 0.0]), 8000)[0][0] > 1e-3)   # equal weights: not seen
     True
     """
-    from odnn_sep.audio.amplitude import local_power
+    from odnn_sep.audio.nearpower import near_power
 
     J, C, K = u.shape
     fs = sr / _track.chunk_length(sr)
@@ -216,7 +216,7 @@ def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarr
     for c in range(C):
         for i in range(K):
             v = u[: B * n, c, i].astype(np.complex128)
-            w = 1.0 / local_power(v, fs)[0]
+            w = 1.0 / near_power(v, fs)
             Y = (w * v).reshape(B, n).sum(axis=1)
             W = w.reshape(B, n).sum(axis=1)
             m = Y.sum() / W.sum()

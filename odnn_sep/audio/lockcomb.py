@@ -24,6 +24,7 @@ TRACK_HOP_S = 4.0     # blocks of the starting (coarse) track: 8 s
 NUMERICAL_REL = 3e-3  # new lines weaker than this (-50 dB re the strongest locked line) are not added
 SETTLE_ROUNDS = 3     # track / lock-test rounds until the set of locked lines settles
 LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
+WEIGHTED_HIGH = 2     # spectrum lines up to this times LOWEST_K get the weighted test too (Bonferroni)
 WEIGHTED_REACH = 2    # the weighted lock test looks at harmonics up to this times the highest locked one
 
 
@@ -271,13 +272,15 @@ def _locked_leave_one_out(fam: _Family, ks, psi0) -> list[int]:
             psi_k = psi0
         kk, inf_k = _lock.locked(fam.D[:, :, [cols[i]]], fam.sr, [k], psi_k, alpha=fam.alpha)
         fam.info[k] = inf_k[k]
-        if not kk and len(ks) > 1 and k <= LOWEST_K:
-            # under bursty content (ECG beats, speech) the weighted test sees what the equal-weight one
-            # cannot (lock.weighted_lock_p_values); against a track made without the line, as above.
-            # Only where hum lives for sure (harmonics 1-LOWEST_K): higher up, lines the spectrum took
-            # for harmonics are mostly note partials, and some of them pass it
+        if not kk and len(ks) > 1 and k <= WEIGHTED_HIGH * LOWEST_K:
+            # under bursty content (ECG beats, speech, notes) the weighted test sees what the
+            # equal-weight one cannot (lock.weighted_lock_p_values); against a track made without
+            # the line, as above. At its own level where hum lives for sure (harmonics 1-LOWEST_K),
+            # Bonferroni-corrected up to WEIGHTED_HIGH x LOWEST_K (a weak harmonic under a loud note
+            # partial 0.8 Hz away, read in the rests); higher up, lines the spectrum took for
+            # harmonics are mostly note partials, and some of them pass it
             p_w = _lock.weighted_locked(fam.D[:, :, [cols[i]]], fam.sr, [k], psi_k)[k][0]
-            kk = [k] if p_w < fam.alpha else []
+            kk = [k] if p_w * (1 if k <= LOWEST_K else fam.n_tests) < fam.alpha else []
         if kk:
             keep.append(k)
     return keep

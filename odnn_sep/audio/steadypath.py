@@ -6,16 +6,19 @@ of that freedom fits the content under the line instead (noise, a note partial),
 fit's pooling (blockfit.py) only looks back a few blocks. Here, from pass 1's chunk sums:
 
 1. per block and line, the generalised least-squares mean of the tracked baseband over the
-   block's sin^2 window, every chunk weighted by the inverse content power near the line
-   (:func:`odnn_sep.audio.amplitude.local_power`): the loud moments of music and speech count for
-   what they are worth;
+   block's sin^2 window, every chunk weighted by the inverse content power right beside the line
+   (:func:`odnn_sep.audio.nearpower.near_power`, a note partial 0.5 Hz away included): the loud
+   moments of music and speech count for what they are worth, the hum is read in the rests;
 2. per line, the block amplitudes smoothed by a Hann kernel over ``H`` blocks (or all of them:
    one steady amplitude), ``H`` chosen by cross-validation: each block predicted from the blocks
    that share none of its samples. A steady line takes the whole input; a line whose amplitude or
    phase against the track moves (amplitude modulation, a track error at a high harmonic) takes a
-   shorter span; where even the shortest span is best, the block fit's own amplitudes stay.
-   (The held-out error is compared between spans only: its size against the blocks' own noise
-   says little, that noise being measured beside the line, not under it.)
+   shorter span. The block fit's own amplitudes stay where even the shortest span is best while
+   the blocks scatter more than their noise, or where the path's miss exceeds the block fit's own
+   error (measured per block, see :func:`_weighted_mean`; medians over the blocks, so that one
+   block held by a loud partial does not decide). (The held-out error is compared between spans
+   only: its size against the blocks' own noise says little, that noise being measured beside
+   the line, not under it.)
 
 The block fit (blockfit.py) then subtracts these amplitudes for the tracked comb, in each block's
 own phase reference.
@@ -27,10 +30,13 @@ import numpy as np
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.amplitude import local_power
 from odnn_sep.audio.blockplan import BlockPlan, sin2_window
+from odnn_sep.audio.nearpower import near_power
 
 SPANS = (None, 16, 8, 4, 3)  # Hann half-widths tried (blocks); None: one amplitude for the whole input;
-                             # when the last (only the blocks next but one) wins, the block fit stays
+                             # when the last (only the blocks next but one) wins and the blocks scatter
+                             # more than their noise, the block fit stays
 MIN_BLOCKS = 6              # fewer blocks: the block fit's own amplitudes are kept
+SHORTER_MARGIN = 0.02       # a shorter span must predict held-out blocks this much better to be chosen
 EXCLUDE = 1                 # blocks this close share samples with the one predicted (50 % overlap)
 
 
@@ -57,7 +63,11 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     var : (blocks, C, K) float array
         ``inf`` for a block with no chunk.
     var_eq : (blocks, C, K) float array
-        The variance of the equal-weight mean over the same window (the noise of a block fit).
+        The error variance of the equal-weight mean over the same window (the block fit's), as
+        measured (see :func:`_weighted_mean`).
+    var_noise : (blocks, C, K) float array
+        The variance of ``A`` from the content 1.5-6 Hz from the line alone (``var`` also counts
+        the content right beside it).
 
     Examples
     --------
@@ -65,7 +75,7 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     >>> sr = 1000; t = np.arange(40 * sr) / sr
     >>> x = 0.5 * np.cos(2 * np.pi * 50.0 * t + 1.0) + 0.01 * np.random.default_rng(0).standard_normal(t.size)
     >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1])
-    >>> A, var, _ = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
+    >>> A, var, _, _ = block_means(D, sr, [1], np.zeros(len(D)), BlockPlan.from_block_s(8.0, sr, t.size))
     >>> A.shape, bool(np.allclose(A[2:-2, 0, 0], 0.5 * np.exp(1j), atol=0.01))
     ((11, 1, 1), True)
     """
@@ -77,30 +87,52 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     lo = np.searchsorted(tj, np.arange(nb) * hop - hop)
     hi = np.searchsorted(tj, np.arange(nb) * hop + hop)
     A = np.zeros((nb, C, K), complex)
-    var = np.full((nb, C, K), np.inf)
-    var_eq = np.full((nb, C, K), np.inf)
+    var, var_eq, var_n = (np.full((nb, C, K), np.inf) for _ in range(3))
     for i, k in enumerate(ks):
         rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
         for c in range(C):
             u = D[:, c, i].astype(np.complex128) * rot
-            p_mean, p_med = local_power(u, fs)
-            for b in range(nb):
-                if hi[b] > lo[b]:
-                    sl = slice(lo[b], hi[b])
-                    win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
-                    A[b, c, i], var[b, c, i], var_eq[b, c, i] = _weighted_mean(u[sl], win, p_mean[sl], p_med[sl], m)
-    return A, var, var_eq
+            A[:, c, i], var[:, c, i], var_eq[:, c, i], var_n[:, c, i] = _line_means(u, fs, tj, lo, hi, plan, m)
+    return A, var, var_eq, var_n
 
 
-def _weighted_mean(u, win, p_mean, p_med, m: int):
-    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude, its variance, and the
-    variance of the equal-weight mean (``0, inf, inf`` without weight)."""
-    w = win / p_mean
+def _line_means(u, fs: float, tj, lo, hi, plan: BlockPlan, m: int):
+    """:func:`block_means` of one line and channel (tracked baseband ``u``; the blocks' chunks
+    ``lo[b]:hi[b]`` of centres ``tj``)."""
+    nb, hop = plan.count, plan.hop
+    A = np.zeros(nb, complex)
+    var, var_eq, var_n = (np.full(nb, np.inf) for _ in range(3))
+    # weights: the content right beside the line (a note partial 0.5 Hz away included); variance
+    # for the blocks' relative precision: the larger of that and the content 1.5-6 Hz away, so a
+    # block held by a partial throughout is not trusted; for the path-or-block-fit decision the
+    # latter alone (the near power also holds the line's own fast changes, which are not noise)
+    p_w, p_med = near_power(u, fs), local_power(u, fs)[1]
+    p_var = np.maximum(p_med, p_w)
+    for b in np.flatnonzero(hi > lo):
+        sl = slice(lo[b], hi[b])
+        win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
+        A[b], var[b], _ = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
+        _, var_n[b], var_eq[b] = _weighted_mean(u[sl], win, p_w[sl], p_med[sl], m)
+    return A, var, var_eq, var_n
+
+
+def _weighted_mean(u, win, p_w, p_var, m: int):
+    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude (weights ``win / p_w``),
+    its variance (from ``p_var``), and the error variance of the equal-weight mean, the block
+    fit's (``0, inf, inf`` without weight).
+
+    The latter is measured, not modelled: the weighted mean being the generalised least-squares
+    one, the equal-weight mean differs from it by a term uncorrelated with it, so its variance is
+    ``E|a_eq - a_w|^2 + var(a_w)``; a partial that leaks into the block fit shows in that difference
+    whatever its offset from the line."""
+    w = win / p_w
     sw = w.sum()
     if sw <= 0:
         return 0.0, np.inf, np.inf
-    return ((2.0 / m) * np.sum(w * u) / sw, (2.0 / m) ** 2 * np.sum(w * w * p_med) / sw ** 2,
-            (2.0 / m) ** 2 * np.sum(win * win * p_med) / win.sum() ** 2)
+    a_w = (2.0 / m) * np.sum(w * u) / sw
+    var_w = (2.0 / m) ** 2 * np.sum(w * w * p_var) / sw ** 2
+    a_eq = (2.0 / m) * np.sum(win * u) / win.sum()
+    return a_w, var_w, abs(a_eq - a_w) ** 2 + var_w
 
 
 def _kernel(nb: int, span) -> np.ndarray:
@@ -110,19 +142,25 @@ def _kernel(nb: int, span) -> np.ndarray:
     return np.where(d < span, np.cos(np.pi * d / (2 * span)) ** 2, 0.0)
 
 
-def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = None):
+def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = None,
+                var_noise: np.ndarray | None = None):
     """One line's block amplitudes ``A`` (blocks,) smoothed over the span that predicts held-out
     blocks best (see the module text); None where the shortest span wins (the line moves faster
     than a smoothed path follows), or where the path is expected to miss the line by more than
     ``var_fit``, the noise of the block fit's own amplitudes (a strong line that moves is better
     followed block by block). The path's miss, from the held-out predictions ``pred``: about
-    ``|A - pred|^2 - var``, ``var`` being the held-out blocks' own noise.
+    ``|A - pred|^2 - var_noise``, ``var_noise`` being the held-out blocks' own noise; medians over
+    the blocks. The shortest span winning while that miss is not positive (the blocks scatter no
+    more than their noise) is chance, and the path is kept.
 
     Parameters
     ----------
     A : (blocks,) complex array
     var : (blocks,) float array
+        Variances of ``A`` (the blocks' relative precision).
     var_fit : (blocks,) float array, optional
+    var_noise : (blocks,) float array, optional
+        Variances of ``A`` for the miss (default ``var``).
 
     Returns
     -------
@@ -146,24 +184,35 @@ def smooth_path(A: np.ndarray, var: np.ndarray, var_fit: np.ndarray | None = Non
     prec = np.where(np.isfinite(var), 1.0 / np.maximum(var, 1e-300), 0.0)
     if nb < MIN_BLOCKS or (prec > 0).sum() < MIN_BLOCKS:
         return None
+    best, best_err, miss, fit_miss = _best_span(A, prec, var if var_noise is None else var_noise, var_fit)
+    # the shortest span winning means the line moves, unless the blocks scatter no more than
+    # their own noise (then the spans differ by chance)
+    if best_err == np.inf or (best == SPANS[-1] and miss > 0) or miss > fit_miss:
+        return None
+    kw = _kernel(nb, best) * prec[None, :]
+    return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
+
+
+def _best_span(A, prec, var_noise, var_fit):
+    """The span of :data:`SPANS` that predicts held-out blocks best (a shorter one only when better
+    by ``SHORTER_MARGIN``), its precision-weighted held-out error, the path's miss there and the
+    block fit's error (medians over the blocks: one block held by a loud partial must not decide
+    for all)."""
+    nb = len(A)
     near = np.abs(np.arange(nb)[:, None] - np.arange(nb)[None, :]) <= EXCLUDE
-    best, best_err = None, np.inf
+    best, best_err, miss, fit_miss = None, np.inf, np.inf, np.inf
     for span in SPANS:
-        kern = _kernel(nb, span)
-        kw = np.where(near, 0.0, kern) * prec[None, :]
+        kw = np.where(near, 0.0, _kernel(nb, span)) * prec[None, :]
         ok = (kw.sum(axis=1) > 0) & (prec > 0)
         if ok.sum() < MIN_BLOCKS // 2:
             continue
         pred = (kw @ A)[ok] / kw.sum(axis=1)[ok]
         err = float(np.sum(prec[ok] * np.abs(A[ok] - pred) ** 2) / ok.sum())
-        if err < best_err:
+        if err < best_err * (1.0 - SHORTER_MARGIN):
             best, best_err = span, err
-            miss = float(np.mean(np.abs(A[ok] - pred) ** 2 - var[ok]))
-            fit_miss = float(np.mean(var_fit[ok])) if var_fit is not None else np.inf
-    if best_err == np.inf or best == SPANS[-1] or miss > fit_miss:
-        return None
-    kw = _kernel(nb, best) * prec[None, :]
-    return (kw @ A) / np.maximum(kw.sum(axis=1), 1e-300)
+            miss = float(np.median(np.abs(A[ok] - pred) ** 2 - var_noise[ok]))
+            fit_miss = float(np.median(var_fit[ok])) if var_fit is not None else np.inf
+    return best, best_err, miss, fit_miss
 
 
 def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan):
@@ -203,7 +252,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     """
     from odnn_sep.audio.finetrack import PhaseTrack
 
-    A, var, var_eq = block_means(D, sr, ks, psi, plan)
+    A, var, var_eq, var_n = block_means(D, sr, ks, psi, plan)
     nb, C, K = A.shape
     out = np.full((nb, C, K), np.nan, complex)
     centres = np.arange(nb) * float(plan.hop)
@@ -212,7 +261,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     any_path = False
     for i, k in enumerate(ks):
         for c in range(C):
-            path = smooth_path(A[:, c, i], var[:, c, i], var_eq[:, c, i])
+            path = smooth_path(A[:, c, i], var[:, c, i], var_eq[:, c, i], var_n[:, c, i])
             if path is not None:
                 out[:, c, i] = path * np.exp(2j * np.pi * np.mod(k * cyc, 1.0))
                 any_path = True
