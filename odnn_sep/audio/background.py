@@ -10,7 +10,15 @@ from odnn_sep.audio import detect as _detect
 class Background:
     """One worker thread for analysis steps that do not depend on each other (NumPy releases the
     GIL in their array work, so on two cores they overlap); the same computations as in turn.
-    A context manager: leaving it waits for what is still running."""
+    A context manager: leaving it waits for what is still running.
+
+    Examples
+    --------
+    >>> with Background() as bg:
+    ...     total = bg.submit(np.sum, np.arange(10)).result()
+    >>> int(total)
+    45
+    """
 
     def __enter__(self):
         from concurrent.futures import ThreadPoolExecutor
