@@ -303,6 +303,62 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     return prior, None
 
 
+def data_coverage(y: np.ndarray, prior: np.ndarray, *, random_state=0) -> np.ndarray | None:
+    """The coverage the data show around a rendering, read from ``y`` alone (no refinement kept).
+
+    The first step of :func:`refine_coverage`: the photo predicted from outside the band around the
+    rendering only, the opacity from the glyph interiors, then ``M`` per band pixel (the rendering
+    stays only where the data cannot tell). Where the rendering is a pixel or two off the true
+    glyphs, this coverage sits on the true ones, so the residual mark's band can be placed there.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1] holding the mark (the input, not the output).
+    prior : np.ndarray
+        (h, w) registered rendering.
+    random_state : int or Generator, default 0
+        Seed of the blend fit's patch subset.
+
+    Returns
+    -------
+    np.ndarray or None
+        (h, w) coverage in [0, 1]; None when no blend can be fitted.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.coverage import data_coverage
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> yy, xx = np.mgrid[0:32, 0:48] / 48.0
+    >>> I = np.stack([0.2 + 0.3 * xx, 0.3 + 0.2 * yy, 0.5 + 0.1 * xx], -1)
+    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> Md = data_coverage(y, np.roll(M, 2, axis=1))   # a rendering 2 px off: the data put it back
+    >>> bool(np.mean(np.abs(Md - M)) < 0.5 * np.mean(np.abs(np.roll(M, 2, axis=1) - M)))
+    True
+    """
+    from odnn_sep.image.estimate import fit_blend
+
+    y = np.asarray(y, dtype=np.float64)
+    if y.ndim == 2:
+        y = y[:, :, None]
+    prior = np.asarray(prior, dtype=np.float64)
+    if not (prior > 0.5).any():
+        return None
+    try:
+        fit = fit_blend(y, prior, max_patches=300, irls=0, xatol=1e-3, random_state=random_state)
+    except NotIdentifiableError:
+        return None
+    band, s = band_around(prior)
+    wide = max(1.5, float(int(np.ceil(max(2.0, BAND_STROKES * s)))))
+    _, Q, _ = coverage_step(y, prior, prior, band, fit.alpha, fit.color, wide, first=True)
+    a_in = interior_opacity(Q)
+    if a_in is None:  # too few glyph interiors seen to read the opacity: the rendering's fit stands
+        a_in = fit.alpha
+    M, _, _ = coverage_step(y, prior, prior, band, float(np.clip(a_in, 1e-3, 0.995)), fit.color, wide, first=True)
+    return M
+
+
 def band_around(prior: np.ndarray) -> tuple[np.ndarray, float]:
     """(band, stroke width): where a glyph of a similar font drawn at the rendering's place can reach.
 
@@ -381,4 +437,4 @@ def edges_left(y, M, alpha, color, prior) -> float:
     return left
 
 
-__all__ = ["refine_coverage", "coverage_step", "predict_photo", "band_around"]
+__all__ = ["refine_coverage", "data_coverage", "coverage_step", "predict_photo", "band_around"]

@@ -14,7 +14,10 @@ photo under it, in grey levels of 8 bits.
 A mark removed with the wrong glyph shape leaves rims along its true edges rather than a blend of
 its estimated shape, which the statistic does not see. So the edges are counted as well: how much
 more edge energy the mark's band holds than the ring of photo around it, on the output, as a share
-of the same excess on the input.
+of the same excess on the input. The tool's shapes may both sit a pixel or two off the true glyphs
+(a font it does not have), so the edges are also counted in the band of the coverage the input itself
+shows around the rendering (``coverage.data_coverage``: the photo predicted from outside the band,
+the mark's share per pixel from the blend); that band holds the true edges.
 """
 from __future__ import annotations
 
@@ -127,10 +130,54 @@ def edge_excess(y: np.ndarray, cov: np.ndarray) -> float:
     return float(np.mean(g[band]) / max(float(np.mean(g[ring])), 1e-12) - 1.0)
 
 
+def edges_left_over(out: np.ndarray, inp: np.ndarray, coverages) -> tuple[float, bool]:
+    """(share of the mark's excess edge energy left, are the mark's edges still there?) over the bands
+    of several coverages.
+
+    The mark's edges count as still there when, in the band of any one coverage, the output keeps at
+    least ``EDGE_LEFT`` of the input's excess edge energy and still has an excess of ``EDGE_EXCESS``.
+    The share returned is the largest over the bands that pass, or over all bands when none does.
+
+    Parameters
+    ----------
+    out, inp : np.ndarray
+        (h, w, C) float output and input crops in [0, 1].
+    coverages : sequence of np.ndarray
+        (h, w) coverages the mark may have.
+
+    Returns
+    -------
+    tuple of (float, bool)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.residual import edges_left_over
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> I = np.full((32, 48, 3), 0.4); y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> edges_left_over(y, y, [M]), edges_left_over(I, y, [M])
+    ((1.0, True), (0.0, False))
+    """
+    shares, passing = [], []
+    for M in coverages:
+        e_out, e_in = edge_excess(out, M), edge_excess(inp, M)
+        if e_in <= 0:
+            continue
+        shares.append(max(0.0, e_out / e_in))
+        if shares[-1] >= EDGE_LEFT and e_out >= EDGE_EXCESS:
+            passing.append(shares[-1])
+    if passing:
+        return max(passing), True
+    return max(shares, default=0.0), False
+
+
 def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold: float = THRESHOLD,
-            random_state=0) -> dict:
+            random_state=0, data_band: bool = True) -> dict:
     """Residual mark of an output crop ``out`` (h, w, C) in [0, 1], given the input crop ``inp`` and
-    the coverages (h, w) the mark may have (the estimated one, the registered rendering).
+    the coverages (h, w) the mark may have (the estimated one, the registered rendering; the last is
+    the rendering). With ``data_band`` the edges are also counted in the band of the coverage the
+    input shows around the last one (``coverage.data_coverage``): where the tool's shapes are a
+    pixel or two off the true glyphs, the rims the removal leaves along the true edges are there.
 
     Returns
     -------
@@ -152,23 +199,26 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
     """
     out = np.asarray(out, dtype=np.float64)
     inp = np.asarray(inp, dtype=np.float64)
-    if out.ndim == 2:
-        out, inp = out[:, :, None], inp[:, :, None]
-    best, best_m, left, excess = 0.0, None, 0.0, 0.0
+    out = out[:, :, None] if out.ndim == 2 else out
+    inp = inp[:, :, None] if inp.ndim == 2 else inp
+    coverages = [M for M in coverages if M is not None and (M > 0.5).any()]
+    best, best_m = 0.0, None
     for M in coverages:
-        if M is None or not (M > 0.5).any():
-            continue
         s = detection_score(out, M, random_state=random_state)
         if best_m is None or s > best:
             best, best_m = s, M
-        e_out, e_in = edge_excess(out, M), edge_excess(inp, M)
-        if e_in > 0 and e_out / e_in > left:
-            left, excess = e_out / e_in, e_out
+    if coverages and data_band:
+        from odnn_sep.image.coverage import data_coverage
+
+        Md = data_coverage(inp, coverages[-1], random_state=random_state)
+        if Md is not None and (Md > 0.5).any():
+            coverages.append(Md)
+    left, edges_visible = edges_left_over(out, inp, coverages)
     levels = contrast_levels(out, best_m, random_state=random_state) if best_m is not None and best >= threshold \
         else 0.0
-    visible = (best >= threshold and levels >= VISIBLE_LEVELS) or (left >= EDGE_LEFT and excess >= EDGE_EXCESS)
+    visible = (best >= threshold and levels >= VISIBLE_LEVELS) or edges_visible
     return {"score": round(float(best), 4), "contrast_levels": round(levels, 2), "edge_left": round(left, 3),
             "threshold": threshold, "visible": bool(visible)}
 
 
-__all__ = ["measure", "edge_excess", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS"]
+__all__ = ["measure", "edge_excess", "edges_left_over", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS"]
