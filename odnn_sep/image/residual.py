@@ -16,7 +16,7 @@ its estimated shape, which the statistic does not see. So the edges are counted 
 more edge energy the mark's band holds than the ring of photo around it, on the output, as a share
 of the same excess on the input. The tool's shapes may both sit a pixel or two off the true glyphs
 (a font it does not have), so the edges are also counted in the band of the coverage the input itself
-shows around the rendering (``coverage.data_coverage``: the photo predicted from outside the band,
+shows around the rendering (``coverage_data.data_coverage``: the photo predicted from outside the band,
 the mark's share per pixel from the blend); that band holds the true edges.
 """
 from __future__ import annotations
@@ -148,7 +148,7 @@ def edges_left_over(out: np.ndarray, inp: np.ndarray, coverages, departing: np.n
     The mark's edges count as still there when, in the band of any one coverage, the output keeps at
     least ``EDGE_LEFT`` of the input's excess edge energy and still has an excess of ``EDGE_EXCESS``.
     In the band of ``departing`` (the coverage the input shows where it departs from the rendering,
-    ``coverage.data_coverage``) they count as there when the output keeps at least
+    ``coverage_data.data_coverage``) they count as there when the output keeps at least
     ``EDGE_LEFT_STRONG`` of an input excess of at least ``EDGE_SIGNAL``: the rims a wrong glyph shape
     leaves over a busy photo (that band also takes in some photo texture, so a perfect removal can
     keep up to 0.4 of its excess). The share returned is the largest over the bands that pass, or over all
@@ -196,7 +196,7 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
     """Residual mark of an output crop ``out`` (h, w, C) in [0, 1], given the input crop ``inp`` and
     the coverages (h, w) the mark may have (the estimated one, the registered rendering; the last is
     the rendering). With ``data_band`` the edges are also counted in the band of the coverage the
-    input shows around the last one (``coverage.data_coverage``): where the tool's shapes are a
+    input shows around the last one (``coverage_data.data_coverage``): where the tool's shapes are a
     pixel or two off the true glyphs, the rims the removal leaves along the true edges are there.
 
     Returns
@@ -229,7 +229,7 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
             best, best_m = s, M
     Md = None
     if coverages and data_band:
-        from odnn_sep.image.coverage import data_coverage
+        from odnn_sep.image.coverage_data import data_coverage
 
         Md = data_coverage(inp, coverages[-1], random_state=random_state)
         Md = Md if Md is not None and (Md > 0.5).any() else None

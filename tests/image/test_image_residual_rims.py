@@ -4,7 +4,7 @@ not see a mark in the clean photo."""
 import numpy as np
 import pytest
 
-from odnn_sep.image.coverage import data_coverage
+from odnn_sep.image.coverage_data import data_coverage
 from odnn_sep.image.estimate import fit_blend, invert
 from odnn_sep.image.residual import edge_excess, measure
 from odnn_sep.image.synth import photo_like
