@@ -36,11 +36,6 @@ AGREE_SHARE = 0.35
 # The data's coverage replaces the rendering only if it leaves at least this much less of the
 # mark's edge energy (a share of the input's; ``residual.edge_excess``).
 EDGE_MARGIN = 0.05
-# The data's coverage is refused when the output's band holds less detail than the photo around it
-# by more than this (``residual.edge_excess``): the refinement took photo texture for the mark. Chosen
-# on development seeds 7 and 11 (found marks, refinement forced): removals that improved the PSNR left
-# -0.04 to 0.8, the two that lowered it (a white serif mark over a motorcycle's detail) -0.27 and -0.24.
-OVERSMOOTH = 0.15
 # Half-width of the band around the rendered glyphs, in stroke widths of the rendering.
 BAND_STROKES = 1.2
 # The opacity is read from pixels where a M is known to this standard deviation (the mark's colour
@@ -305,11 +300,11 @@ def refine_coverage(y: np.ndarray, prior: np.ndarray, alpha: float, color, *, it
     fit = dataclasses.replace(fit, alpha=alpha, beta=alpha * np.asarray(color))
     # The rendering stands unless the data's coverage leaves clearly less of the mark's edges: with
     # the right font the rendering's anti-aliasing beats any per-pixel estimate.
-    from odnn_sep.image.coverage_data import edges_left, smoothed_over
+    from odnn_sep.image.coverage_data import edges_left
 
     left_prior = edges_left(y, prior, alpha0, color0, prior)
     left_data = edges_left(y, M, fit.alpha, fit.color, prior)
-    if left_data < left_prior - EDGE_MARGIN and not smoothed_over(y, M, fit.alpha, fit.color):
+    if left_data < left_prior - EDGE_MARGIN:
         return M, fit
     return prior, None
 

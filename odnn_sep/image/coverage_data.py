@@ -1,7 +1,6 @@
 """What the image says about a mark's coverage beside the rendering: the coverage the data show
-(for the residual mark's band), and the checks that decide whether the data's coverage replaces the
-rendering (how much of the mark's edges an inversion leaves, and whether it took photo texture for
-the mark)."""
+(for the residual mark's band), and the check that decides whether the data's coverage replaces the
+rendering (how much of the mark's edges an inversion leaves)."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,7 +9,6 @@ from odnn_sep.errors import NotIdentifiableError
 from odnn_sep.image.coverage import (
     AGREE_SHARE,
     BAND_STROKES,
-    OVERSMOOTH,
     band_around,
     coverage_step,
     disagreement,
@@ -79,47 +77,6 @@ def data_coverage(y: np.ndarray, prior: np.ndarray, *, random_state=0) -> np.nda
     return M
 
 
-def smoothed_over(y, M, alpha, color) -> bool:
-    """Did inverting with (M, alpha, color) take photo texture for the mark? Then the output's band
-    holds clearly less detail than the photo around it (``residual.edge_excess`` below
-    ``-OVERSMOOTH``), where a removed mark leaves about as much as the photo beside it.
-
-    Parameters
-    ----------
-    y : np.ndarray
-        (h, w, C) float crop in [0, 1].
-    M : np.ndarray
-        (h, w) coverage to invert with.
-    alpha : float
-        Opacity.
-    color : array_like
-        (C,) mark colour.
-
-    Returns
-    -------
-    bool
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from odnn_sep.image.coverage_data import smoothed_over
-    >>> rng = np.random.default_rng(0)
-    >>> I = 0.5 + 0.05 * rng.standard_normal((32, 48, 1))
-    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
-    >>> y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
-    >>> smoothed_over(y, M, 0.5, np.ones(1)), smoothed_over(I, M, 0.0, np.ones(1))
-    (False, False)
-    >>> flat = np.where(M[..., None] > 0, 0.5, I)   # texture gone under the mark
-    >>> smoothed_over(flat, M, 0.0, np.ones(1))
-    True
-    """
-    from odnn_sep.image.estimate import invert
-    from odnn_sep.image.residual import edge_excess
-
-    out, _ = invert(y, M, alpha, color, inpaint=False)
-    return edge_excess(out, M) < -OVERSMOOTH
-
-
 def edges_left(y, M, alpha, color, prior) -> float:
     """Share of the mark's excess edge energy left after inverting with (M, alpha, color), in the
     band of the rendering and of ``M`` (the larger).
@@ -163,4 +120,4 @@ def edges_left(y, M, alpha, color, prior) -> float:
     return left
 
 
-__all__ = ["data_coverage", "smoothed_over", "edges_left"]
+__all__ = ["data_coverage", "edges_left"]
