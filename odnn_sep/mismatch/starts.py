@@ -184,6 +184,11 @@ def _source_starts(p, r, tt, base, model, t):
     return out
 
 
+def _wander_starts(p, r, tt, base, model, t):
+    from odnn_sep.mismatch.hum_wander import wander_starts  # the rule lives with the hum engine
+    return wander_starts(p, r, tt, base, model, t)
+
+
 def _moved_starts(p, r, tt, base, model, t):
     from odnn_sep.mismatch.presets_heat2d import moved_starts  # the rule lives with the heat2d preset
     return moved_starts(p, r, tt, base, model, t)
@@ -196,6 +201,7 @@ _START_RULES = {
     "amplitude_modulation": (_modulation_starts, True),
     "two_body_heat": (_two_body_starts, True),
     "missing_harmonic": (_harmonic_starts, True),
+    "frequency_wander": (lambda *a: _wander_starts(*a), True),
     "extra_source": (_source_starts, False),
     "source_moved": (lambda *a: _moved_starts(*a), False),
     "offset": (lambda p, r, tt, base, model, t: [{**p, "offset": float(np.mean(r))}], None),
