@@ -155,7 +155,10 @@ class Model:
         >>> make_model("freefall").with_effect("drift").applicable_effects()
         ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'time_delay']
         """
-        return [e for e in applicable(self.family) if e not in self.effects]
+        return [e for e in applicable(self.family) if e not in self.effects and self._offers(e)]
+
+    def _offers(self, effect):
+        return self.preset is None or not hasattr(self.preset, "offers") or self.preset.offers(effect)
 
     def with_effect(self, name: str, start: dict | None = None) -> "Model":
         """A copy of the model with effect ``name`` added (its parameters start at their neutral values).
@@ -188,6 +191,9 @@ class Model:
         if name == "channel_coupling":
             raise InputError("channel_coupling needs the recording's other channels: pass aux={name: array} "
                              "to explain() (the CLI does this for multichannel files)")
+        if not self._offers(name):
+            raise InputError(f"effect {name!r} is not available for model {self.name!r} on this record: it needs "
+                             f"the audio engine (a uniformly sampled hum record of more than 40000 samples)")
         eff = EFFECTS[name]
         new_start = dict(self.start)
         new_start.update(eff.params)
@@ -195,6 +201,8 @@ class Model:
             new_start.update(start)
         bounds = dict(self.bounds)
         bounds.update(eff.bounds)
+        if self.preset is not None and hasattr(self.preset, "effect_bounds"):
+            bounds.update(self.preset.effect_bounds(name))
         fixed = self.fixed | frozenset(eff.discrete)
         return replace(self, start=new_start, bounds=bounds, fixed=fixed, effects=self.effects + (name,))
 
