@@ -72,29 +72,29 @@ def bounded_interval(value, stderr, lo=-np.inf, hi=np.inf, *, z=Z95):
     """
     v, se, lo, hi = float(value), abs(float(stderr)), float(lo), float(hi)
     a, b = v - z * se, v + z * se
-    if not (np.isfinite(v) and np.isfinite(se)) or se == 0.0 or (lo <= a and b <= hi):
-        return max(lo, a), min(hi, b)
-    if not lo < v < hi:
-        return max(lo, a), min(hi, b)
+    wald = (max(lo, a), min(hi, b))
+    if not (np.isfinite(v) and np.isfinite(se)) or se == 0.0 or (lo <= a and b <= hi) or not lo < v < hi:
+        return wald
+    out = _transformed(v, se, lo, hi, z)
+    return wald if out is None else out
+
+
+def _transformed(v, se, lo, hi, z):
+    """The logit (two bounds) or log (one bound) interval, or None when the estimate is too near a bound."""
     if np.isfinite(lo) and np.isfinite(hi):
         w = hi - lo
         x = (v - lo) / w
         su = se / (w * x * (1.0 - x))
         if su > MAX_TRANSFORMED_SE:
-            return max(lo, a), min(hi, b)
+            return None
         u = math.log(x / (1.0 - x))
         return lo + w * _expit(u - z * su), lo + w * _expit(u + z * su)
-    if np.isfinite(lo):
-        d = v - lo
-        su = se / d
-        if su > MAX_TRANSFORMED_SE:
-            return lo, min(hi, b)
-        return lo + d * math.exp(-z * su), lo + d * math.exp(z * su)
-    d = hi - v
+    d, sign, bound = (v - lo, 1.0, lo) if np.isfinite(lo) else (hi - v, -1.0, hi)
     su = se / d
     if su > MAX_TRANSFORMED_SE:
-        return max(lo, a), hi
-    return hi - d * math.exp(z * su), hi - d * math.exp(-z * su)
+        return None
+    ends = sorted((bound + sign * d * math.exp(-z * su), bound + sign * d * math.exp(z * su)))
+    return ends[0], ends[1]
 
 
 def _expit(u):
