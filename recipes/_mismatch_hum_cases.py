@@ -4,6 +4,7 @@ Kinds (the truth each case carries):
 
 - ``drift``: the mains frequency ramps linearly (0.7-3 mHz/s) -> ``frequency_drift``;
 - ``wander``: sinusoidal mains wander (FM, +-10-40 mHz, period 4 s to half the record) -> ``frequency_wander``;
+- ``wander_weak``: the same with a depth of only +-2-8 mHz (where naming the wander gets hard);
 - ``grid``: the real grid-frequency trajectory of ``../shared/data/enf_whu_mains_reference`` (a random
   excerpt) -> a moving mains frequency: ``frequency_wander`` or ``frequency_drift`` are both right;
 - ``am``: amplitude modulation of the hum (m = 0.05-0.3, 0.1-1.2 Hz) -> ``amplitude_modulation``;
@@ -22,10 +23,10 @@ from __future__ import annotations
 import numpy as np
 from _audio_cases import enf_files, enf_phase, hum_amplitudes, noise_host, speech_host, tonal_host
 
-EFFECT_KINDS = ("drift", "wander", "grid", "am", "coupling")
+EFFECT_KINDS = ("drift", "wander", "wander_weak", "grid", "am", "coupling")
 NULL_KINDS = ("null", "null_coupling")
 KINDS = EFFECT_KINDS + NULL_KINDS
-TRUTH = {"drift": {"frequency_drift"}, "wander": {"frequency_wander"},
+TRUTH = {"drift": {"frequency_drift"}, "wander": {"frequency_wander"}, "wander_weak": {"frequency_wander"},
          "grid": {"frequency_wander", "frequency_drift"}, "am": {"amplitude_modulation"},
          "coupling": {"channel_coupling"}, "null": set(), "null_coupling": set()}
 SHAPES = ("decay", "second", "third", "no_fundamental")
@@ -60,9 +61,9 @@ def _deviation(kind, t, rng, f_base):
     if kind == "drift":
         rate = rng.uniform(0.7e-3, 3e-3) * rng.choice([-1, 1])
         return 0.5 * rate * (t - dur / 2) ** 2, {"f1": rate}
-    if kind == "wander":
+    if kind in ("wander", "wander_weak"):
         period = rng.uniform(4.0, dur / 2)
-        depth = rng.uniform(0.01, 0.04)
+        depth = rng.uniform(0.01, 0.04) if kind == "wander" else rng.uniform(0.002, 0.008)
         ph0 = rng.uniform(0, 2 * np.pi)
         return depth * period / (2 * np.pi) * np.sin(2 * np.pi * t / period + ph0), \
             {"df_w": depth, "f_w": 1 / period}
@@ -119,6 +120,8 @@ def make_case(spec):
         eff = {"kappa": kappa}
     fdev = np.gradient(dev, 1 / sr)
     truth = {"effects": TRUTH[kind], "f0_mean": float(f_base + fdev.mean()), "params": eff}
+    # the true effect's parameters, rounded for the table
+    truth["params"] = {k: float(f"{v:.4g}") for k, v in eff.items()}
     scale = 0.8 / max(np.abs(y).max(), np.abs(aux["ch2"]).max() if aux else 0.0)
     y = (y * scale).astype(np.float32).astype(float)
     if aux:
