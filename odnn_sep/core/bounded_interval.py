@@ -84,15 +84,16 @@ def _transformed(v, se, lo, hi, z):
     if np.isfinite(lo) and np.isfinite(hi):
         w = hi - lo
         x = (v - lo) / w
-        su = se / (w * x * (1.0 - x))
-        if su > MAX_TRANSFORMED_SE:
+        den = w * x * (1.0 - x)
+        if not den > 0.0 or se > MAX_TRANSFORMED_SE * den:   # on a bound to float precision, or too near
             return None
+        su = se / den
         u = math.log(x / (1.0 - x))
         return lo + w * _expit(u - z * su), lo + w * _expit(u + z * su)
     d, sign, bound = (v - lo, 1.0, lo) if np.isfinite(lo) else (hi - v, -1.0, hi)
-    su = se / d
-    if su > MAX_TRANSFORMED_SE:
+    if not d > 0.0 or se > MAX_TRANSFORMED_SE * d:
         return None
+    su = se / d
     ends = sorted((bound + sign * d * math.exp(-z * su), bound + sign * d * math.exp(z * su)))
     return ends[0], ends[1]
 

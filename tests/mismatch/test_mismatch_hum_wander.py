@@ -55,7 +55,9 @@ def test_short_records_do_not_offer_the_wander():
 
 @pytest.mark.parametrize("value, se, lo, hi", [(1e-4, 0.7e-4, 0.0, np.inf), (0.02, 0.015, 0.0, 1.0),
                                                (-3.0, 2.0, -np.inf, 0.0), (1e-9, 1e-3, 0.0, np.inf),
-                                               (0.5, 10.0, 0.0, 1.0), (5.0, 1.0, 0.0, np.inf)])
+                                               (0.5, 10.0, 0.0, 1.0), (5.0, 1.0, 0.0, np.inf),
+                                               (np.nextafter(1.0, 0.0), 0.5, -1.0, 1.0),
+                                               (5e-324, 1.0, 0.0, np.inf)])
 def test_bounded_intervals_never_leave_the_bounds_and_contain_the_estimate(value, se, lo, hi):
     a, b = bounded_interval(value, se, lo, hi)
     assert lo <= a <= value <= b <= hi
