@@ -4,6 +4,7 @@ Kinds (the truth each case carries):
 
 - ``drift``: the mains frequency ramps linearly (0.7-3 mHz/s) -> ``frequency_drift``;
 - ``wander``: sinusoidal mains wander (FM, +-10-40 mHz, period 4 s to half the record) -> ``frequency_wander``;
+- ``wander_slow``: the same with a period of half the record to the whole record (1-2 cycles);
 - ``wander_weak``: the same with a depth of only +-2-8 mHz (where naming the wander gets hard);
 - ``grid``: the real grid-frequency trajectory of ``../shared/data/enf_whu_mains_reference`` (a random
   excerpt) -> a moving mains frequency: ``frequency_wander`` or ``frequency_drift`` are both right;
@@ -20,13 +21,16 @@ to A440 with notes near the hum harmonics, speech-like, coloured noise); hum-to-
 """
 from __future__ import annotations
 
+import zlib
+
 import numpy as np
 from _audio_cases import enf_files, enf_phase, hum_amplitudes, noise_host, speech_host, tonal_host
 
-EFFECT_KINDS = ("drift", "wander", "wander_weak", "grid", "am", "coupling")
+EFFECT_KINDS = ("drift", "wander", "wander_slow", "wander_weak", "grid", "am", "coupling")
 NULL_KINDS = ("null", "null_coupling")
 KINDS = EFFECT_KINDS + NULL_KINDS
 TRUTH = {"drift": {"frequency_drift"}, "wander": {"frequency_wander"}, "wander_weak": {"frequency_wander"},
+         "wander_slow": {"frequency_wander"},
          "grid": {"frequency_wander", "frequency_drift"}, "am": {"amplitude_modulation"},
          "coupling": {"channel_coupling"}, "null": set(), "null_coupling": set()}
 SHAPES = ("decay", "second", "third", "no_fundamental")
@@ -34,9 +38,14 @@ HOSTS = ("tonal", "speech", "noise")
 DEV_SEED0, EVAL_SEED0 = 0, 100
 
 
+def _kind_id(kind):
+    """A stable number per kind (adding a kind leaves the other kinds' cases as they were)."""
+    return zlib.crc32(kind.encode())
+
+
 def case_spec(kind, seed, quick=False):
     """The drawn nuisances of one case (a dict)."""
-    rng = np.random.default_rng([seed, KINDS.index(kind)])
+    rng = np.random.default_rng([seed, _kind_id(kind)])
     spec = {"kind": kind, "seed": seed, "nominal": float(rng.choice([50.0, 60.0])),
             "clock": float(rng.uniform(2e-4, 1e-3) * rng.choice([-1, 1])) if rng.random() < 0.5 else 0.0,
             "shape": str(rng.choice(SHAPES)), "host": str(rng.choice(HOSTS)),
@@ -61,8 +70,8 @@ def _deviation(kind, t, rng, f_base):
     if kind == "drift":
         rate = rng.uniform(0.7e-3, 3e-3) * rng.choice([-1, 1])
         return 0.5 * rate * (t - dur / 2) ** 2, {"f1": rate}
-    if kind in ("wander", "wander_weak"):
-        period = rng.uniform(4.0, dur / 2)
+    if kind in ("wander", "wander_weak", "wander_slow"):
+        period = rng.uniform(4.0, dur / 2) if kind != "wander_slow" else rng.uniform(dur / 2, dur)
         depth = rng.uniform(0.01, 0.04) if kind == "wander" else rng.uniform(0.002, 0.008)
         ph0 = rng.uniform(0, 2 * np.pi)
         return depth * period / (2 * np.pi) * np.sin(2 * np.pi * t / period + ph0), \
@@ -93,7 +102,7 @@ def _hum(t, f_base, dev, amps, rng):
 
 def make_case(spec):
     """(y, aux, sr, truth): y (n,), aux {"ch2": (n,)} or None, truth with f0_mean and effect values."""
-    rng = np.random.default_rng([spec["seed"], 77, KINDS.index(spec["kind"])])
+    rng = np.random.default_rng([spec["seed"], 77, _kind_id(spec["kind"])])
     sr, kind = spec["sr"], spec["kind"]
     n = int(spec["dur"] * sr)
     t = np.arange(n) / sr

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 N_STARTS = 3            # periodogram peaks tried as wander frequencies
+MIN_CYCLES = 1.0        # a wander shows at least one full cycle in the record (slower: a drift)
 
 
 def wander_cycles(tau, p):
@@ -33,16 +34,17 @@ def wander_cycles(tau, p):
 
 
 def wander_bounds(span_s, step_s, max_steps):
-    """Bounds of ``f_w``: at least 1.5 cycles over the record, at most the bands' usable half-width.
+    """Bounds of ``f_w``: at least one cycle over the record, at most the bands' usable half-width.
 
-    A slower wander is a drift (its own effect); a faster one lies outside the decimated bands.
+    Over less than a cycle a sinusoidal phase is close to a polynomial, i.e. to a drift (its own
+    effect); a faster wander lies outside the decimated bands.
 
     Examples
     --------
     >>> wander_bounds(60.0, 0.1, 0.4)
-    {'f_w': (0.025, 4.0)}
+    {'f_w': (0.016666666666666666, 4.0)}
     """
-    return {"f_w": (1.5 / span_s, max_steps / step_s)}
+    return {"f_w": (MIN_CYCLES / span_s, max_steps / step_s)}
 
 
 def slow_phase(preset, pred, y):
