@@ -76,3 +76,9 @@ def test_bounded_interval_coverage_for_a_lognormal_rate():
     est = true * np.exp(rel * rng.normal(size=4000))
     cover = np.mean([(lambda ab: ab[0] <= true <= ab[1])(bounded_interval(e, rel * e, 0.0)) for e in est])
     assert 0.93 <= cover <= 0.97
+
+
+def test_asking_for_the_wander_on_a_short_record_is_a_clear_error():
+    y, sr, _ = gen.hum_recording(seconds=1.0, sr=4000, drift_hz=0.0)
+    with pytest.raises(InputError, match="needs the audio engine"):
+        explain("hum", np.arange(len(y)) / sr, y.astype(float), effects=["frequency_wander"])
