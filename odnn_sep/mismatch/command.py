@@ -137,6 +137,40 @@ def _frame_params(args, params, model, info):
     return params, make_model(args.model, params)
 
 
+def _load_series(args, params, model):
+    """The data of one file with its aux channels, inputs and temperature unit (degC for the physics)."""
+    import sys
+
+    from odnn_sep.mismatch.io import load_data
+    from odnn_sep.mismatch.units import to_celsius
+    t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
+                                with_aux=True)
+    if info.get("frames"):
+        params, model = _frame_params(args, params, model, info)
+    inputs = _pick_inputs(args.input, aux, info)
+    if args.no_aux or model.family != "hum":
+        # other channels only enter through the hum preset's channel_coupling effect
+        aux = {}
+        info["aux_channels"] = []
+    unit = ""
+    if model.family == "cooling":
+        y, unit, note = to_celsius(y, args.units)
+        if note:
+            print(note, file=sys.stderr)
+    return t, y, info, aux, inputs, unit, params, model
+
+
+def _explain_target(args, params, model, inputs, info):
+    """What explain() is given: the model (or its preset name when inputs drive it) and the numeric starts."""
+    numeric = {k: v for k, v in model.start.items() if k in params and not isinstance(v, str)}
+    if not inputs:
+        return model, numeric
+    # a driven preset is built inside explain (its gains kd_<column> join the parameters)
+    structural = {k: v for k, v in params.items() if k in ("harmonics", "sources")}
+    info["inputs"] = list(inputs)
+    return args.model, {**numeric, **structural}
+
+
 def run(args) -> int:
     """Run ``odnn-sep mismatch``: load the data, explain the mismatch, print and write the report.
 
@@ -163,38 +197,16 @@ def run(args) -> int:
 
     from odnn_sep.io_utils import write_json
     from odnn_sep.mismatch.explain import explain
-    from odnn_sep.mismatch.io import load_data
     from odnn_sep.mismatch.report import plot, result_dict, summary_text
-    from odnn_sep.mismatch.units import to_celsius
 
     params, model = _checked_options(args)
     if args.series is not None or len(args.data) > 1 or args.shared is not None:
         from odnn_sep.mismatch.joint_command import run_joint
         return run_joint(args, params)
     args.data = args.data[0]
-    t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
-                                with_aux=True)
-    if info.get("frames"):
-        params, model = _frame_params(args, params, model, info)
-    inputs = _pick_inputs(args.input, aux, info)
-    if args.no_aux or model.family != "hum":
-        # other channels only enter through the hum preset's channel_coupling effect
-        aux = {}
-        info["aux_channels"] = []
-    unit = ""
-    if model.family == "cooling":
-        y, unit, note = to_celsius(y, args.units)
-        if note:
-            print(note, file=sys.stderr)
+    t, y, info, aux, inputs, unit, params, model = _load_series(args, params, model)
     effects = None if args.effects is None else [e.strip() for e in args.effects.split(",") if e.strip()]
-    numeric = {k: v for k, v in model.start.items() if k in params and not isinstance(v, str)}
-    if inputs:
-        # a driven preset is built inside explain (its gains kd_<column> join the parameters)
-        structural = {k: v for k, v in params.items() if k in ("harmonics", "sources")}
-        target, numeric = args.model, {**numeric, **structural}
-        info["inputs"] = list(inputs)
-    else:
-        target = model
+    target, numeric = _explain_target(args, params, model, inputs, info)
     res = explain(target, t, y, params=numeric, effects=effects, disturbance=args.disturbance,
                   aux=aux or None, inputs=inputs or None, unit=unit, folds=args.folds,
                   progress=not args.quiet and sys.stderr.isatty())

@@ -101,6 +101,11 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
            frozenset({"hum"}), discrete={"k_h": 6}),
     Effect("frequency_drift", "mains frequency drifting linearly, f(t) = f0 + f1 (t - t_mid) (FM)",
            {"f1": 0.0}, {"f1": (-INF, INF)}, frozenset({"hum"})),
+    # implemented on the audio engine's basebands (odnn_sep.mismatch.hum_engine), where the slow phase
+    # of every harmonic is seen; short records on their samples do not offer it
+    Effect("frequency_wander", "mains frequency wandering slowly, f(t) = f0 + df_w cos(2 pi f_w t + phase_w) (FM)",
+           {"df_w": 0.0, "f_w": 0.02, "phase_w": 0.0},
+           {"df_w": (-INF, INF), "f_w": (0.0, INF), "phase_w": (-INF, INF)}, frozenset({"hum"})),
     # parameters kappa_<channel>, kappaq_<channel> per aux channel (their names depend on the data:
     # see odnn_sep.mismatch.coupling); offered only when explain() is given aux channels
     Effect("channel_coupling", "crosstalk: a scaled (and phase-shifted: quadrature gain) copy of another "

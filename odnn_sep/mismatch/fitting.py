@@ -15,7 +15,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from odnn_sep.core.linalg import Projector, intervals, orthonormal_basis, solve, varpro
+from odnn_sep.core.bounded_interval import bounded_interval
+from odnn_sep.core.linalg import Projector, orthonormal_basis, solve, varpro
 from odnn_sep.core.uncertainty import sandwich_standard_errors
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
@@ -104,10 +105,11 @@ class Fit:
         return float(np.sqrt(np.mean(self.residual ** 2)))
 
     def intervals(self) -> dict:
-        """95 % intervals: Wald intervals on the robust standard errors, intersected with the bounds.
+        """95 % intervals: Wald intervals on the robust standard errors, kept inside the bounds.
 
-        Cutting a Wald interval at a physical bound (a damping or drag >= 0) keeps its coverage
-        (the true value is inside the bounds) and never reports impossible values.
+        Where a Wald interval would cross a physical bound (a rate > 0), the interval of the log
+        (logit for two bounds) of the parameter is used (:func:`odnn_sep.core.bounded_interval.bounded_interval`);
+        an estimate within one standard error of its bound gets the Wald interval cut at the bound.
 
         Returns
         -------
@@ -126,11 +128,12 @@ class Fit:
         names = list(self.stderr)
         # a sandwich over nb blocks has about nb - 1 degrees of freedom: Student-t, not normal, quantiles
         widen = t_over_normal(self.interval_dof)
-        wald = intervals([self.params[k] for k in names], [widen * self.stderr[k] for k in names])
         out = {}
-        for k, (a, b) in zip(names, wald, strict=True):
+        for k in names:
+            # Wald inside the bounds; a log / logit interval where the Wald one would cross a bound
             lo, hi = self.model.bounds.get(k, (-np.inf, np.inf))
-            out[k] = (float(max(lo, a)), float(min(hi, b)))
+            a, b = bounded_interval(self.params[k], widen * self.stderr[k], lo, hi)
+            out[k] = (float(a), float(b))
         return out
 
 

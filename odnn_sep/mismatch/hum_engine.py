@@ -28,6 +28,7 @@ from odnn_sep.mismatch.hum_baseband import (
     stack,
     track_mains,
 )
+from odnn_sep.mismatch.hum_wander import wander_bounds, wander_cycles
 from odnn_sep.mismatch.presets_base import INF, Preset
 
 MIN_SAMPLES = 40_000            # shorter records are analysed on their samples
@@ -35,7 +36,8 @@ TARGET_VALUES = 6000            # about this many stacked values (2 per band and
 MIN_RATE_HZ = 4.0               # ... but at least this low rate (modulations up to 1.6 Hz stay visible)
 MAX_HARMONICS = 12              # model harmonics taken from the detection at most
 AM_MAX_STEPS = 0.4               # highest modulation frequency seen on the bands, in units of the low rate
-BAND_EFFECTS = ("missing_harmonic", "frequency_drift", "amplitude_modulation", "channel_coupling")
+BAND_EFFECTS = ("missing_harmonic", "frequency_drift", "frequency_wander", "amplitude_modulation",
+                "channel_coupling")
 
 
 class HumBands(Preset):
@@ -61,7 +63,7 @@ class HumBands(Preset):
     fixed = frozenset({"harmonics"})
     # amplitude modulation is evaluated here on the true time of each step (the generic wrapper would
     # use the stacked vector's time stamps, whose pattern across bands it could then imitate)
-    native = frozenset({"missing_harmonic", "frequency_drift", "amplitude_modulation"})
+    native = frozenset({"missing_harmonic", "frequency_drift", "frequency_wander", "amplitude_modulation"})
     baseband = True                 # already at its analysis rate (rate.reduce_rate leaves it alone)
 
     def __init__(self, bands, sigma, mains, *, t0):
@@ -72,6 +74,12 @@ class HumBands(Preset):
         self.t0 = float(t0)                                   # time of the record's first sample
         self.t_mid = 0.5 * (bands.tau[0] + bands.tau[-1])     # the drift's reference time
         self.coupling = {}                                    # {name: (c, q)} stacked aux regressors
+
+    def effect_bounds(self, effect):
+        """Data bounds of an effect's parameters (the wander frequency: see :func:`.hum_wander.wander_bounds`)."""
+        if effect == "frequency_wander":
+            return wander_bounds(self.m * self.step, self.step, AM_MAX_STEPS)
+        return {}
 
     def times(self):
         """The stacked vector's time stamps: strictly increasing, within one step of the true time."""
@@ -94,6 +102,8 @@ class HumBands(Preset):
                 - self.mains.psi_at(tau - self.t0)
             if "frequency_drift" in effects:
                 cyc = cyc + 0.5 * p["f1"] * ((tau - self.t_mid) ** 2 - (self.tau0 - self.t_mid) ** 2)
+            if "frequency_wander" in effects:
+                cyc = cyc + wander_cycles(tau - self.tau0, p)
             coef = np.zeros(len(ks), complex)
             H = int(p["harmonics"])
             for i, k in enumerate(ks):

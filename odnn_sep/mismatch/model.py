@@ -155,7 +155,10 @@ class Model:
         >>> make_model("freefall").with_effect("drift").applicable_effects()
         ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'time_delay']
         """
-        return [e for e in applicable(self.family) if e not in self.effects]
+        return [e for e in applicable(self.family) if e not in self.effects and self._offers(e)]
+
+    def _offers(self, effect):
+        return self.preset is None or not hasattr(self.preset, "offers") or self.preset.offers(effect)
 
     def with_effect(self, name: str, start: dict | None = None) -> "Model":
         """A copy of the model with effect ``name`` added (its parameters start at their neutral values).
@@ -188,6 +191,9 @@ class Model:
         if name == "channel_coupling":
             raise InputError("channel_coupling needs the recording's other channels: pass aux={name: array} "
                              "to explain() (the CLI does this for multichannel files)")
+        if not self._offers(name):
+            raise InputError(f"effect {name!r} is not available for model {self.name!r} on this record: it needs "
+                             f"the audio engine (a uniformly sampled hum record of more than 40000 samples)")
         eff = EFFECTS[name]
         new_start = dict(self.start)
         new_start.update(eff.params)
@@ -195,6 +201,8 @@ class Model:
             new_start.update(start)
         bounds = dict(self.bounds)
         bounds.update(eff.bounds)
+        if self.preset is not None and hasattr(self.preset, "effect_bounds"):
+            bounds.update(self.preset.effect_bounds(name))
         fixed = self.fixed | frozenset(eff.discrete)
         return replace(self, start=new_start, bounds=bounds, fixed=fixed, effects=self.effects + (name,))
 
@@ -218,6 +226,31 @@ class Model:
         s = dict(self.start)
         s.update(values)
         return replace(self, start=s)
+
+
+def _driven_preset(key, preset, inputs, start):
+    """A copy of ``preset`` driven by ``inputs``; their gains join ``start`` (at 0)."""
+    from odnn_sep.mismatch.inputs import DRIVEN_PRESETS, gain_names
+    if key not in DRIVEN_PRESETS:
+        raise InputError(f"measured inputs (--input) drive the presets {', '.join(DRIVEN_PRESETS)} and user "
+                         f"ODE models; model {key!r} takes none")
+    import copy
+    preset = copy.copy(preset)
+    preset.inputs = dict(inputs)
+    start.update({g: 0.0 for g in gain_names(inputs)})
+    return preset
+
+
+def _structural_starts(key, preset, start):
+    """Starts of the parameters a structural setting creates (hum amplitudes, heat2d source strengths)."""
+    if key == "hum":
+        for n in preset.amplitude_names(start["harmonics"]):
+            start.setdefault(n, 0.0)
+    if key == "heat2d":
+        from odnn_sep.mismatch.presets import parse_sources
+        for i in range(len(parse_sources(start["sources"]))):
+            start.setdefault(f"S{i + 1}", 1.0)
+        start.update({k: v for k, v in preset.extra_params(start).items() if k not in start})
 
 
 def make_model(name: str, params: dict | None = None, *, inputs: dict | None = None) -> Model:
@@ -261,24 +294,10 @@ def make_model(name: str, params: dict | None = None, *, inputs: dict | None = N
     start = dict(preset.params)
     params = dict(params or {})
     if inputs:
-        from odnn_sep.mismatch.inputs import DRIVEN_PRESETS, gain_names
-        if key not in DRIVEN_PRESETS:
-            raise InputError(f"measured inputs (--input) drive the presets {', '.join(DRIVEN_PRESETS)} and user "
-                             f"ODE models; model {key!r} takes none")
-        import copy
-        preset = copy.copy(preset)
-        preset.inputs = dict(inputs)
-        start.update({g: 0.0 for g in gain_names(inputs)})
+        preset = _driven_preset(key, preset, inputs, start)
     _check_param_names(key, preset, params, start)
     start.update(_coerce_params(params))
-    if key == "hum":
-        for n in preset.amplitude_names(start["harmonics"]):
-            start.setdefault(n, 0.0)
-    if key == "heat2d":
-        from odnn_sep.mismatch.presets import parse_sources
-        for i in range(len(parse_sources(start["sources"]))):
-            start.setdefault(f"S{i + 1}", 1.0)
-        start.update({k: v for k, v in preset.extra_params(start).items() if k not in start})
+    _structural_starts(key, preset, start)
     return Model(name=key, family=preset.family, start=start, bounds=dict(preset.bounds),
                  fixed=frozenset(preset.fixed), builder=preset.build, native=preset.native,
                  ndim=preset.ndim, autonomous=preset.autonomous and not inputs, preset=preset)
@@ -433,7 +452,13 @@ def ode_model(rhs: Callable, params: dict, state0: Sequence[float | str], *, out
     from odnn_sep.mismatch.inputs import check_inputs, interpolator
     ins = check_inputs(inputs, None) if inputs else {}
     at = {k: interpolator(tu, u) for k, (tu, u) in ins.items()}
+    builder = _ode_builder(name, rhs, state0, output, rhs_names, at, list(start))
+    return Model(name=name, family="user", start=start, bounds=dict(bounds or {}), fixed=frozenset(fixed),
+                 builder=builder, autonomous=False)
 
+
+def _ode_builder(name, rhs, state0, output, rhs_names, at, names):
+    """``builder(effects) -> predict(t, p)`` integrating ``rhs`` with the inputs ``at`` ({name: u(t)})."""
     def builder(effects):
         def predict(t, p):
             y0 = [p[s] if isinstance(s, str) else float(s) for s in state0]
@@ -445,8 +470,6 @@ def ode_model(rhs: Callable, params: dict, state0: Sequence[float | str], *, out
                 return integrate_ode(name, f, y0, t, p)[:, output]
             except (ArithmeticError, ValueError, TypeError) as exc:
                 raise ModelIntegrationError(f"model {name!r} failed to integrate with parameters "
-                                            f"{ {k: p[k] for k in start} }: {exc}") from None
+                                            f"{ {k: p[k] for k in names} }: {exc}") from None
         return predict
-
-    return Model(name=name, family="user", start=start, bounds=dict(bounds or {}), fixed=frozenset(fixed),
-                 builder=builder, autonomous=False)
+    return builder

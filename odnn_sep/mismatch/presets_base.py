@@ -103,6 +103,7 @@ class Preset:
     bounds: dict = {}
     fixed: frozenset = frozenset()
     native: frozenset = frozenset()   # effects implemented inside the preset's equations
+    not_offered: frozenset = frozenset()   # effects of the family this preset cannot evaluate
     autonomous = True
     ndim = 1
     inputs: dict = {}   # measured inputs {name: (t, u)}: set on a per-model copy (see make_model)
@@ -122,6 +123,14 @@ class Preset:
             ``predict(t, p) -> y``.
         """
         raise NotImplementedError
+
+    def offers(self, effect):
+        """Whether the preset implements ``effect`` (an effect of its family it cannot evaluate: False)."""
+        return effect not in self.not_offered
+
+    def effect_bounds(self, effect):
+        """Bounds of ``effect``'s parameters that depend on the preset's data (default: none)."""
+        return {}
 
     def initial_guess(self, t, y, p):
         """Data-driven starting values for parameters the user did not give (dict, may be partial).

@@ -142,6 +142,8 @@ class Hum(Preset):
     bounds = {"f0": (0.0, INF)}
     fixed = frozenset({"harmonics"})
     native = frozenset({"missing_harmonic", "frequency_drift"})
+    # the wander is seen on the slow phase of every harmonic: long records on the audio engine only
+    not_offered = frozenset({"frequency_wander"})
 
     def amplitude_names(self, harmonics):
         """Amplitude parameters ``a1, b1, a2, b2, ...`` of ``harmonics`` harmonics (see the class example)."""

@@ -239,6 +239,11 @@ def _pattern_starts(p, r, tt, base, model, t, *, max_cycles=8.0, step=0.25):
     return out
 
 
+def _wander_starts(p, r, tt, base, model, t):
+    from odnn_sep.mismatch.hum_wander import wander_starts  # the rule lives with the hum engine
+    return wander_starts(p, r, tt, base, model, t)
+
+
 def _moved_starts(p, r, tt, base, model, t):
     from odnn_sep.mismatch.presets_heat2d import moved_starts  # the rule lives with the heat2d preset
     return moved_starts(p, r, tt, base, model, t)
@@ -251,6 +256,7 @@ _START_RULES = {
     "amplitude_modulation": (_modulation_starts, True),
     "two_body_heat": (_two_body_starts, True),
     "missing_harmonic": (_harmonic_starts, True),
+    "frequency_wander": (lambda *a: _wander_starts(*a), True),
     "extra_source": (_source_starts, False),
     "source_moved": (lambda *a: _moved_starts(*a), False),
     "periodic_pattern": (_pattern_starts, False),
