@@ -65,6 +65,18 @@ def slow_phase(preset, pred, y):
         Step times relative to the band origin (s).
     D : ndarray (M,)
         Phase deviation (cycles of the fundamental), or None when no band carries the model.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> preset = SimpleNamespace(ks=[1, 2], step=0.1)
+    >>> tau = np.arange(50) * 0.1; D_true = 0.02 * tau                 # the data run ahead of the model
+    >>> model = 10.0 * np.ones((50, 2), complex)
+    >>> data = model * np.exp(2j * np.pi * np.array([1, 2]) * D_true[:, None])
+    >>> stack = lambda z: np.stack([z.real, z.imag], axis=-1).ravel()
+    >>> _, D = slow_phase(preset, stack(model), stack(data))
+    >>> bool(np.allclose(D, D_true))
+    True
     """
     K = len(preset.ks)
     zp = pred.reshape(-1, K, 2)
@@ -107,6 +119,12 @@ def wander_starts(p, r, tt, base, model, t):
     -------
     list of dict
         Up to three starts (empty when the model is not on the basebands).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> wander_starts({"f0": 50.0}, None, None, None, SimpleNamespace(preset=None), None)   # not on basebands
+    []
     """
     preset = getattr(model, "preset", None)
     if model is None or not getattr(preset, "baseband", False):
