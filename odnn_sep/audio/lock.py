@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import special
 
+from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import track as _track
 
 SEG_S = 4.0
@@ -154,9 +155,7 @@ def locked(D, sr: int, ks, psi: np.ndarray, *, alpha: float):
     p, idx, amp = np.ones(len(ks)), np.zeros(len(ks)), np.zeros(len(ks))
     for i, k in enumerate(ks_a):
         # one harmonic at a time: a few arrays of the baseband's length, whatever the count
-        rot = np.empty(len(psi), np.complex64)
-        ph = -2 * np.pi * np.mod(k * psi, 1.0)
-        rot.real, rot.imag = np.cos(ph), np.sin(ph)
+        rot = _finetrack.phase_turn(psi, k)
         p[i: i + 1], idx[i: i + 1] = lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr)
         amp[i] = lock_p_values.last_amp[0]
     keep = [int(k) for k, pv in zip(ks, p, strict=True) if pv < alpha]
@@ -261,7 +260,7 @@ def weighted_locked(D, sr: int, ks, psi: np.ndarray) -> dict:
     """
     out = {}
     for i, k in enumerate(ks):
-        rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
+        rot = _finetrack.phase_turn(psi, k)
         p, amp = weighted_lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr)
         out[int(k)] = (float(p[0]), float(amp[0]))
     return out

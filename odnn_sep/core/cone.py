@@ -14,7 +14,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Callable, Sequence
 
 import numpy as np
-from scipy import optimize
 
 from odnn_sep.core.linalg import Projector, solve
 from odnn_sep.errors import check_type
@@ -106,6 +105,8 @@ class _ConeLS:
 
     def __call__(self, y: np.ndarray):
         yp = self.free.project_out(y)
+        from scipy import optimize  # (here: scipy.optimize is a tenth of a second of every start-up)
+
         d, rnorm = optimize.nnls(self.Hp, yp, maxiter=50 * self.H.shape[1])
         u = solve(self.A, y - self.H @ d, method="lstsq")
         return u, d, float(rnorm) ** 2
