@@ -59,7 +59,7 @@ def residual_mark(y: np.ndarray, out: np.ndarray, M: np.ndarray, L: np.ndarray, 
     >>> r["visible"], r["input_score"] > 0.9, residual_mark(y, y, M, L)["visible"]
     (False, True, True)
     """
-    from odnn_sep.image.logo_search import edges, logo_edges, luminance
+    from odnn_sep.image.logo_features import edges, logo_edges, luminance
 
     T = logo_edges(M, L, 1.0)
     E_out = edges(luminance(out), 1.0)

@@ -248,14 +248,15 @@ def locate(y, logo, angle_range: float, max_copies: int, judge) -> list[tuple[Pl
     [(40, 30, 1.0)]
     """
     from odnn_sep.image import logo_search as ls
+    from odnn_sep.image.logo_features import luminance
 
     H, W = y.shape[:2]
     f = min(1.0, ls.COARSE_PX / max(H, W))
 
     def level(g):
         if g >= 1.0 and hasattr(y, "full"):
-            return ls.luminance(y.full())
-        return ls.luminance(y.reduced(max(1, round(W * g)), max(1, round(H * g))) if hasattr(y, "reduced")
+            return luminance(y.full())
+        return luminance(y.reduced(max(1, round(W * g)), max(1, round(H * g))) if hasattr(y, "reduced")
                             else _resize(y, g))
 
     g = min(1.0, ls.FINE_PX / max(H, W))
@@ -303,12 +304,13 @@ def _refine_full(y, logo, p: Placement) -> Placement:
     """``p`` refined on the full-resolution crop around it (a placement from a reduced copy is off by
     a fraction of its pixels, which the blend inversion shows)."""
     from odnn_sep.image import logo_search as ls
+    from odnn_sep.image.logo_features import luminance
 
     H, W = y.shape[:2]
     half = 0.5 * np.hypot(*logo.M.shape) * p.scale * 1.15 + 8
     x0, y0 = int(max(0, p.cx - half)), int(max(0, p.cy - half))
     x1, y1 = int(min(W, p.cx + half + 1)), int(min(H, p.cy + half + 1))
-    grey = ls.luminance(y[y0:y1, x0:x1])
+    grey = luminance(y[y0:y1, x0:x1])
     q = ls.refine(grey, logo, Placement(p.cx - x0, p.cy - y0, p.scale, p.angle), 1.0, 1.0, (0.7, 0.7, 0.01, 0.5),
                   maxiter=120)
     return Placement(q.cx + x0, q.cy + y0, q.scale, q.angle, q.score)
