@@ -286,7 +286,7 @@ def run(args) -> int:
     from pathlib import Path
 
     from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import check_output_target
+    from odnn_sep.io_paths import check_output_target
 
     in_dir, out_dir = Path(args.in_dir), Path(args.out_dir)
     if not in_dir.is_dir():

@@ -137,7 +137,7 @@ def _is_number(s: str) -> bool:
 
 
 def _check_paths(args) -> None:
-    from odnn_sep.io_utils import check_run_paths
+    from odnn_sep.io_paths import check_run_paths
 
     ns = vars(args)
     if args.command == "batch":

@@ -84,7 +84,7 @@ def _unwatermark(args) -> None:
     _text(args.text)
     if args.min_score is not None and not math.isfinite(args.min_score):
         raise InputError(f"--min-score must be a finite number; got {args.min_score!r}")
-    from odnn_sep.io_utils import check_input_path
+    from odnn_sep.io_paths import check_input_path
 
     for flag, p in (("input image", args.input), ("--mask", args.mask)):
         if p is None:

@@ -206,7 +206,8 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
     """
     import soundfile as sf
 
-    from odnn_sep.io_utils import atomic_output, check_output_path
+    from odnn_sep.io_paths import check_output_path
+    from odnn_sep.io_utils import atomic_output
 
     src = FileSource(path_in)
     try:

@@ -88,7 +88,8 @@ def denoise_file_channels(path_in, path_out, *, picks=None, spatial=False, subty
 
     from odnn_sep.audio.channels import denoise_channels
     from odnn_sep.audio.io import ClipCounter, FileSource, is_integer_subtype, output_subtype
-    from odnn_sep.io_utils import atomic_output, check_output_path
+    from odnn_sep.io_paths import check_output_path
+    from odnn_sep.io_utils import atomic_output
 
     src = FileSource(path_in)
     try:

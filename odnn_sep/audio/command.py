@@ -102,7 +102,8 @@ def run(args) -> int:
 
     from odnn_sep.audio.api import denoise_file
     from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import check_input_path, check_output_path, write_json
+    from odnn_sep.io_paths import check_input_path, check_output_path
+    from odnn_sep.io_utils import write_json
 
     inp = check_input_path(args.input, what="input audio file")
     check_output_path(args.output, inp)

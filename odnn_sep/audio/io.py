@@ -91,7 +91,7 @@ class FileSource:
     def __init__(self, path):
         import soundfile as sf
 
-        from odnn_sep.io_utils import check_input_path
+        from odnn_sep.io_paths import check_input_path
 
         self.path = check_input_path(path, what="input audio file")
         self.name = str(self.path)

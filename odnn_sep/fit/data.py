@@ -8,8 +8,8 @@ import numpy as np
 
 from odnn_sep import limits
 from odnn_sep.errors import FormatError, InputError, check_finite
+from odnn_sep.io_paths import check_input_path
 from odnn_sep.io_read import count_lines, load_npz_arrays, looks_binary, pick_column
-from odnn_sep.io_utils import check_input_path
 
 
 def _load_field(p: Path, value_name: list | None):
@@ -143,7 +143,8 @@ def write_components(out, x, y, res) -> None:
     >>> header
     'x,y,physics,disturbance,residual'
     """
-    from odnn_sep.io_utils import atomic_output, check_output_path
+    from odnn_sep.io_paths import check_output_path
+    from odnn_sep.io_utils import atomic_output
 
     check_output_path(out)
     X = x[:, None] if x.ndim == 1 else x

@@ -165,7 +165,7 @@ def _checked_paths(args):
 
     from odnn_sep.errors import InputError
     from odnn_sep.image.io import EXTENSIONS
-    from odnn_sep.io_utils import check_input_path, check_output_path
+    from odnn_sep.io_paths import check_input_path, check_output_path
 
     inp = check_input_path(args.input, what="input image")
     if Path(args.output).suffix.lower() not in EXTENSIONS:

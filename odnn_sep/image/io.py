@@ -277,7 +277,8 @@ def read_image_meta(path):
     import cv2
 
     from odnn_sep.image.io_meta import apply_orientation, read_meta
-    from odnn_sep.io_utils import check_input_path, ensure_readable
+    from odnn_sep.io_paths import check_input_path
+    from odnn_sep.io_utils import ensure_readable
 
     p = check_input_path(path, what="input image")
     meta = read_meta(p)
@@ -366,7 +367,8 @@ def write_image(path: str | os.PathLike, image: np.ndarray, *inputs, jpeg_qualit
     import cv2
 
     from odnn_sep.image.io_meta import add_metadata
-    from odnn_sep.io_utils import atomic_output, check_output_path
+    from odnn_sep.io_paths import check_output_path
+    from odnn_sep.io_utils import atomic_output
 
     out = Path(path)
     suffix = out.suffix.lower()

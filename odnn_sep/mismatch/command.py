@@ -109,7 +109,7 @@ def _pick_inputs(names, columns, info):
 def _checked_options(args):
     """(params, model) once every option is checked, before anything is read (clear one-line errors)."""
     from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import check_output_path
+    from odnn_sep.io_paths import check_output_path
     from odnn_sep.mismatch.disturbances import parse_disturbance
     from odnn_sep.mismatch.model import make_model
     params = _parse_params(args.param)

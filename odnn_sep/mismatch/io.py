@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from odnn_sep.errors import FormatError, InputError
-from odnn_sep.io_utils import check_input_path
+from odnn_sep.io_paths import check_input_path
 
 
 def _pick_column(header, column, path="the CSV"):

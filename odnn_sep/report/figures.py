@@ -31,7 +31,8 @@ def save_figure(fig, out) -> None:
     >>> open(out, "rb").read(4)
     b'\x89PNG'
     """
-    from odnn_sep.io_utils import atomic_output, check_output_path
+    from odnn_sep.io_paths import check_output_path
+    from odnn_sep.io_utils import atomic_output
 
     check_output_path(out)
     suffix = "." + str(out).rsplit(".", 1)[-1] if "." in str(out) else ".png"

@@ -97,7 +97,8 @@ def run(args) -> int:
     import numpy as np
 
     from odnn_sep.errors import InputError
-    from odnn_sep.io_utils import atomic_output, check_output_path, write_json
+    from odnn_sep.io_paths import check_output_path
+    from odnn_sep.io_utils import atomic_output, write_json
     from odnn_sep.signals import make_dataset
 
     out = Path(args.output)
