@@ -17,6 +17,12 @@ import numpy as np
 
 N_STARTS = 3            # periodogram peaks tried as wander frequencies
 MIN_CYCLES = 1.0        # a wander shows at least one full cycle in the record (slower: a drift)
+# The grid frequency is held by the inertia of the machines on the grid: it wanders over seconds to
+# minutes. A faster 'wander' of 10-50 mHz (3 Hz) would mean a rate of change of 0.2-1 Hz/s all the
+# time, which grids show only in faults; faster phase wobble of the lines is what a note partial 1-4 Hz
+# from a harmonic makes (development nulls, seeds 20-59, tonal hosts: 3 of 80 were named a wander at
+# 2.9-3.5 Hz). Periods down to 2 s are allowed (FM to be followed: down to 5 s).
+MAX_WANDER_HZ = 0.5
 
 
 def wander_cycles(tau, p):
@@ -34,17 +40,20 @@ def wander_cycles(tau, p):
 
 
 def wander_bounds(span_s, step_s, max_steps):
-    """Bounds of ``f_w``: at least one cycle over the record, at most the bands' usable half-width.
+    """Bounds of ``f_w``: at least one cycle over the record, at most ``MAX_WANDER_HZ`` (the grid's
+    inertia) and the bands' usable half-width.
 
     Over less than a cycle a sinusoidal phase is close to a polynomial, i.e. to a drift (its own
-    effect); a faster wander lies outside the decimated bands.
+    effect); a faster wander is not the grid's, and may lie outside the decimated bands.
 
     Examples
     --------
     >>> wander_bounds(60.0, 0.1, 0.4)
-    {'f_w': (0.016666666666666666, 4.0)}
+    {'f_w': (0.016666666666666666, 0.5)}
+    >>> wander_bounds(60.0, 1.0, 0.4)                  # coarse bands: their half-width limits it
+    {'f_w': (0.016666666666666666, 0.4)}
     """
-    return {"f_w": (MIN_CYCLES / span_s, max_steps / step_s)}
+    return {"f_w": (MIN_CYCLES / span_s, min(MAX_WANDER_HZ, max_steps / step_s))}
 
 
 def slow_phase(preset, pred, y):
