@@ -18,13 +18,13 @@ def test_command_table_matches_the_front_ends():
 
 
 def test_full_parser_without_a_command():
-    choices = build_parser()._subparsers._group_actions[0].choices
-    assert set(choices) == set(COMMAND_OF)
+    text = build_parser().format_help()
+    assert all(name in text for name in COMMAND_OF)
 
 
 def test_unwatermark_run_does_not_import_other_front_ends():
-    code = ("import sys; from odnn_sep.cli import main; main(['unwatermark', '--help'])")
-    probe = ("import sys, runpy\n"
+    code = "from odnn_sep.cli import main; main(['unwatermark', '--help'])"
+    probe = ("import sys\n"
              "try:\n    " + code + "\nexcept SystemExit:\n    pass\n"
              "print(sorted(m for m in sys.modules if m.startswith('odnn_sep.mismatch')))")
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
