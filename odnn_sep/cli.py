@@ -30,6 +30,16 @@ COMMAND_MODULES = (
     "odnn_sep.signals.command",
     "odnn_sep.batch",
 )
+# The subcommand each front-end registers: a run imports only its own front-end (importing
+# odnn_sep.mismatch alone costs ~0.3 s of start-up; tests check this table against ``register``).
+COMMAND_OF = {
+    "denoise": "odnn_sep.audio.command",
+    "unwatermark": "odnn_sep.image.command",
+    "mismatch": "odnn_sep.mismatch.command",
+    "separate": "odnn_sep.fit.command",
+    "simulate": "odnn_sep.signals.command",
+    "batch": "odnn_sep.batch",
+}
 
 # Options that name files the run reads, and files it writes (checked against each other).
 INPUT_OPTIONS = {"input": "the input", "data": "the input", "mask": "--mask"}
@@ -65,14 +75,26 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``odnn-sep`` argument parser with every subcommand.
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``odnn-sep`` argument parser with every subcommand, or with ``command`` only.
+
+    Parameters
+    ----------
+    command : str, optional
+        A subcommand of ``COMMAND_OF``: only its front-end is imported (a faster start). Any other
+        value, or None: every subcommand.
+
+    Returns
+    -------
+    argparse.ArgumentParser
 
     Examples
     --------
     >>> args = build_parser().parse_args(["simulate", "figure2", "-o", "fig2.csv", "--seed", "3"])
     >>> args.command, args.seed
     ('simulate', 3)
+    >>> "denoise" in build_parser("simulate").format_help(), "denoise" in build_parser().format_help()
+    (False, True)
     """
     parser = argparse.ArgumentParser(
         prog="odnn-sep",
@@ -84,7 +106,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show full tracebacks and debug logs")
     parser.add_argument("--quiet", action="store_true", help="no progress, summaries or info logs")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for modname in COMMAND_MODULES:
+    for modname in (COMMAND_OF[command],) if command in COMMAND_OF else COMMAND_MODULES:
         try:
             mod = importlib.import_module(modname)
         except ModuleNotFoundError as exc:
@@ -210,11 +232,13 @@ def main(argv: list[str] | None = None) -> int:
     """
     # OpenCV's C++ logger would print its own warnings for every unreadable image; our errors say it
     os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
-    parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     # Everything after a bare "--" is handed to the command a batch runs (argparse's own "--"
     # handling does not reach sub-parsers reliably).
     argv, passthrough, flags = _split_argv(argv)
+    # the subcommand is the first argument (the only top-level options, --help and --version, come
+    # without one: then every front-end is loaded, for the full help)
+    parser = build_parser(argv[0] if argv else None)
     args = parser.parse_args(argv)
     if passthrough and args.command != "batch":
         parser.error("options after '--' are only used by 'batch'")
