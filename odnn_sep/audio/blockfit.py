@@ -50,6 +50,7 @@ class FitSettings:
     main_psd: np.ndarray | None = None
     smooth_blocks: int = 4
     main_amps: np.ndarray | None = None   # (blocks, C, K) tracked-comb amplitudes to subtract (NaN: fit's own)
+    envelope: object = None               # envelope.Envelope: the tracked comb's shared gain, or None
 
 
 def fit_pass(source, sink, plan: BlockPlan, trk, lines: LineSet, settings: FitSettings, tick=None):
@@ -234,11 +235,20 @@ class _FitPass:
             self.amps[b] = np.abs(z).T
             self.phs[b] = np.angle(z).T
             # unwindowed hum of the block (tracked comb + fixed lines), then one window multiply
+            env = self.settings.envelope if self.pm else None
             hum = self.fitter.block_hum(i0, n, z, tracked=Fm is None, slot=b % 2)
+            if env is not None and Fm is None:
+                # the tracked comb alone, to be scaled by the shared gain (the buffer is reused)
+                hum = hum.copy()
+                comb = hum - self.fitter.block_hum(i0, n, z, tracked=False, slot=b % 2) if self.lines.n_fixed else hum
             if self.pm and Fm is not None:
                 th = np.empty((self.C, self.pm), Fm.dtype)
                 th[:, 0::2], th[:, 1::2] = z[: len(self.ks)].real.T, -z[: len(self.ks)].imag.T
-                hum += np.dot(th, Fm.T)
+                comb = np.dot(th, Fm.T)
+                hum += comb
+            if env is not None:
+                for c in range(self.C):
+                    hum[c] += ((env.at(i0, n, c) - 1.0) * comb[c]).astype(np.float32)
             hum *= self.w32_full if n == L else self.plan.cut_window(i0 - s0, n).astype(np.float32)
         if self.M and zq is None:
             self.zs.append(None)

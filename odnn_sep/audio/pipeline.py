@@ -26,6 +26,7 @@ from odnn_sep.audio import blockfit as _blockfit
 from odnn_sep.audio import blocklen as _blocklen
 from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
+from odnn_sep.audio import envelope as _envelope
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lockcomb as _lockcomb
 from odnn_sep.audio import steadypath as _steadypath
@@ -102,6 +103,7 @@ class _Found:
     f_med: float | None
     h_amp: dict
     main_amps: object = None
+    envelope: object = None
 
 
 def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
@@ -144,7 +146,7 @@ def _analyse(source, opts: DenoiseOptions):
         # the finer spectrum of the further-comb search depends on the input only: it is computed
         # (from a second handle on the file) while the track and amplitudes are made
         fine = bg.spectrum(source, keep_hz) if further else None
-        plan, trk, h_amp, main_amps = _plan_and_track(source, opts, det, comb, bg)
+        plan, trk, h_amp, main_amps, env = _plan_and_track(source, opts, det, comb, bg)
         if not ks and not det.tones:
             log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
                         "persist); the output equals the input",
@@ -155,13 +157,13 @@ def _analyse(source, opts: DenoiseOptions):
             combs, f_med, spec_fine = _further_combs(source, opts, det, trk, plan, ks, ks_spec, fine.result())
     tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
     lines = LineSet(harmonics=ks, tones=tones, combs=combs)
-    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps), bar
+    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env), bar
 
 
 def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
-    """Block plan, track (all zeros without hum) and whole-input harmonic amplitudes (one of the
-    two computations from the chunk sums in ``bg``'s thread); the locked comb's family and lock
-    statistics go into ``det``."""
+    """Block plan, track (all zeros without hum), whole-input harmonic amplitudes (one of the
+    computations from the chunk sums in ``bg``'s thread), amplitude paths and the shared hum
+    level (envelope.py); the locked comb's family and lock statistics go into ``det``."""
     sr, N = source.sr, source.frames
     block_s = opts.block_s
     if opts.auto_block and (comb is None or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
@@ -171,7 +173,7 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
         z = np.zeros(plan.count)
         trk = _track.Track(t=plan.centres_s, f0=z, rate=z, curv=z, confident=np.zeros(plan.count, bool),
                            strength=z)
-        return plan, trk, {}, None
+        return plan, trk, {}, None, None
     ks = comb.harmonics
     det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
     det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
@@ -183,10 +185,15 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
     trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan)
     # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
     steady = bg.submit(_amplitude.steady_amplitudes, comb.D, comb.f_ref, ks, trk, plan)
-    main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan)
+    means = _steadypath.block_means(comb.D, sr, ks, comb.psi, plan, keep_power=True)
+    main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan, means=means)
+    env = _envelope.shared_envelope(comb.D, sr, comb.f_ref, ks, comb.psi, plan, main_amps, means[4])
+    if env is not None:
+        log.info("the hum level changes within the blocks: followed at %.1f s (gain %.2f-%.2f)",
+                 env.width_s, float(env.gain.min()), float(env.gain.max()))
     h_amp = dict(zip(ks, steady.result().T, strict=True))
     comb.D = None
-    return plan, trk, h_amp, main_amps
+    return plan, trk, h_amp, main_amps, env
 
 
 def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, spec_fine):
@@ -226,7 +233,7 @@ def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
     settings = _blockfit.FitSettings(solver=opts.solver, random_state=opts.random_state,
                                      gram_step=max(1, int(source.sr // (4 * f_top + 1))), fixed_psd=fixed_psd,
                                      main_psd=main_psd if POOL_MAIN else None, smooth_blocks=SMOOTH_BLOCKS,
-                                     main_amps=found.main_amps)
+                                     main_amps=found.main_amps, envelope=found.envelope)
     release_freed_memory()
     amps, phs, valid, overall = _blockfit.fit_pass(source, sink, found.plan, found.trk, lines, settings, tick=tick)
     if found.h_amp:
@@ -278,6 +285,6 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
         candidates=det.candidates + [c for comb in lines.combs for c in comb.candidates],
         block_valid=valid, amplitude_overall=overall,
         info={"solver": opts.solver, "block_s": found.plan.block_s, "channels": C, "frames": N,
-              "duration_s": N / sr},
+              "duration_s": N / sr, "level_followed_s": found.envelope.width_s if found.envelope else None},
         spectra={"freqs": found.spec_before.freqs, "before": found.spec_before.psd, "after": spec_after.psd},
     )

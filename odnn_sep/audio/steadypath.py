@@ -40,7 +40,7 @@ SHORTER_MARGIN = 0.02       # a shorter span must predict held-out blocks this m
 EXCLUDE = 1                 # blocks this close share samples with the one predicted (50 % overlap)
 
 
-def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
+def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan, *, keep_power: bool = False):
     """Per block the weighted mean tracked baseband of each line, as a peak amplitude in the common
     reference (``A`` of ``Re(A exp(2 pi i k (f_ref t + psi(t))))``), and its variance.
 
@@ -56,6 +56,9 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
         Tracked phase of the fundamental (cycles, relative to ``f_ref t``) at the chunk centres.
     plan : BlockPlan
         The fit blocks.
+    keep_power : bool, default False
+        Also return the content power beside each line at every chunk (envelope.py weighs the
+        lines with it).
 
     Returns
     -------
@@ -68,6 +71,8 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     var_noise : (blocks, C, K) float array
         The variance of ``A`` from the content 1.5-6 Hz from the line alone (``var`` also counts
         the content right beside it).
+    near : (J, C, K) float32 array
+        Only with ``keep_power``: :func:`nearpower.near_power` of each line and channel.
 
     Examples
     --------
@@ -88,12 +93,15 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan):
     hi = np.searchsorted(tj, np.arange(nb) * hop + hop)
     A = np.zeros((nb, C, K), complex)
     var, var_eq, var_n = (np.full((nb, C, K), np.inf) for _ in range(3))
+    near = np.empty((J, C, K), np.float32) if keep_power else None
     for i, k in enumerate(ks):
         rot = np.exp(-2j * np.pi * np.mod(k * psi, 1.0))
         for c in range(C):
             u = D[:, c, i].astype(np.complex128) * rot
-            A[:, c, i], var[:, c, i], var_eq[:, c, i], var_n[:, c, i] = _line_means(u, fs, tj, lo, hi, plan, m)
-    return A, var, var_eq, var_n
+            A[:, c, i], var[:, c, i], var_eq[:, c, i], var_n[:, c, i], p_w = _line_means(u, fs, tj, lo, hi, plan, m)
+            if near is not None:
+                near[:, c, i] = p_w
+    return (A, var, var_eq, var_n, near) if keep_power else (A, var, var_eq, var_n)
 
 
 def _line_means(u, fs: float, tj, lo, hi, plan: BlockPlan, m: int):
@@ -113,7 +121,7 @@ def _line_means(u, fs: float, tj, lo, hi, plan: BlockPlan, m: int):
         win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
         A[b], var[b], _ = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
         _, var_n[b], var_eq[b] = _weighted_mean(u[sl], win, p_w[sl], p_med[sl], m)
-    return A, var, var_eq, var_n
+    return A, var, var_eq, var_n, p_w
 
 
 def _weighted_mean(u, win, p_w, p_var, m: int):
@@ -215,7 +223,8 @@ def _best_span(A, prec, var_noise, var_fit):
     return best, best_err, miss, fit_miss
 
 
-def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan):
+def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan,
+                          means=None):
     """Complex amplitudes ``z`` (blocks, C, K) of the tracked harmonics in each block's own phase
     reference (the block fit's: ``hum = Re(z exp(2 pi i k (phase(t) - phase(centre))))``), NaN
     where the block fit's own amplitude is kept; None when no line has a smoothed path.
@@ -234,6 +243,8 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
         Tracked phase (cycles, relative to ``f_ref t``) at the chunk centres.
     plan : BlockPlan
         The fit blocks.
+    means : tuple, optional
+        :func:`block_means` of the same arguments, when the caller has it (its first four parts).
 
     Returns
     -------
@@ -252,7 +263,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     """
     from odnn_sep.audio.finetrack import PhaseTrack
 
-    A, var, var_eq, var_n = block_means(D, sr, ks, psi, plan)
+    A, var, var_eq, var_n = means[:4] if means is not None else block_means(D, sr, ks, psi, plan)
     nb, C, K = A.shape
     out = np.full((nb, C, K), np.nan, complex)
     centres = np.arange(nb) * float(plan.hop)

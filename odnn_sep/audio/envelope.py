@@ -1,0 +1,184 @@
+"""A hum level shared by the harmonics that changes within a block: a load that varies, a device
+switched on or off, a level that steps.
+
+The block fit gives each line one complex amplitude per 8-16 s block (steadypath.py smooths them
+further), so hum whose level moves within a block is left in part: a 40 % modulation at 0.5 Hz
+leaves about -11 dB. The level of mains hum is set by what draws the current, and every harmonic
+of the same source follows it: the change is one real gain ``g(t)`` common to the lines, as the
+fundamental's phase is common to them (finetrack.py). Here, from pass 1's chunk sums:
+
+1. per line, the tracked baseband ``u_k(t)`` (10 ms chunks) and the hum the blocks will subtract
+   there, ``T_k(t)``: the blocks' amplitudes (the smoothed paths, else the window mean of the
+   block), cross-faded by the blocks' sin^2 windows as the fit's output is;
+2. the pooled ratio ``G(t) = sum_k conj(T_k) u_k / q_k / sum_k |T_k|^2 / q_k`` (``q_k`` the
+   content power beside line ``k``, :func:`nearpower.near_power`), smoothed by a Hann of width
+   ``s`` with the same weights;
+3. a change of level is shared and real: at least ``MIN_LINES`` lines are needed, and the
+   change is ``Re G - 1``. Content under the lines (a
+   note partial beside a harmonic, speech, a tracking error) moves ``Re G`` and ``Im G`` alike,
+   so the smoothed ``Im G``
+   measures what the content alone puts into the estimate. The gain is used only where its real
+   part holds ``KAPPA`` times the energy of its imaginary part, and the width chosen is the one
+   with the largest expected benefit ``E_re - 2 E_im`` (what is followed, less the content the
+   correction would then remove with it). Steady hum, and content that merely sits near the lines,
+   leave the output as it was.
+
+Pass 2 (blockfit.py) then scales the tracked comb it subtracts by ``g(t)`` (interpolated to the
+samples), per channel.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from odnn_sep.audio import track as _track
+from odnn_sep.audio.blockplan import BlockPlan, sin2_window
+from odnn_sep.audio.finetrack import PhaseTrack, phase_turn
+
+WIDTHS_S = (0.1, 0.2, 0.5, 1.0, 2.0)   # Hann widths of the gain tried (s)
+KAPPA = 4.0                            # real-part energy over imaginary-part energy needed
+MIN_LINES = 2                          # a level shared by the harmonics needs two of them to show it
+                                       # (one line's level and a click in phase with it look alike)
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """The shared hum gain of each channel at the chunk centres: ``gain[j, c]`` at sample
+    ``t[j]`` (``None`` columns are never built: a channel without a change keeps gain 1), and the
+    Hann width (s) it was smoothed with.
+
+    Examples
+    --------
+    >>> env = Envelope(t=np.array([0.0, 100.0]), gain=np.array([[1.0], [0.5]]), width_s=0.2)
+    >>> env.at(0, 4, 0).tolist()       # samples 0..3, channel 0
+    [1.0, 0.995, 0.99, 0.985]
+    """
+
+    t: np.ndarray          # (J,) chunk centres, samples
+    gain: np.ndarray       # (J, C)
+    width_s: float
+
+    def at(self, i0: int, n: int, c: int) -> np.ndarray:
+        """The gain of channel ``c`` at samples ``i0 .. i0 + n``."""
+        return np.interp(np.arange(i0, i0 + n, dtype=np.float64), self.t, self.gain[:, c])
+
+
+def _smooth(x: np.ndarray, w: np.ndarray, n: int) -> np.ndarray:
+    """Weighted Hann moving mean of ``x`` (weights ``w``), ``n`` chunks wide."""
+    h = np.hanning(n + 2)[1:-1]
+    num = np.convolve(x * w, h, "same")
+    den = np.convolve(w, h, "same")
+    return num / np.maximum(den, 1e-300)
+
+
+def _subtracted(u: np.ndarray, tj: np.ndarray, plan: BlockPlan, path: np.ndarray | None) -> np.ndarray:
+    """The hum the blocks subtract at each chunk, in the baseband's reference: block amplitudes
+    (``path`` where given, else the block's window mean of ``u``) cross-faded by the windows."""
+    nb, hop, L = plan.count, plan.hop, plan.length
+    T = np.zeros(u.shape[0], complex)
+    wsum = np.zeros(u.shape[0])
+    lo = np.searchsorted(tj, np.arange(nb) * hop - hop)
+    hi = np.searchsorted(tj, np.arange(nb) * hop + hop)
+    for b in np.flatnonzero(hi > lo):
+        sl = slice(lo[b], hi[b])
+        win = sin2_window(tj[sl] - (b * hop - hop), L)
+        a = path[b] if path is not None and np.isfinite(path[b]) else np.sum(win * u[sl]) / max(win.sum(), 1e-300)
+        T[sl] += win * a
+        wsum[sl] += win
+    return T / np.maximum(wsum, 1e-12)
+
+
+def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan,
+                    main_amps: np.ndarray | None, near: np.ndarray) -> Envelope | None:
+    """The shared hum gain (see the module text), or None where no channel's level changes
+    within the blocks more than the content under the lines explains.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums at ``k f_ref`` (:func:`track.demodulate`).
+    sr : int
+        Sample rate (Hz).
+    f_ref : float
+        Reference fundamental (Hz).
+    ks : sequence of int
+        Harmonic numbers of ``D``'s columns.
+    psi : (J,) array
+        Tracked phase (cycles, relative to ``f_ref t``) at the chunk centres.
+    plan : BlockPlan
+        The fit blocks.
+    main_amps : (blocks, C, K) complex array or None
+        The amplitude paths in each block's reference
+        (:func:`steadypath.comb_block_amplitudes`; NaN: the block fit's own).
+    near : (J, C, K) float array
+        Content power beside each line (:func:`steadypath.block_means` with ``keep_power``).
+
+    Returns
+    -------
+    Envelope or None
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.steadypath import block_means
+    >>> sr = 2000; t = np.arange(60 * sr) / sr
+    >>> rng = np.random.default_rng(0)
+    >>> hum = np.cos(2 * np.pi * 50 * t) + 0.5 * np.cos(2 * np.pi * 100 * t + 1)
+    >>> x = hum * (1 + 0.4 * np.sin(2 * np.pi * 0.5 * t)) + 0.05 * rng.standard_normal(t.size)
+    >>> D = _track.demodulate(ArraySource(x, sr), 50.0, [1, 2])
+    >>> plan = BlockPlan.from_block_s(8.0, sr, t.size); psi = np.zeros(len(D))
+    >>> near = block_means(D, sr, [1, 2], psi, plan, keep_power=True)[4]
+    >>> env = shared_envelope(D, sr, 50.0, [1, 2], psi, plan, None, near)
+    >>> g = env.at(0, t.size, 0)
+    >>> bool(np.abs(g - (1 + 0.4 * np.sin(2 * np.pi * 0.5 * t)))[5 * sr:-5 * sr].max() < 0.1)
+    True
+    >>> steady = hum + 0.05 * rng.standard_normal(t.size)
+    >>> D = _track.demodulate(ArraySource(steady, sr), 50.0, [1, 2])
+    >>> shared_envelope(D, sr, 50.0, [1, 2], psi, plan, None, block_means(D, sr, [1, 2], psi, plan, keep_power=True)[4]) is None
+    True
+    """
+    J, C, K = D.shape
+    if J < 3 or K < MIN_LINES:
+        return None
+    m = _track.chunk_length(sr)
+    fs = sr / m
+    tj = np.arange(J) * m + (m - 1) / 2
+    cyc_b = None
+    if main_amps is not None:
+        centres = np.arange(plan.count) * float(plan.hop)
+        cyc_b = np.mod(centres * (f_ref / sr), 1.0) + PhaseTrack(psi, sr, f_ref).offset_cycles(centres)
+    gains, width = np.ones((J, C)), None
+    for c in range(C):
+        num = np.zeros(J, complex)
+        W = np.zeros(J)
+        for i, k in enumerate(ks):
+            u = D[:, c, i].astype(np.complex128) * phase_turn(psi, k)
+            path = None
+            if main_amps is not None:
+                # the paths are in each block's own reference: back to the baseband's, as a baseband sum
+                path = main_amps[:, c, i] * np.exp(-2j * np.pi * np.mod(k * cyc_b, 1.0)) * (m / 2.0)
+            T = _subtracted(u, tj, plan, path)
+            q = np.maximum(near[:, c, i].astype(np.float64), 1e-300)
+            num += np.conj(T) * u / q
+            W += np.abs(T) ** 2 / q
+        G = num / np.maximum(W, 1e-300)
+        best = _choose_width(G, W, fs)
+        if best is not None:
+            gains[:, c] = _smooth(G.real, W, max(3, int(round(best * fs))))
+            width = best if width is None else min(width, best)
+    return Envelope(t=tj, gain=gains, width_s=width) if width is not None else None
+
+
+def _choose_width(G: np.ndarray, W: np.ndarray, fs: float) -> float | None:
+    """The Hann width with the largest expected benefit ``E_re - 2 E_im`` among those whose real
+    part holds ``KAPPA`` times the imaginary part's energy; None when none does."""
+    best, best_b = None, 0.0
+    for s in WIDTHS_S:
+        n = max(3, int(round(s * fs)))
+        e_re = float(np.sum(W * _smooth(G.real - 1.0, W, n) ** 2))
+        e_im = float(np.sum(W * _smooth(G.imag, W, n) ** 2))
+        benefit = e_re - 2.0 * e_im
+        if e_re > KAPPA * e_im and benefit > best_b:
+            best, best_b = s, benefit
+    return best
