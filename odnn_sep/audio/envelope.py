@@ -14,13 +14,13 @@ fundamental's phase is common to them (finetrack.py). Here, from pass 1's chunk 
    content power beside line ``k``, :func:`nearpower.near_power`), smoothed by a Hann of width
    ``s`` with the same weights;
 3. a change of level is shared and real: at least ``MIN_LINES`` lines are needed, and the
-   change is ``Re G - 1``. Content under the lines (a
-   note partial beside a harmonic, speech, a tracking error) moves ``Re G`` and ``Im G`` alike,
-   so the smoothed ``Im G``
-   measures what the content alone puts into the estimate. The gain is used only where its real
-   part holds ``KAPPA`` times the energy of its imaginary part, and the width chosen is the one
-   with the largest expected benefit ``E_re - 2 E_im`` (what is followed, less the content the
-   correction would then remove with it). Steady hum, and content that merely sits near the lines,
+   change is ``Re G - 1``. Content under the lines (a note partial beside a harmonic, speech, a
+   tracking error) moves ``Re G`` and ``Im G`` alike, so the smoothed ``Im G`` measures what the
+   content alone puts into the estimate. The gain is used only where its real part holds
+   ``KAPPA`` times the energy of its imaginary part, at the width used and at twice it, and the
+   width chosen is the one with the largest expected benefit ``E_re - 2 E_im`` (what is
+   followed, less the content the correction would then remove with it). Steady hum, and content
+   that merely sits near the lines,
    leave the output as it was.
 
 Pass 2 (blockfit.py) then scales the tracked comb it subtracts by ``g(t)`` (interpolated to the
@@ -172,13 +172,18 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
 
 def _choose_width(G: np.ndarray, W: np.ndarray, fs: float) -> float | None:
     """The Hann width with the largest expected benefit ``E_re - 2 E_im`` among those whose real
-    part holds ``KAPPA`` times the imaginary part's energy; None when none does."""
-    best, best_b = None, 0.0
+    part holds ``KAPPA`` times the imaginary part's energy there and at the next wider width (a
+    change of level that shows at one width shows at twice it; content moves the real part at one
+    width only now and then); None when none does."""
+    energies = []
     for s in WIDTHS_S:
         n = max(3, int(round(s * fs)))
-        e_re = float(np.sum(W * _smooth(G.real - 1.0, W, n) ** 2))
-        e_im = float(np.sum(W * _smooth(G.imag, W, n) ** 2))
-        benefit = e_re - 2.0 * e_im
-        if e_re > KAPPA * e_im and benefit > best_b:
+        energies.append((float(np.sum(W * _smooth(G.real - 1.0, W, n) ** 2)),
+                         float(np.sum(W * _smooth(G.imag, W, n) ** 2))))
+    real = [e_re > KAPPA * e_im for e_re, e_im in energies]
+    best, best_b = None, 0.0
+    for i, s in enumerate(WIDTHS_S):
+        benefit = energies[i][0] - 2.0 * energies[i][1]
+        if real[i] and real[min(i + 1, len(real) - 1)] and benefit > best_b:
             best, best_b = s, benefit
     return best
