@@ -140,7 +140,9 @@ def run(args) -> int:
         if res.harmonics or res.tones:
             lines = ", ".join(res.line_names)
             f0 = f"{res.mains_hz:.4f} Hz" if res.mains_hz else "-"
-            print(f"removed hum: fundamental {f0} (family {res.nominal_hz}), lines {lines} -> {args.output}")
+            level = res.info.get("level_followed_s")
+            level = f"; its level changes and was followed at {level:g} s" if level else ""
+            print(f"removed hum: fundamental {f0} (family {res.nominal_hz}), lines {lines}{level} -> {args.output}")
         else:
             print(f"no significant hum found; wrote the input unchanged -> {args.output}")
     return 0
