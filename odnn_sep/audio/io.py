@@ -164,7 +164,13 @@ class FileSource:
 
         try:
             self.f.seek(start)
-            out = self.f.read(n, dtype="float64", always_2d=True, out=out)
+            if self.subtype == "PCM_16":
+                # libsndfile's own float conversion of 16-bit samples is x / 32768, done here on the
+                # int16 read instead: the same values, at a tenth of the read's time
+                raw = self.f.read(n, dtype="int16", always_2d=True)
+                out = np.multiply(raw, 1.0 / 32768.0, out=out[: raw.shape[0]] if out is not None else None)
+            else:
+                out = self.f.read(n, dtype="float64", always_2d=True, out=out)
         except (sf.LibsndfileError, RuntimeError) as exc:
             raise FormatError(f"could not read input audio file {self.name!r} at frame {start}: "
                               f"{str(exc).splitlines()[0]} (the file may be truncated or corrupt)") from None
