@@ -248,12 +248,43 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
                      if k not in d2.harmonics]
             fams.append(settle(source, spec, d2, extra, alpha=alpha, n_tests=n_first + len(extra), test=True))
     fams = [f for f in fams if f.harmonics]
+    if not fams and test and det.harmonics:
+        retry = _low_harmonics_retry(source, spec, det, alpha=alpha, max_hz=max_hz, n_first=n_first)
+        fams = [retry] if retry is not None else []
     if not fams:
         return None
     best = max(fams, key=lambda f: f.evidence)
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
              [round(f.evidence, 1) for f in fams])
     return best
+
+
+def _low_harmonics_retry(source, spec, det, *, alpha: float, max_hz, n_first: int) -> Comb | None:
+    """The detected family once more, from its fundamental refined on harmonics 1-``LOWEST_K``
+    alone, when nothing locked at the first try; None when nothing locks then either.
+
+    The spectrum's fundamental is refined with every harmonic voting; strong note partials high up
+    (E5 = 659.3 Hz is 11 x 59.93 Hz) can then pull it off the hum by a few hundredths of a hertz,
+    most of all when the hum's own lines are split by a jump of its phase (a splice), and the track
+    started there locks nothing. Mains hum lives at the first harmonics, so they alone place the
+    fundamental here; the lock tests are the same, so a comb of partials fails them as before."""
+    import copy
+
+    low = [k for k in det.harmonics if k <= LOWEST_K]
+    if not low:
+        return None
+    f0 = _detect.refine_fundamental(spec, det.nominal_hz, low)
+    if abs(f0 - det.mains_hz) < 1e-6:
+        return None
+    d2 = copy.copy(det)
+    d2.mains_hz, d2.harmonics = f0, low
+    extra = [k for k in _detect.candidate_harmonics(f0, source.sr, "auto", max_hz) if k not in low]
+    comb = settle(source, spec, d2, extra, alpha=alpha, n_tests=n_first + len(extra), test=True)
+    if not comb.harmonics:
+        return None
+    log.info("locked only with the fundamental placed by harmonics 1-%d: %.4f Hz (the spectrum said %.4f)",
+             LOWEST_K, f0, det.mains_hz)
+    return comb
 
 
 def _locked_leave_one_out(fam: _Family, ks, psi0) -> list[int]:
