@@ -15,7 +15,7 @@ fit's pooling (blockfit.py) only looks back a few blocks. Here, from pass 1's ch
    phase against the track moves (amplitude modulation, a track error at a high harmonic) takes a
    shorter span. The block fit's own amplitudes stay where even the shortest span is best while
    the blocks scatter more than their noise, or where the path's miss exceeds the block fit's own
-   error (measured per block, see :func:`_weighted_mean`; medians over the blocks, so that one
+   error (measured per block, see :func:`_weighted_means`; medians over the blocks, so that one
    block held by a loud partial does not decide). (The held-out error is compared between spans
    only: its size against the blocks' own noise says little, that noise being measured beside
    the line, not under it.)
@@ -38,6 +38,7 @@ SPANS = (None, 16, 8, 4, 3)  # Hann half-widths tried (blocks); None: one amplit
 MIN_BLOCKS = 6              # fewer blocks: the block fit's own amplitudes are kept
 SHORTER_MARGIN = 0.02       # a shorter span must predict held-out blocks this much better to be chosen
 EXCLUDE = 1                 # blocks this close share samples with the one predicted (50 % overlap)
+BATCH_BLOCKS = 64           # blocks whose chunk tables are made at once (bounded work arrays)
 
 
 def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan, *, keep_power: bool = False):
@@ -67,7 +68,7 @@ def block_means(D: np.ndarray, sr: int, ks, psi: np.ndarray, plan: BlockPlan, *,
         ``inf`` for a block with no chunk.
     var_eq : (blocks, C, K) float array
         The error variance of the equal-weight mean over the same window (the block fit's), as
-        measured (see :func:`_weighted_mean`).
+        measured (see :func:`_weighted_means`).
     var_noise : (blocks, C, K) float array
         The variance of ``A`` from the content 1.5-6 Hz from the line alone (``var`` also counts
         the content right beside it).
@@ -116,31 +117,39 @@ def _line_means(u, fs: float, tj, lo, hi, plan: BlockPlan, m: int):
     # latter alone (the near power also holds the line's own fast changes, which are not noise)
     p_w, p_med = near_power(u, fs), local_power(u, fs)[1]
     p_var = np.maximum(p_med, p_w)
-    for b in np.flatnonzero(hi > lo):
-        sl = slice(lo[b], hi[b])
-        win = sin2_window(tj[sl] - (b * hop - hop), plan.length)
-        A[b], var[b], _ = _weighted_mean(u[sl], win, p_w[sl], p_var[sl], m)
-        _, var_n[b], var_eq[b] = _weighted_mean(u[sl], win, p_w[sl], p_med[sl], m)
+    blocks = np.flatnonzero(hi > lo)
+    # the blocks in batches, each a (blocks, chunks) table of its chunks (masked past its end):
+    # one Python step per block cost more than the sums themselves on long inputs
+    width = int((hi - lo).max()) if len(blocks) else 0
+    for i in range(0, len(blocks), BATCH_BLOCKS):
+        bs = blocks[i: i + BATCH_BLOCKS]
+        idx = lo[bs, None] + np.arange(width)[None, :]
+        inside = idx < hi[bs, None]
+        idx = np.minimum(idx, len(u) - 1)
+        win = np.where(inside, sin2_window(tj[idx] - (bs * hop - hop)[:, None], plan.length), 0.0)
+        A[bs], var[bs], _ = _weighted_means(u[idx], win, p_w[idx], p_var[idx], m)
+        _, var_n[bs], var_eq[bs] = _weighted_means(u[idx], win, p_w[idx], p_med[idx], m)
     return A, var, var_eq, var_n, p_w
 
 
-def _weighted_mean(u, win, p_w, p_var, m: int):
-    """One block's weighted mean of the chunk sums ``u`` as a peak amplitude (weights ``win / p_w``),
-    its variance (from ``p_var``), and the error variance of the equal-weight mean, the block
-    fit's (``0, inf, inf`` without weight).
+def _weighted_means(u, win, p_w, p_var, m: int):
+    """Per row (block) of ``(blocks, chunks)`` tables: the weighted mean of the chunk sums ``u`` as
+    a peak amplitude (weights ``win / p_w``), its variance (from ``p_var``), and the error variance
+    of the equal-weight mean, the block fit's (``0, inf, inf`` without weight).
 
     The latter is measured, not modelled: the weighted mean being the generalised least-squares
     one, the equal-weight mean differs from it by a term uncorrelated with it, so its variance is
     ``E|a_eq - a_w|^2 + var(a_w)``; a partial that leaks into the block fit shows in that difference
     whatever its offset from the line."""
     w = win / p_w
-    sw = w.sum()
-    if sw <= 0:
-        return 0.0, np.inf, np.inf
-    a_w = (2.0 / m) * np.sum(w * u) / sw
-    var_w = (2.0 / m) ** 2 * np.sum(w * w * p_var) / sw ** 2
-    a_eq = (2.0 / m) * np.sum(win * u) / win.sum()
-    return a_w, var_w, abs(a_eq - a_w) ** 2 + var_w
+    sw = w.sum(axis=1)
+    ok = sw > 0
+    sw_ = np.where(ok, sw, 1.0)
+    a_w = (2.0 / m) * np.sum(w * u, axis=1) / sw_
+    var_w = (2.0 / m) ** 2 * np.sum(w * w * p_var, axis=1) / sw_ ** 2
+    a_eq = (2.0 / m) * np.sum(win * u, axis=1) / np.where(ok, win.sum(axis=1), 1.0)
+    var_eq = np.abs(a_eq - a_w) ** 2 + var_w
+    return np.where(ok, a_w, 0.0), np.where(ok, var_w, np.inf), np.where(ok, var_eq, np.inf)
 
 
 def _kernel(nb: int, span) -> np.ndarray:
