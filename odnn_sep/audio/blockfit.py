@@ -238,9 +238,13 @@ class _FitPass:
             env = self.settings.envelope if self.pm else None
             hum = self.fitter.block_hum(i0, n, z, tracked=Fm is None, slot=b % 2)
             if env is not None and Fm is None:
-                # the tracked comb alone, to be scaled by the shared gain (the buffer is reused)
-                hum = hum.copy()
-                comb = hum - self.fitter.block_hum(i0, n, z, tracked=False, slot=b % 2) if self.lines.n_fixed else hum
+                # the tracked comb alone, to be scaled by the shared gain; with fixed lines the
+                # buffer is reused for them, so the whole hum is copied out first
+                if self.lines.n_fixed:
+                    hum = hum.copy()
+                    comb = hum - self.fitter.block_hum(i0, n, z, tracked=False, slot=b % 2)
+                else:
+                    comb = hum
             if self.pm and Fm is not None:
                 th = np.empty((self.C, self.pm), Fm.dtype)
                 th[:, 0::2], th[:, 1::2] = z[: len(self.ks)].real.T, -z[: len(self.ks)].imag.T
