@@ -147,7 +147,7 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state):
     nz = np.nonzero(M > 0)
     if not nz[0].size:
         return paste(planes), lost, {"score": 0.0, "contrast_levels": 0.0, "edge_left": 0.0,
-                                     "threshold": MIN_SCORE, "visible": False}
+                                     "threshold": MIN_SCORE, "visible": False, "second_colour": None}
     b = (max(0, nz[1].min() - 4), max(0, nz[0].min() - 4), min(W, nz[1].max() + 5), min(H, nz[0].max() + 5))
     o, lo = invert(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], alpha, color, levels=planes.levels,
                    inpaint=inpaint_lost)

@@ -187,8 +187,12 @@ def _checked_paths(args):
 def _residual_text(residual: dict) -> str:
     """One clause saying how much of the mark is left (text marks: edges and score; logos: edge correlation)."""
     if "edge_left" in residual:
+        second = residual.get("second_colour")
+        beside = (f"; a second colour (outline or shadow, {second['shape']}) left beside the letters at "
+                  f"{second['contrast_levels']:.1f} grey levels, which one opacity and colour cannot remove"
+                  if second else "")
         return (f"{100 * residual['edge_left']:.0f} % of its edge energy left, detection score on the output "
                 f"{residual['score']:.3f} (threshold {residual['threshold']:g}), contrast "
-                f"{residual['contrast_levels']:.1f} grey levels")
+                f"{residual['contrast_levels']:.1f} grey levels{beside}")
     return (f"edge correlation with the registered logo {residual.get('score')}, "
             f"z {residual.get('z')} against chance")

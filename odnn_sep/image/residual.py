@@ -214,7 +214,9 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
     levels), ``edge_left`` (the mark band's excess edge energy over the ring around it, on the output,
     as a share of the same on the input; the largest over the coverages), ``threshold`` and
     ``visible``: a blend still detected with contrast, most of the mark's edges still there, or a
-    blend of the estimated shape with ``STRONG_LEVELS`` of contrast whatever the statistic says.
+    blend of the estimated shape with ``STRONG_LEVELS`` of contrast whatever the statistic says;
+    ``second_colour``: None, or the outline or shadow left beside the mark
+    (``residual_second.second_colour``: its shape, score and contrast), which also makes it visible.
 
     Examples
     --------
@@ -250,8 +252,19 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
         # a strong blend of the estimated shape left (an outlined or shadowed mark): visible too
         levels = max(levels, contrast_levels(out, coverages[0], random_state=random_state))
         visible = levels >= STRONG_LEVELS
+    second = None
+    if not visible:
+        # the other colour of a two-colour mark (outline, shadow), beside the shape that was inverted;
+        # the rendering first: its outline is exact where the estimated shape may have taken in photo
+        from odnn_sep.image.residual_second import second_colour
+
+        for M in coverages[::-1]:
+            second = second_colour(out, M, threshold=threshold, random_state=random_state)
+            if second is not None:
+                visible = True
+                break
     return {"score": round(float(best), 4), "contrast_levels": round(levels, 2), "edge_left": round(left, 3),
-            "threshold": threshold, "visible": bool(visible)}
+            "threshold": threshold, "visible": bool(visible), "second_colour": second}
 
 
 __all__ = ["measure", "edge_excess", "edges_left_over", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS", "EDGE_LEFT_STRONG",
