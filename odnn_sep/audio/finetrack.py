@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from odnn_sep.audio import phasesteps as _steps
 from odnn_sep.audio import track as _track
 
 DECIM = 10            # chunks (10 ms) per sample of the low-passed baseband: 10 Hz
@@ -83,7 +84,7 @@ def block_track_phase(trk, tc: np.ndarray, f_ref: float, sr: int) -> np.ndarray:
     return np.cumsum(dfreq) * (m / sr)
 
 
-def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.ndarray:
+def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, steps: bool = False) -> np.ndarray:
     """Refined phase ``psi`` (cycles, at the chunk centres) of the fundamental; see the module text.
 
     ``D`` (J, C, K) chunk sums at ``k f_ref``; ``weights`` (C, K) inverse floor PSDs (only relative
@@ -104,6 +105,9 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         Inverse floor PSDs.
     psi0 : (J,) array
         Starting phase (cycles).
+    steps : bool, default False
+        Keep steps of the phase whole (a splice, a source switched over; ``phasesteps.py``):
+        each round's correction is smoothed piece by piece between the steps found in it.
 
     Returns
     -------
@@ -149,9 +153,25 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray) -> np.
         w = np.minimum(w, 1e8)
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
-        err = smoothed_correction(num, den, np.abs(c[0]) ** 2, ks[use], n_min, fs_d)
-        psi = psi + np.interp(tc, td, err)
+        power = np.abs(c[0]) ** 2
+        cuts = _steps.find_steps(num / np.maximum(den, 1e-300), den, 2 * n_min) if steps else []
+        err = _steps.piecewise(lambda a, b: smoothed_correction(a, b, power, ks[use], n_min, fs_d), num, den, cuts)
+        psi = psi + _at_chunks(tc, td, err, cuts)
     return psi
+
+
+def _at_chunks(tc: np.ndarray, td: np.ndarray, err: np.ndarray, cuts) -> np.ndarray:
+    """The correction ``err`` (at the decimated times ``td``) at the chunk centres ``tc``: linear
+    between samples, except across a step, which is kept sharp halfway between its two samples."""
+    if not cuts:
+        return np.interp(tc, td, err)
+    out = np.empty(len(tc))
+    edges = [0, *cuts, len(td)]
+    bounds = [-np.inf] + [0.5 * (td[q - 1] + td[q]) for q in cuts] + [np.inf]
+    for i, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
+        sel = (tc >= bounds[i]) & (tc < bounds[i + 1])
+        out[sel] = np.interp(tc[sel], td[a:b], err[a:b])
+    return out
 
 
 def phase_turn(psi: np.ndarray, k: float) -> np.ndarray:

@@ -109,7 +109,10 @@ class _Family:
                                        BlockPlan(sr=self.sr, n_frames=self.N, hop=self.hop))
         psi0 = _finetrack.block_track_phase(trk, _finetrack.chunk_times(self.D.shape[0], self.sr), self.f_ref,
                                             self.sr)
-        return psi0, _finetrack.refine_phase(self.D[:, :, cols], self.sr, self.f_ref, lines, self.W[:, cols], psi0)
+        # steps of the phase (a splice) kept whole here, for the fit and the tests of new lines; the
+        # leave-one-out lock tests keep the smooth phase they were calibrated with
+        return psi0, _finetrack.refine_phase(self.D[:, :, cols], self.sr, self.f_ref, lines, self.W[:, cols], psi0,
+                                             steps=True)
 
 
 def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool = True, progress=None) -> Comb:
