@@ -134,6 +134,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     tc = chunk_times(J, sr)
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
     psi = psi0.copy()
+    known: dict[int, int] = {}        # steps of the phase: decimated index -> first chunk after it
     n_min = max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
@@ -154,20 +155,26 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
         power = np.abs(c[0]) ** 2
-        cuts = _steps.find_steps(num / np.maximum(den, 1e-300), den, 2 * n_min) if steps else []
-        err = _steps.piecewise(lambda a, b: smoothed_correction(a, b, power, ks[use], n_min, fs_d), num, den, cuts)
-        psi = psi + _at_chunks(tc, td, err, cuts)
+        # steps found in earlier rounds stay cuts (at the chunk they were placed at): the later
+        # rounds' corrections must not smooth across them either
+        found = _steps.find_steps(num / np.maximum(den, 1e-300), den, 2 * n_min) if steps else []
+        new = [q for q in found if all(abs(q - p) > 2 * n_min for p in known)]
+        cuts = sorted([*known, *new])
+        err = _steps.piecewise(lambda a, b, p=power, k=ks[use]: smoothed_correction(a, b, p, k, n_min, fs_d), num, den, cuts)
+        if new:
+            known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
+        psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
     return psi
 
 
-def _at_chunks(tc: np.ndarray, td: np.ndarray, err: np.ndarray, cuts) -> np.ndarray:
+def _at_chunks(tc: np.ndarray, td: np.ndarray, err: np.ndarray, cuts, starts) -> np.ndarray:
     """The correction ``err`` (at the decimated times ``td``) at the chunk centres ``tc``: linear
-    between samples, except across a step, which is kept sharp halfway between its two samples."""
+    between samples, except across a step, which is kept sharp at its first chunk ``starts``."""
     if not cuts:
         return np.interp(tc, td, err)
     out = np.empty(len(tc))
     edges = [0, *cuts, len(td)]
-    bounds = [-np.inf] + [0.5 * (td[q - 1] + td[q]) for q in cuts] + [np.inf]
+    bounds = [-np.inf] + [tc[j] - 1e-9 for j in starts] + [np.inf]
     for i, (a, b) in enumerate(zip(edges[:-1], edges[1:])):
         sel = (tc >= bounds[i]) & (tc < bounds[i + 1])
         out[sel] = np.interp(tc[sel], td[a:b], err[a:b])

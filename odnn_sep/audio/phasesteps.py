@@ -119,4 +119,56 @@ def piecewise(fn, num: np.ndarray, den: np.ndarray, steps: list[int]) -> np.ndar
     return out
 
 
-__all__ = ["find_steps", "piecewise", "Z_STEP", "MIN_STEP", "MIN_SCATTER", "MAX_STEPS"]
+def place_steps(D, psi: np.ndarray, ks, c: np.ndarray, err: np.ndarray, steps: list[int], decim: int) -> list[int]:
+    """The chunk at which each step starts, to the chunk (10 ms) rather than the decimated sample.
+
+    A step found between decimated samples ``q - 1`` and ``q`` lies in their ``2 decim`` chunks.
+    Each chunk is scored against the harmonics' mean amplitudes ``c`` with the phase before the
+    step (``psi + err[q - 1]``) and after it (``psi + err[q]``); the boundary taken makes the chunks
+    before it agree with the first and those after with the second best.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums of the harmonics ``ks``.
+    psi : (J,) array
+        The phase (cycles) the correction ``err`` applies to.
+    ks : (K,) array
+        Harmonic numbers.
+    c : (C, K) complex array
+        The harmonics' mean turned amplitudes (per decimated sample).
+    err : (nd,) array
+        The correction at the decimated samples.
+    steps : list of int
+        Decimated indices of the steps (:func:`find_steps`).
+    decim : int
+        Chunks per decimated sample.
+
+    Returns
+    -------
+    list of int
+        Chunk index of each step's first chunk after it.
+
+    Examples
+    --------
+    >>> J = 60; psi = np.zeros(J); D = np.ones((J, 1, 1), complex)
+    >>> D[37:, 0, 0] = np.exp(2j * np.pi * 0.2)               # the phase moves by 0.2 cycle at chunk 37
+    >>> place_steps(D, psi, np.array([1.0]), np.ones((1, 1)), np.array([0.0] * 3 + [0.2] * 3), [3], 10)
+    [37]
+    """
+    from odnn_sep.audio.finetrack import phase_turn
+
+    out = []
+    for q in steps:
+        a, b = (q - 1) * decim, min((q + 1) * decim, len(psi))
+        score = []
+        for side in (err[q - 1], err[q]):
+            turned = np.stack([phase_turn(psi[a:b] + side, k) for k in ks], axis=1)        # (n, K)
+            score.append(np.real(D[a:b] * turned[:, None, :] * np.conj(c)[None]).sum(axis=(1, 2)))
+        before = np.concatenate([[0.0], np.cumsum(score[0])])
+        after = np.concatenate([np.cumsum(score[1][::-1])[::-1], [0.0]])
+        out.append(a + int(np.argmax(before + after)))
+    return out
+
+
+__all__ = ["find_steps", "piecewise", "place_steps", "Z_STEP", "MIN_STEP", "MIN_SCATTER", "MAX_STEPS"]
