@@ -258,7 +258,12 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
         # the rendering first: its outline is exact where the estimated shape may have taken in photo
         from odnn_sep.image.residual_second import second_colour
 
+        checked = []
         for M in coverages[::-1]:
+            on = M > 0.5
+            if any(np.count_nonzero(on & c) >= 0.95 * np.count_nonzero(on | c) for c in checked):
+                continue                # the same shape as one checked already: same shapes, same answer
+            checked.append(on)
             second = second_colour(out, M, threshold=threshold, random_state=random_state)
             if second is not None:
                 visible = True

@@ -25,6 +25,14 @@ from odnn_sep.image.detect import THRESHOLD, detection_score
 SCALES = (0.35, 0.5, 0.65)
 # Shapes with fewer pixels than this give the statistic too few edge patches to mean anything.
 MIN_PIXELS = 30
+# Marks with strokes wider than MAX_STROKE px are checked shrunk to strokes of WORK_STROKE px: the
+# size of the marks the check was calibrated on (40-64 px bold text), at a fraction of the cost.
+MAX_STROKE = 12.0
+WORK_STROKE = 8.0
+# A shape whose output steps by less than this (8-bit levels) from the photo around it is not
+# scored: a step below what counts as visible (residual.VISIBLE_LEVELS). The second colours of
+# development draws 0-1 stepped by 20-104 levels.
+SCREEN_LEVELS = 4.0
 
 
 def second_shapes(M: np.ndarray) -> dict[str, np.ndarray]:
@@ -117,9 +125,12 @@ def second_colour(out: np.ndarray, M: np.ndarray, *, threshold: float = THRESHOL
 
     out = np.asarray(out, dtype=np.float64)
     out = out[:, :, None] if out.ndim == 2 else out
+    out, M = _at_working_scale(out, np.asarray(M, dtype=np.float64))
     best = None
-    for name, S in second_shapes(M).items():
-        if np.count_nonzero(S > 0.5) < MIN_PIXELS:
+    shapes = second_shapes(M)
+    step = _step_levels(out, M, shapes)
+    for name, S in shapes.items():
+        if np.count_nonzero(S > 0.5) < MIN_PIXELS or step[name] < SCREEN_LEVELS:
             continue
         score = detection_score(out, S, random_state=random_state)
         if score < threshold:
@@ -130,4 +141,53 @@ def second_colour(out: np.ndarray, M: np.ndarray, *, threshold: float = THRESHOL
     return best
 
 
-__all__ = ["second_shapes", "second_colour", "SCALES", "MIN_PIXELS"]
+def _step_levels(out: np.ndarray, M: np.ndarray, shapes: dict) -> dict:
+    """Per shape, the mean step (8-bit levels, RMS over channels) between the output on the shape
+    and the photo predicted there from around it (a Gaussian fill of the pixels off the shape and
+    off the mark, about a stroke wide): a cheap screen before the detection statistic, which costs
+    tens of milliseconds a shape. A second colour left steps by tens of levels; the screen only
+    spares the statistic where there is next to no step."""
+    import cv2
+
+    from odnn_sep.image.estimate import stroke_width
+
+    sigma = max(1.5, 0.5 * stroke_width(M))
+    mark = np.asarray(M) > 0.5
+    out32 = np.ascontiguousarray(out, dtype=np.float32)
+    levels = {}
+    for name, S in shapes.items():
+        on = S > 0.5
+        if not on.any():
+            levels[name] = 0.0
+            continue
+        keep = (~on & ~mark).astype(np.float32)
+        den = cv2.GaussianBlur(keep, (0, 0), sigma)
+        d = []
+        for ch in range(out.shape[2]):
+            num = cv2.GaussianBlur(out32[:, :, ch] * keep, (0, 0), sigma)
+            pred = num[on] / np.maximum(den[on], 1e-6)
+            d.append(float(np.mean(out[:, :, ch][on] - pred)))
+        levels[name] = 255.0 * float(np.sqrt(np.mean(np.square(d))))
+    return levels
+
+
+def _at_working_scale(out: np.ndarray, M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``out`` and ``M`` shrunk (area averaging) so that the strokes are ``WORK_STROKE`` px wide
+    when they are wider than ``MAX_STROKE``: the shapes scale with the strokes, and a mark on a
+    12-megapixel photo would otherwise cost seconds per shape for the same answer."""
+    import cv2
+
+    from odnn_sep.image.estimate import stroke_width
+
+    s = stroke_width(M)
+    if not s > MAX_STROKE:
+        return out, M
+    f = WORK_STROKE / s
+    size = (max(8, int(round(out.shape[1] * f))), max(8, int(round(out.shape[0] * f))))
+    small = cv2.resize(np.ascontiguousarray(out, dtype=np.float32), size, interpolation=cv2.INTER_AREA)
+    small = small[:, :, None] if small.ndim == 2 else small
+    Ms = cv2.resize(np.ascontiguousarray(M, dtype=np.float32), size, interpolation=cv2.INTER_AREA)
+    return small.astype(np.float64), Ms.astype(np.float64)
+
+
+__all__ = ["second_shapes", "second_colour", "SCALES", "MIN_PIXELS", "MAX_STROKE", "WORK_STROKE", "SCREEN_LEVELS"]

@@ -49,3 +49,17 @@ def test_no_shape_of_the_family_is_found_on_a_clean_photo():
     shapes = second_shapes(M)
     assert {"ring3", "shift3,3", "shift-3,-3"} <= set(shapes)
     assert all(not (S * M).any() for k, S in shapes.items() if k.startswith(("ring", "shift")))
+
+
+def test_a_large_mark_is_checked_at_its_working_scale_and_its_shadow_found():
+    from odnn_sep.image.synth import text_coverage
+
+    M = np.pad(text_coverage("SAMPLE", "DejaVuSans-Bold", 150, 0), 20)        # strokes ~25 px wide
+    photo = _photo(*M.shape, seed=5)
+    shadow = np.zeros_like(M)
+    shadow[12:, 12:] = M[:-12, :-12]
+    shadow = np.clip(shadow - M, 0, 1)
+    out = (1 - 0.5 * shadow[..., None]) * photo
+    found = second_colour(out, M)
+    assert found is not None and found["shape"].startswith("shift") and found["contrast_levels"] > 10
+    assert second_colour(photo, M) is None
