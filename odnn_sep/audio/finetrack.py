@@ -12,6 +12,8 @@ the first on the low harmonics only (a phase error that is small at ``k = 1`` ca
 The result is one unwrapped phase of the fundamental ``psi(t)`` (cycles, relative to ``f_ref * t``)
 at every chunk centre (100 per second); the block fit evaluates ``k (f_ref t + psi(t))`` at every
 sample (linear interpolation: the error is below 1e-6 cycle for the drifts of real grids).
+A step of the phase (a splice) would be spread over a second by that low-pass; with ``steps`` each
+round's correction is smoothed piece by piece between the steps it finds (phasesteps.py).
 Memory: the chunk sums are already held (J x C x K complex64); this adds a few arrays of J / 10.
 """
 from __future__ import annotations
