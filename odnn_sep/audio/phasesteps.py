@@ -66,17 +66,19 @@ def find_steps(e: np.ndarray, prec: np.ndarray, w: int) -> list[int]:
     X = np.stack([np.ones(2 * w), s, s * s, (s > 0).astype(float)], axis=1)             # (2w, 4)
     E = sliding_window_view(e, 2 * w)                                                    # (m, 2w), window j: j..j+2w
     Om = sliding_window_view(omega, 2 * w)
-    G = np.einsum("mi,ia,ib->mab", Om, X, X)                                             # (m, 4, 4)
-    b = np.einsum("mi,ia,mi->ma", Om, X, E)
+    # the normal equations of every window as matrix products (no (m, 2w, 4, 4) intermediate: an
+    # hour of input has 36000 windows)
+    G = (Om @ (X[:, :, None] * X[:, None, :]).reshape(2 * w, 16)).reshape(-1, 4, 4)
+    b = np.einsum("mi,mi,ia->ma", Om, E, X)
     ok = np.linalg.cond(G) < 1e10
     z = np.zeros(len(E))
     delta = np.zeros(len(E))
     if ok.any():
         Ginv = np.linalg.inv(G[ok])
         beta = np.einsum("mab,mb->ma", Ginv, b[ok])
-        r = E[ok] - beta @ X.T
-        dof = 2 * w - 4
-        s2 = np.maximum(np.einsum("mi,mi->m", Om[ok], r * r) / dof, MIN_SCATTER)        # the window's own scatter
+        # weighted residual sum of squares of the fit: sum(omega e^2) - beta . b
+        rss = np.einsum("mi,mi,mi->m", Om, E, E)[ok] - np.einsum("ma,ma->m", beta, b[ok])
+        s2 = np.maximum(np.maximum(rss, 0.0) / (2 * w - 4), MIN_SCATTER)               # the window's own scatter
         delta[ok] = beta[:, 3]
         z[ok] = beta[:, 3] / np.sqrt(np.maximum(Ginv[:, 3, 3] * s2, 1e-300))
     az = np.where(np.abs(delta) >= MIN_STEP, np.abs(z), 0.0)
