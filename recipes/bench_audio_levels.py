@@ -9,7 +9,13 @@ waveform and level come from other mechanisms, each its own kind:
 - ``switched``: hum of a device switched on at 8 s and off at 22 s (50 ms ramps);
 - ``load``: a load that changes twice a second (40 % level modulation at 0.5 Hz);
 - ``steps``: a level that steps every 5 s (0.3-1.5x);
-- ``phase_jump``: the hum's phase jumps by a quarter cycle at 15 s (a source switched over).
+- ``phase_jump``: the hum's phase jumps by a quarter cycle at 15 s (a source switched over);
+- ``splice``: the recording is cut and joined: the hum's waveform jumps by a random fraction of a
+  cycle (0.05-0.95) at a random instant (6-24 s).
+
+The hum after a jump is the same waveform drawn at shifted times (the version before the splice
+kind shifted the samples and held the last one for the jump's length at the very end: a few ms of
+flat hum that no hum model removes, which capped the phase_jump cases near 30-36 dB).
 
 Hosts: speech-like bursts (16 kHz, 50 Hz mains) and tonal music tuned to A440 (44.1 kHz, 60 Hz),
 from ``_audio_cases.py``; SNR 0 dB, 30 s. Per case: the SNR gain of odnn-sep (defaults, no hint)
@@ -22,6 +28,7 @@ true fundamental). Seeds ``--seed0`` + kind index (development: 100, the default
 from __future__ import annotations
 
 import argparse
+import copy
 import time
 
 import _audio_cases as cases
@@ -29,7 +36,7 @@ import numpy as np
 from _audio_population import gain_db
 from bench_audio import run_iirnotch, run_mne
 
-KINDS = ("saturated", "dimmer", "rectified", "switched", "load", "steps", "phase_jump")
+KINDS = ("saturated", "dimmer", "rectified", "switched", "load", "steps", "phase_jump", "splice")
 HOSTS = (("speech", 16000, 50.0), ("tonal", 44100, 60.0))
 
 
@@ -60,6 +67,7 @@ def make(kind, host, sr, nominal, seed, snr_db=0.0, dur=30.0):
     t = np.arange(n) / sr
     h = {"tonal": lambda: cases.tonal_host(n, sr, rng, nominal), "speech": lambda: cases.speech_host(n, sr, rng)}[host]()
     f0 = nominal * (1 + rng.uniform(-3e-4, 3e-4))
+    rng_again = copy.deepcopy(rng)          # the same waveform once more, at shifted times (a jump)
     hum = _waveform(kind, t, f0, rng, sr)
     if kind == "switched":
         hum *= np.clip((t - 8) / 0.05, 0, 1) * np.clip((22 - t) / 0.05, 0, 1)
@@ -67,8 +75,9 @@ def make(kind, host, sr, nominal, seed, snr_db=0.0, dur=30.0):
         hum *= 1 + 0.4 * np.sin(2 * np.pi * 0.5 * t + rng.uniform(0, 2 * np.pi))
     elif kind == "steps":
         hum *= np.repeat(rng.uniform(0.3, 1.5, int(dur / 5) + 1), int(5 * sr))[:n]
-    elif kind == "phase_jump":
-        hum = np.where(t < 15, hum, np.interp(t + 0.25 / f0, t, hum))
+    elif kind in ("phase_jump", "splice"):
+        jump, at = (0.25, 15.0) if kind == "phase_jump" else (rng.uniform(0.05, 0.95), rng.uniform(6.0, 24.0))
+        hum = np.where(t < at, hum, _waveform(kind, t + jump / f0, f0, rng_again, sr))
     g = np.sqrt(np.mean(h ** 2) / np.mean(hum ** 2) / 10 ** (snr_db / 10))
     hum = hum * g
     peak = np.abs(h + hum).max()

@@ -86,7 +86,8 @@ def block_track_phase(trk, tc: np.ndarray, f_ref: float, sr: int) -> np.ndarray:
     return np.cumsum(dfreq) * (m / sr)
 
 
-def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, steps: bool = False) -> np.ndarray:
+def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, steps: bool = False,
+                 cuts: dict | None = None) -> np.ndarray:
     """Refined phase ``psi`` (cycles, at the chunk centres) of the fundamental; see the module text.
 
     ``D`` (J, C, K) chunk sums at ``k f_ref``; ``weights`` (C, K) inverse floor PSDs (only relative
@@ -110,6 +111,9 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     steps : bool, default False
         Keep steps of the phase whole (a splice, a source switched over; ``phasesteps.py``):
         each round's correction is smoothed piece by piece between the steps found in it.
+    cuts : dict, optional
+        Steps already in ``psi0`` (phasejumps.follow: decimated index -> first chunk), kept as
+        cuts in every round when ``steps``.
 
     Returns
     -------
@@ -136,7 +140,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     tc = chunk_times(J, sr)
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
     psi = psi0.copy()
-    known: dict[int, int] = {}        # steps of the phase: decimated index -> first chunk after it
+    known: dict[int, int] = dict(cuts or {}) if steps else {}   # steps: decimated index -> first chunk after it
     n_min = max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
@@ -408,6 +412,10 @@ class PhaseTrack:
         Sample rate (Hz).
     f_ref : float
         Reference fundamental (Hz).
+    jumps : sequence of (int, float), optional
+        Steps of ``psi`` placed to the sample (phasejumps.to_the_sample): ``(first sample after,
+        cycles)``. ``psi`` holds them between two chunk centres; they are taken out of the
+        interpolation and added back sharp at their sample.
 
     Examples
     --------
@@ -417,16 +425,30 @@ class PhaseTrack:
     [0.0004, 0.0504]
     >>> ph.cycles(0, 3, 0).round(4).tolist(), ph.cycles_at(np.array([10.0]), 0.0).round(3).tolist()
     ([0.0, 0.05, 0.1], [0.501])
+    >>> step = PhaseTrack(0.5 * (np.arange(100) >= 51), sr, 50.0, jumps=[(507, 0.5)])
+    >>> step.offset_cycles(np.array([505.0, 506.0, 507.0, 508.0])).tolist()
+    [0.0, 0.0, 0.5, 0.5]
     """
 
-    def __init__(self, psi: np.ndarray, sr: int, f_ref: float):
+    def __init__(self, psi: np.ndarray, sr: int, f_ref: float, jumps=()):
         self.sr, self.f_ref = sr, float(f_ref)
         self.m = _track.chunk_length(sr)
         self.x0 = (self.m - 1) / 2                            # first chunk centre (samples)
         self.psi = np.asarray(psi, float)
         if len(self.psi) < 2:
             self.psi = np.r_[self.psi, self.psi][:2] if len(self.psi) else np.zeros(2)
+        self.jumps = [(int(a), float(d)) for a, d in jumps]
+        if self.jumps:
+            centres = self.x0 + self.m * np.arange(len(self.psi))
+            self.psi = self.psi - sum(d * (centres >= a) for a, d in self.jumps)
         self.slope = np.diff(self.psi)
+
+    def _add_jumps(self, cyc: np.ndarray, i0: int) -> np.ndarray:
+        """``cyc`` (contiguous samples from ``i0``) with the sharp steps added where they fall."""
+        for a, d in self.jumps:
+            if a - i0 < len(cyc):
+                cyc[max(a - i0, 0):] += d
+        return cyc
 
     def offset_cycles(self, idx: np.ndarray) -> np.ndarray:
         """``psi`` at sample indices (linear interpolation, held flat beyond the ends). The chunk
@@ -440,6 +462,8 @@ class PhaseTrack:
         out = self.slope[j]
         out *= x
         out += self.psi[j]
+        for a, d in self.jumps:
+            out += d * (np.asarray(idx) >= a)
         return out
 
     def cycles(self, i0: int, n: int, centre: int, step: int = 1, scratch=None) -> np.ndarray:
@@ -473,7 +497,7 @@ class PhaseTrack:
         cyc *= self.f_ref / self.sr
         cyc += psi_s
         cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
-        return cyc
+        return self._add_jumps(cyc, i0)
 
     def _cycles_scratch(self, i0: int, n: int, centre: int, key):
         """:meth:`cycles` for contiguous samples inside the track, operation for operation, in a
@@ -504,7 +528,7 @@ class PhaseTrack:
         cyc = grid.reshape(-1)[start: start + n]
         cyc += ramp                 # (i - centre) f_ref / sr + psi(i): the sum of cycles(), in place
         cyc -= float(self.offset_cycles(np.array([float(centre)]))[0])
-        return cyc
+        return self._add_jumps(cyc, i0)
 
     def cycles_at(self, idx: np.ndarray, centre: float) -> np.ndarray:
         """As :meth:`cycles` at (possibly fractional) sample positions ``idx``."""
@@ -513,7 +537,7 @@ class PhaseTrack:
         return cyc
 
 
-def track_from_phase(psi: np.ndarray, f_ref: float, plan):
+def track_from_phase(psi: np.ndarray, f_ref: float, plan, jumps=()):
     """A :class:`track.Track` for the blocks of ``plan`` (a blockplan.BlockPlan) whose phase is
     ``psi`` (the per-block fundamental, rate and curvature follow from it).
 
@@ -525,6 +549,8 @@ def track_from_phase(psi: np.ndarray, f_ref: float, plan):
         Reference fundamental (Hz).
     plan : BlockPlan
         The blocks.
+    jumps : sequence of (int, float), optional
+        Steps of ``psi`` placed to the sample (:class:`PhaseTrack`).
 
     Returns
     -------
@@ -546,4 +572,4 @@ def track_from_phase(psi: np.ndarray, f_ref: float, plan):
     f0, rate, curv = block_params(psi, tc, f_ref, t, h=max(0.25, 0.5 * hop / sr))
     ones = np.ones(nb)
     return _track.Track(t=t, f0=f0, rate=rate, curv=curv, confident=np.ones(nb, bool), strength=ones,
-                        phase=PhaseTrack(psi, sr, f_ref))
+                        phase=PhaseTrack(psi, sr, f_ref, jumps))

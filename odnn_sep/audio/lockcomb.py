@@ -16,6 +16,7 @@ import numpy as np
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lock as _lock
+from odnn_sep.audio import phasejumps as _phasejumps
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.blockplan import BlockPlan, hop_samples
 
@@ -50,6 +51,8 @@ class Comb:
         Sum of ``-log10 p`` of the locked lines.
     lock : dict
         Harmonic -> ``(p, lock index, amplitude)`` of every line tested.
+    jumps : list of (int, float)
+        Steps of ``psi`` placed to the sample (a splice: phasejumps.to_the_sample).
 
     Examples
     --------
@@ -66,6 +69,7 @@ class Comb:
     weights: np.ndarray | None    # (C, K) inverse floor PSD
     evidence: float = 0.0         # sum of -log10 p of the locked lines
     lock: dict = field(default_factory=dict)
+    jumps: list = field(default_factory=list)
 
 
 def _weights(spec, f_ref, ks, det_floors):
@@ -109,10 +113,15 @@ class _Family:
                                        BlockPlan(sr=self.sr, n_frames=self.N, hop=self.hop))
         psi0 = _finetrack.block_track_phase(trk, _finetrack.chunk_times(self.D.shape[0], self.sr), self.f_ref,
                                             self.sr)
-        # steps of the phase (a splice) kept whole here, for the fit and the tests of new lines; the
+        # a large jump of the phase (a splice), estimated on all the lines at once, is part of
+        # the starting phase of every test and fit (its harmonics' phases flip and wrap past
+        # what the fine track's averaging can follow)
+        psi0, cuts = _phasejumps.follow(self.D[:, :, cols], self.sr, np.asarray(lines, float), psi0,
+                                        _phasejumps.window(self.sr))
+        # smaller steps kept whole here, for the fit and the tests of new lines; the
         # leave-one-out lock tests keep the smooth phase they were calibrated with
         return psi0, _finetrack.refine_phase(self.D[:, :, cols], self.sr, self.f_ref, lines, self.W[:, cols], psi0,
-                                             steps=True)
+                                             steps=True, cuts=cuts)
 
 
 def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool = True, progress=None) -> Comb:
@@ -183,9 +192,10 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
     cols = fam.cols(ks)
     info = fam.info
     ev = float(sum(-np.log10(max(info[k][0], 1e-300)) for k in ks)) if test else 0.0
+    D = fam.D[:, :, cols] if ks else None
     return Comb(nominal_hz=det.nominal_hz, f_ref=fam.f_ref, harmonics=ks, psi=psi if ks else None,
-                D=fam.D[:, :, cols] if ks else None, weights=fam.W[:, cols] if ks else None, evidence=ev,
-                lock=info)
+                D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info,
+                jumps=_phasejumps.to_the_sample(source, D, psi, ks, fam.f_ref) if ks else [])
 
 
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:

@@ -121,7 +121,8 @@ def piecewise(fn, num: np.ndarray, den: np.ndarray, steps: list[int]) -> np.ndar
     return out
 
 
-def place_steps(D, psi: np.ndarray, ks, c: np.ndarray, err: np.ndarray, steps: list[int], decim: int) -> list[int]:
+def place_steps(D, psi: np.ndarray, ks, c: np.ndarray, err: np.ndarray, steps: list[int], decim: int,
+                span: int = 1) -> list[int]:
     """The chunk at which each step starts, to the chunk (10 ms) rather than the decimated sample.
 
     A step found between decimated samples ``q - 1`` and ``q`` lies in their ``2 decim`` chunks.
@@ -145,6 +146,8 @@ def place_steps(D, psi: np.ndarray, ks, c: np.ndarray, err: np.ndarray, steps: l
         Decimated indices of the steps (:func:`find_steps`).
     decim : int
         Chunks per decimated sample.
+    span : int, default 1
+        Decimated samples searched on each side of ``q``.
 
     Returns
     -------
@@ -162,7 +165,7 @@ def place_steps(D, psi: np.ndarray, ks, c: np.ndarray, err: np.ndarray, steps: l
 
     out = []
     for q in steps:
-        a, b = (q - 1) * decim, min((q + 1) * decim, len(psi))
+        a, b = max(q - span, 0) * decim, min((q + span) * decim, len(psi))
         score = []
         for side in (err[q - 1], err[q]):
             turned = np.stack([phase_turn(psi[a:b] + side, k) for k in ks], axis=1)        # (n, K)

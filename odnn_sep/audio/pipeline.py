@@ -182,7 +182,7 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
     if block_s == "auto":
         block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
     plan = BlockPlan.from_block_s(block_s, sr, N)
-    trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan)
+    trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan, comb.jumps)
     # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
     steady = bg.submit(_amplitude.steady_amplitudes, comb.D, comb.f_ref, ks, trk, plan)
     means = _steadypath.block_means(comb.D, sr, ks, comb.psi, plan, keep_power=True)

@@ -1,0 +1,358 @@
+"""Large steps of the hum's phase, estimated jointly over the harmonics (a splice, a source switched).
+
+A splice moves the hum's waveform in time: the fundamental's phase jumps by ``delta`` cycles and
+harmonic ``k``'s by ``k delta``. The fine track (finetrack.py, phasesteps.py) averages the
+harmonics' wrapped phase errors; once ``k delta`` passes half a cycle for some of them that
+average means nothing (at ``delta = 0.5`` the odd harmonics flip sign and the even ones do not
+move), no step is found, and the odd harmonics then fail the lock tests: about a third of random
+splices kept nearly all their hum.
+
+Here the jump is estimated from every harmonic at once, before the fine track. On the decimated
+baseband (turned by the block track's phase) the complex means of ``w`` samples before (``B``)
+and after (``A``) each instant are compared: a jump ``delta`` with a common level ratio ``g``
+predicts ``A_k = g B_k exp(2 pi i k delta)`` for every harmonic and channel. With weights
+``omega`` (the inverse variance of ``A - B`` from the line's local scatter), the best ``delta``
+maximises ``S(delta) = sum omega Re(A conj(B) exp(-2 pi i k delta))``, and the likelihood-ratio
+statistic of the jump against none is ``(S(delta)^2 - S(0)^2) / sum omega |B|^2``. A jump is
+taken where that exceeds ``LR_JUMP``, the prediction explains at least ``EXPLAINED`` of the
+change's weighted energy, and ``delta`` is at least ``MIN_JUMP`` cycles from a whole cycle:
+smaller jumps are followed by the fine track's own step search, which was tuned on them.
+
+Each jump is then placed at the 10 ms chunk where the chunk sums before and after it agree best
+with the phases on either side (phasesteps.place_steps, over the whole test window: the largest
+change can lie some samples off the jump under a loud host) and added to the starting phase, so
+the lock tests and the fine track start from a phase without it. At the end
+(:func:`to_the_sample`) every step the phase then holds, these and the fine track's smaller ones,
+is placed to the sample, so the fit's phase jumps there instead of ramping over 10 ms.
+
+Cost: the change statistic at every instant is one pass of cumulative sums; the search over
+``delta`` runs only at its local maxima that already show a large change (at most
+``MAX_CANDIDATES``); placing a step to the sample reads 0.2 s of the input around it.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+LR_JUMP = 100.0        # likelihood ratio a jump needs (a z-score of 10, as phasesteps.Z_STEP)
+EXPLAINED = 0.8        # share of the change's weighted energy the jump must explain
+MIN_JUMP = 0.2         # cycles: smaller steps are left to phasesteps.find_steps
+MAX_CANDIDATES = 256   # instants searched over delta (the largest changes)
+MAX_JUMPS = 64         # as phasesteps.MAX_STEPS
+GRID_PER_K = 16        # delta grid points per cycle of the highest harmonic
+SHARP_MIN = 0.005      # cycles: a change of the phase between two chunk centres this far from its
+                       # neighbours' is a step (a smooth phase's changes differ by < 1e-5)
+SHARP_SPAN = 50        # chunks on either side whose mean is the hum just before and after a step
+WHITEN_CHUNKS = 10     # chunks on either side of a step whose residual fits the whitening AR model
+AR_ORDER = 16          # its order
+
+
+def _local_noise(v: np.ndarray, span: int) -> np.ndarray:
+    """Each line's local noise variance (nd, C, K): from successive differences (blind to the
+    line's slow changes and to one step), the median over ``span`` samples (blind to a few loud
+    instants)."""
+    d2 = np.abs(np.diff(v, axis=0)) ** 2 / (2 * np.log(2.0))      # median of |d|^2 is 2 var ln 2
+    d2 = np.concatenate([d2[:1], d2], axis=0)
+    med = ndimage.median_filter(d2, size=(span, 1, 1), mode="nearest")
+    floor = 1e-12 * np.median(d2) + 1e-300
+    return np.maximum(med, floor)
+
+
+def _delta_search(A: np.ndarray, B: np.ndarray, om: np.ndarray, ks: np.ndarray) -> tuple[float, float, float]:
+    """(delta, likelihood ratio, share explained) at one instant; ``A``, ``B``, ``om`` (C, K)."""
+    cross = (om * A * np.conj(B)).sum(axis=0)                     # (K,)
+    Q = float((om * np.abs(B) ** 2).sum())
+    R0 = float((om * np.abs(A - B) ** 2).sum())
+    if Q <= 0 or R0 <= 0:
+        return 0.0, 0.0, 0.0
+    grid = np.arange(int(GRID_PER_K * ks.max()) + 1) / (GRID_PER_K * ks.max())
+    S = np.real(np.exp(-2j * np.pi * np.outer(grid, ks)) @ cross)  # (G,)
+    j = int(np.argmax(S))
+    # a finer look around the best grid point (the grid is 1/16 cycle of the highest harmonic)
+    fine = grid[j] + np.linspace(-1, 1, 33) / (GRID_PER_K * ks.max())
+    Sf = np.real(np.exp(-2j * np.pi * np.outer(fine, ks)) @ cross)
+    i = int(np.argmax(Sf))
+    delta, s_best = float(fine[i]) % 1.0, float(Sf[i])
+    s0 = max(float(np.real(cross.sum())), 0.0)
+    lr = (max(s_best, 0.0) ** 2 - s0 ** 2) / Q
+    # weighted misfit left with the jump and the best common level: sum omega |A|^2 - S^2 / Q
+    r_best = float((om * np.abs(A) ** 2).sum()) - max(s_best, 0.0) ** 2 / Q
+    r_none = float((om * np.abs(A) ** 2).sum()) - s0 ** 2 / Q
+    explained = 1.0 - max(r_best, 0.0) / r_none if r_none > 0 else 0.0
+    return delta, lr, explained
+
+
+def find_jumps(v: np.ndarray, ks, w: int) -> list[tuple[int, float]]:
+    """Jumps of the fundamental's phase in the decimated baseband ``v``.
+
+    Parameters
+    ----------
+    v : (nd, C, K) complex array
+        The harmonics' baseband, turned by a starting phase and decimated (finetrack.py).
+    ks : (K,) array
+        Harmonic numbers.
+    w : int
+        Samples averaged on each side of an instant.
+
+    Returns
+    -------
+    list of (int, float)
+        ``(i, delta)``: the phase steps by ``delta`` cycles (in [0, 1)) between samples ``i - 1``
+        and ``i``; sorted by ``i``, at least ``w`` apart. Empty when ``v`` is shorter than ``4 w``.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> ks = np.arange(1.0, 6.0)
+    >>> v = np.ones((300, 1, 5), complex) + 0.05 * rng.standard_normal((300, 1, 5))
+    >>> v[170:] *= np.exp(2j * np.pi * ks * 0.5)               # odd harmonics flip, even ones do not move
+    >>> [(i, round(d, 2)) for i, d in find_jumps(v, ks, 24)]
+    [(170, 0.5)]
+    >>> find_jumps(v[:150], ks, 24)
+    []
+    """
+    v = np.asarray(v)
+    ks = np.asarray(ks, dtype=np.float64)
+    nd = len(v)
+    if w < 4 or nd < 4 * w:
+        return []
+    var = _local_noise(v, 2 * w)
+    cs = np.concatenate([np.zeros((1, *v.shape[1:]), v.dtype), np.cumsum(v, axis=0)], axis=0)
+    idx = np.arange(w, nd - w + 1)
+    A = (cs[idx + w] - cs[idx]) / w                                  # (m, C, K): means after
+    B = (cs[idx] - cs[idx - w]) / w                                  # means before
+    om = w / (2.0 * var[idx])                                        # inverse variance of A - B
+    R0 = (om * np.abs(A - B) ** 2).sum(axis=(1, 2))
+    dof = 2 * v.shape[1] * v.shape[2]
+    # candidates: local maxima of the change that could pass the test at all (a jump's likelihood
+    # ratio is at most the change's weighted energy beyond what noise gives)
+    big = np.flatnonzero((R0 - dof > LR_JUMP) & (R0 == ndimage.maximum_filter1d(R0, 2 * w + 1)))
+    big = big[np.argsort(-R0[big])][:MAX_CANDIDATES]
+    found = []
+    for j in big:
+        delta, lr, explained = _delta_search(A[j], B[j], om[j], ks)
+        dist = min(delta, 1.0 - delta)
+        if lr > LR_JUMP and explained >= EXPLAINED and dist >= MIN_JUMP:
+            found.append((lr, int(idx[j]), delta))
+    out = []
+    for _lr, i, delta in sorted(found, reverse=True):
+        if len(out) >= MAX_JUMPS:
+            break
+        if all(abs(i - q) > w for q, _ in out):
+            out.append((i, delta))
+    return sorted(out)
+
+
+def window(sr: int) -> int:
+    """Samples averaged on each side of an instant: 2.4 s of the decimated baseband, the window
+    of the fine track's own step search (``2 n_min`` in finetrack.refine_phase).
+
+    Parameters
+    ----------
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> window(44100), window(8000)
+    (24, 24)
+    """
+    from odnn_sep.audio import finetrack as _ft
+    from odnn_sep.audio import track as _track
+
+    fs_d = sr / _track.chunk_length(sr) / _ft.DECIM
+    return 2 * max(3, int(round(0.72 / _ft.SMOOTH_HZ * fs_d)))
+
+
+def follow(D, sr: int, ks, psi0: np.ndarray, w: int) -> tuple[np.ndarray, dict[int, int]]:
+    """``psi0`` with the jumps :func:`find_jumps` finds in the chunk sums ``D`` added, each at
+    the chunk where it starts (phasesteps.place_steps), and those jumps as cuts for the fine track.
+
+    Parameters
+    ----------
+    D : (J, C, K) complex array
+        Chunk sums of the harmonics ``ks`` (track.demodulate).
+    sr : int
+        Sample rate (Hz).
+    ks : (K,) array
+        Harmonic numbers.
+    psi0 : (J,) array
+        Starting phase (cycles at the chunk centres): the block track's.
+    w : int
+        Samples (decimated) averaged on each side of an instant.
+
+    Returns
+    -------
+    psi : (J,) array
+        ``psi0`` plus the jumps.
+    cuts : dict
+        Decimated index of each jump -> its first chunk (``finetrack.refine_phase(cuts=...)``).
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
+    >>> sr = 2000; t = np.arange(30 * sr) / sr
+    >>> ph = 2 * np.pi * 50 * t + np.pi * (t >= 14.0)               # half a cycle at 14 s
+    >>> x = sum(np.cos(k * ph) for k in (1, 2, 3)) + 0.1 * np.random.default_rng(0).standard_normal(t.size)
+    >>> D = demodulate(ArraySource(x, sr), 50.0, [1, 2, 3])
+    >>> psi, cuts = follow(D, sr, np.array([1.0, 2, 3]), np.zeros(len(D)), 24)
+    >>> cuts, round(float(psi[-1] - psi[0]), 2)
+    ({140: 1400}, 0.5)
+    """
+    from odnn_sep.audio import finetrack as _ft
+    from odnn_sep.audio import phasesteps as _steps
+
+    ks = np.asarray(ks, dtype=np.float64)
+    nd = D.shape[0] // _ft.DECIM
+    v = _ft.decimated_baseband(D, psi0, ks, np.ones(len(ks), bool), nd)
+    jumps = find_jumps(v, ks, w)
+    if not jumps:
+        return psi0, {}
+    psi = psi0.copy()
+    cuts = {}
+    for q, delta in jumps:
+        # the jump nearest zero of the equivalent ones (delta and delta - 1 move every harmonic alike)
+        d = delta - 1.0 if delta > 0.5 else delta
+        c = v[max(q - w, 0): q].mean(axis=0)                     # the lines' amplitudes just before
+        err = np.zeros(nd)
+        err[q:] = d
+        start = _steps.place_steps(D, psi0, ks, c, err, [q], _ft.DECIM, span=w)[0]
+        psi[start:] += d
+        cuts[int(round(start / _ft.DECIM))] = start     # the decimated sample where it now lies
+    return psi, cuts
+
+
+def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[int, float]]:
+    """The steps of ``psi`` (kept whole by :func:`follow` and the fine track), each placed to the
+    sample where it happens: ``(first sample after it, step in cycles)``.
+
+    The phase is known at chunk centres (10 ms apart) and read between them by linear
+    interpolation, which spreads a step over the 10 ms between two centres and leaves the hum
+    there nearly whole (at half a cycle, the lines' full level for 5 ms: about -35 dB of a
+    30 s recording, most of what a splice then leaves). A step shows in ``psi`` as a change
+    between two neighbouring centres at least ``SHARP_MIN`` away from the mean of the changes on
+    either side. The hum just before and after it (each harmonic's mean turned amplitude over
+    ``SHARP_SPAN`` chunks on that side) is drawn at the samples between the two centres, and the
+    first sample after the step is where the input agrees with the hum before it up to there and
+    with the hum after it from there (least squares; chunk sums cannot tell, as part of a chunk
+    keeps the image of each line at minus its frequency).
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input (the samples between the two centres around each step are read).
+    D : (J, C, K) complex array
+        Chunk sums of the harmonics ``ks`` at ``f_ref`` (track.demodulate).
+    psi : (J,) array
+        The phase (cycles, relative to ``f_ref t``, at the chunk centres).
+    ks : (K,) array
+        Harmonic numbers.
+    f_ref : float
+        Reference fundamental of ``D`` (Hz).
+
+    Returns
+    -------
+    list of (int, float)
+        For ``finetrack.PhaseTrack(jumps=...)``.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.track import demodulate
+    >>> sr = 2000; t = np.arange(20 * sr) / sr
+    >>> ph = 2 * np.pi * 50 * t + np.pi * (np.arange(t.size) >= 20013)     # half a cycle at sample 20013
+    >>> x = sum(np.cos(k * ph) for k in (1, 2, 3))
+    >>> src = ArraySource(x, sr); D = demodulate(src, 50.0, [1, 2, 3])
+    >>> psi = 0.5 * (np.arange(len(D)) >= 1001)                # the fine track's step, between centres
+    >>> to_the_sample(src, D, psi, np.array([1.0, 2, 3]), 50.0)
+    [(20013, 0.5)]
+    """
+    from odnn_sep.audio import finetrack as _ft
+    from odnn_sep.audio import track as _track
+
+    psi = np.asarray(psi, dtype=np.float64)
+    J = len(psi)
+    if J < 8:
+        return []
+    sr = source.sr
+    ks = np.asarray(ks, dtype=np.float64)
+    d = np.diff(psi)
+    dev = np.zeros_like(d)
+    dev[1:-1] = d[1:-1] - 0.5 * (d[:-2] + d[2:])                  # a step between centres i and i + 1
+    mag = np.abs(dev)
+    peak = (mag > SHARP_MIN) & (mag >= np.roll(mag, 1)) & (mag >= np.roll(mag, -1))
+    m = _track.chunk_length(sr)
+    x0 = (m - 1) / 2
+    out = []
+    for i in np.flatnonzero(peak)[:MAX_JUMPS]:
+        delta = float(dev[i])
+        lo, hi = max(i - SHARP_SPAN, 0), min(i + 2 + SHARP_SPAN, J)
+        if i - lo < 2 * WHITEN_CHUNKS or hi - (i + 2) < 2 * WHITEN_CHUNKS:
+            continue
+        smooth = psi[lo:hi].copy()
+        smooth[i + 1 - lo:] -= delta
+        turn = np.stack([_ft.phase_turn(smooth, k) for k in ks], axis=1)           # (n, K)
+        Dt = D[lo:hi].astype(np.complex128) * turn[:, None, :]
+        # per-sample complex amplitudes of the lines (a chunk sum is m / 2 times the amplitude)
+        cb, ca = 2 * Dt[: i - lo].mean(axis=0) / m, 2 * Dt[i + 2 - lo:].mean(axis=0) / m   # (C, K)
+        first = np.arange(int(np.ceil(x0 + i * m)), int(np.floor(x0 + (i + 1) * m)) + 1)
+        at = _place(source, first, i, m, x0, smooth[i - lo - WHITEN_CHUNKS: i + 2 - lo + WHITEN_CHUNKS],
+                    ks, f_ref, cb, ca)
+        if at is not None:
+            out.append((at, delta))
+    return out
+
+
+def _place(source, first, i, m, x0, psi_near, ks, f_ref, cb, ca):
+    """The first sample after the step among ``first``: the least-squares boundary between the
+    hum before (``cb``) and after (``ca``), on the input whitened by an AR model of what is
+    left once the hum is taken out (``WHITEN_CHUNKS`` chunks on either side): a loud host
+    (speech, brown noise) is mostly low-frequency, and unwhitened it moves the boundary by tens
+    of samples. ``psi_near``: the smooth phase at the chunk centres ``i - WHITEN_CHUNKS`` to
+    ``i + 1 + WHITEN_CHUNKS``."""
+    from scipy.signal import lfilter
+
+    sr = source.sr
+    n0 = int(np.ceil(x0 + (i - WHITEN_CHUNKS) * m))
+    n1 = int(np.floor(x0 + (i + 1 + WHITEN_CHUNKS) * m)) + 1
+    y = source.read(n0, n1 - n0)
+    if y.shape[0] < n1 - n0:
+        return None
+    idx = np.arange(n0, n1)
+    centres = x0 + m * (i - WHITEN_CHUNKS + np.arange(len(psi_near)))
+    ph = f_ref * idx / sr + np.interp(idx, centres, psi_near)
+    rot = np.exp(2j * np.pi * np.mod(np.outer(ph, ks), 1.0))                         # (S, K)
+    rb = y - np.real(rot @ cb.T)                                                    # (S, C)
+    ra = y - np.real(rot @ ca.T)
+    j0, j1 = int(first[0]) - n0, int(first[-1]) - n0 + 1
+    misfit = np.zeros(j1 - j0)
+    p = AR_ORDER
+    for c in range(y.shape[1]):
+        # AR fit on the residual with the hum taken out on each side, the candidates left out
+        r = np.concatenate([rb[:j0, c], ra[j1:, c]])
+        X = np.stack([r[p - q - 1: len(r) - q - 1] for q in range(p)], axis=1)
+        coef = np.linalg.lstsq(X, r[p:], rcond=None)[0]
+        a = np.r_[1.0, -coef]
+        wb, wa = lfilter(a, 1.0, rb[:, c]), lfilter(a, 1.0, ra[:, c])
+        eb = np.concatenate([[0.0], np.cumsum(wb ** 2)])
+        ea = np.concatenate([np.cumsum((wa ** 2)[::-1])[::-1], [0.0]])
+        diff = ra[:, c] - rb[:, c]                                                   # = hb - ha
+        for j in range(j0, j1):
+            # whitened residual with the step before sample j: wa from j + p on, wb before j,
+            # and in between wa less the filter's memory of (ha - hb) before j
+            stop = min(j + p, len(y))
+            mix = wa[j:stop].copy()
+            for t in range(j, stop):
+                q = np.arange(t - j + 1, p + 1)
+                q = q[t - q >= 0]
+                mix[t - j] -= np.dot(a[q], diff[t - q])
+            misfit[j - j0] += eb[j] + np.sum(mix ** 2) + ea[stop]
+    return int(first[int(np.argmin(misfit))])
+
+
+__all__ = ["find_jumps", "follow", "window", "to_the_sample", "LR_JUMP", "EXPLAINED", "MIN_JUMP", "MAX_CANDIDATES", "MAX_JUMPS"]
