@@ -90,7 +90,7 @@ def _subtracted(u: np.ndarray, tj: np.ndarray, plan: BlockPlan, path: np.ndarray
 
 
 def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan,
-                    main_amps: np.ndarray | None, near: np.ndarray) -> Envelope | None:
+                    main_amps: np.ndarray | None, near: np.ndarray, jumps=()) -> Envelope | None:
     """The shared hum gain (see the module text), or None where no channel's level changes
     within the blocks more than the content under the lines explains.
 
@@ -113,6 +113,8 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
         (:func:`steadypath.comb_block_amplitudes`; NaN: the block fit's own).
     near : (J, C, K) float array
         Content power beside each line (:func:`steadypath.block_means` with ``keep_power``).
+    jumps : sequence of (int, float), optional
+        Steps of ``psi`` placed to the sample (finetrack.PhaseTrack), as the block fit's phase.
 
     Returns
     -------
@@ -147,7 +149,7 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
     cyc_b = None
     if main_amps is not None:
         centres = np.arange(plan.count) * float(plan.hop)
-        cyc_b = np.mod(centres * (f_ref / sr), 1.0) + PhaseTrack(psi, sr, f_ref).offset_cycles(centres)
+        cyc_b = np.mod(centres * (f_ref / sr), 1.0) + PhaseTrack(psi, sr, f_ref, jumps).offset_cycles(centres)
     gains, width = np.ones((J, C)), None
     for c in range(C):
         num = np.zeros(J, complex)

@@ -438,10 +438,13 @@ class PhaseTrack:
         if len(self.psi) < 2:
             self.psi = np.r_[self.psi, self.psi][:2] if len(self.psi) else np.zeros(2)
         self.jumps = [(int(a), float(d)) for a, d in jumps]
+        # ``psi`` stays the phase at the chunk centres, steps included (callers read it);
+        # the interpolation runs on ``_smooth``, the phase with the steps taken out
+        self._smooth = self.psi
         if self.jumps:
             centres = self.x0 + self.m * np.arange(len(self.psi))
-            self.psi = self.psi - sum(d * (centres >= a) for a, d in self.jumps)
-        self.slope = np.diff(self.psi)
+            self._smooth = self.psi - sum(d * (centres >= a) for a, d in self.jumps)
+        self.slope = np.diff(self._smooth)
 
     def _add_jumps(self, cyc: np.ndarray, i0: int) -> np.ndarray:
         """``cyc`` (contiguous samples from ``i0``) with the sharp steps added where they fall."""
@@ -455,13 +458,13 @@ class PhaseTrack:
         centres are uniform, so the interval of each index is found by division (no search)."""
         m = self.m
         x = (np.asarray(idx, float) - self.x0) * (1.0 / m)
-        np.clip(x, 0.0, len(self.psi) - 1.0, out=x)
+        np.clip(x, 0.0, len(self._smooth) - 1.0, out=x)
         j = x.astype(np.int64)
-        np.minimum(j, len(self.psi) - 2, out=j)
+        np.minimum(j, len(self._smooth) - 2, out=j)
         x -= j
         out = self.slope[j]
         out *= x
-        out += self.psi[j]
+        out += self._smooth[j]
         for a, d in self.jumps:
             out += d * (np.asarray(idx) >= a)
         return out
@@ -483,12 +486,12 @@ class PhaseTrack:
         m, x0 = self.m, self.x0
         first = int(np.floor((i0 - x0) / m))
         last = int(np.floor((i0 + n - 1 - x0) / m)) + 1
-        lo, hi = max(first, 0), min(last, len(self.psi) - 1)
-        if hi - lo < 2 or first < 0 or last > len(self.psi) - 1:
+        lo, hi = max(first, 0), min(last, len(self._smooth) - 1)
+        if hi - lo < 2 or first < 0 or last > len(self._smooth) - 1:
             return self.cycles_at(np.arange(i0, i0 + n, dtype=float), centre)
         c0 = int(np.ceil(x0))              # first sample at or after a chunk centre
         r = (np.arange(m) + (c0 - x0)) * (1.0 / m)
-        grid = self.psi[lo:hi, None] + self.slope[lo:hi, None] * r[None, :]
+        grid = self._smooth[lo:hi, None] + self.slope[lo:hi, None] * r[None, :]
         start = i0 - (c0 + lo * m)
         psi_s = grid.reshape(-1)[start: start + n] if start >= 0 else grid[:0].reshape(-1)
         if psi_s.shape[0] != n:
@@ -506,10 +509,10 @@ class PhaseTrack:
         m, x0 = self.m, self.x0
         first = int(np.floor((i0 - x0) / m))
         last = int(np.floor((i0 + n - 1 - x0) / m)) + 1
-        lo, hi = max(first, 0), min(last, len(self.psi) - 1)
+        lo, hi = max(first, 0), min(last, len(self._smooth) - 1)
         c0 = int(np.ceil(x0))
         start = i0 - (c0 + lo * m)
-        if hi - lo < 2 or first < 0 or last > len(self.psi) - 1 or start < 0 or start + n > (hi - lo) * m:
+        if hi - lo < 2 or first < 0 or last > len(self._smooth) - 1 or start < 0 or start + n > (hi - lo) * m:
             return None
         r = (np.arange(m) + (c0 - x0)) * (1.0 / m)
         scratch = self.__dict__.setdefault("_scratch", {})       # (atomic: two threads may call)
@@ -518,7 +521,7 @@ class PhaseTrack:
             work = scratch[key] = np.empty((hi - lo) * m)
         grid = work[: (hi - lo) * m].reshape(hi - lo, m)
         np.multiply(self.slope[lo:hi, None], r[None, :], out=grid)
-        np.add(self.psi[lo:hi, None], grid, out=grid)
+        np.add(self._smooth[lo:hi, None], grid, out=grid)
         ramp_key, ramp = scratch.get("ramp", (None, None))      # shared by the keys: read as one pair
         if ramp_key != (i0 - centre, n):
             ramp_key = (i0 - centre, n)

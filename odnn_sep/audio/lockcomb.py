@@ -193,9 +193,11 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
     info = fam.info
     ev = float(sum(-np.log10(max(info[k][0], 1e-300)) for k in ks)) if test else 0.0
     D = fam.D[:, :, cols] if ks else None
+    jumps = []
+    if ks:
+        psi, jumps = _phasejumps.to_the_sample(source, D, psi, ks, fam.f_ref)
     return Comb(nominal_hz=det.nominal_hz, f_ref=fam.f_ref, harmonics=ks, psi=psi if ks else None,
-                D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info,
-                jumps=_phasejumps.to_the_sample(source, D, psi, ks, fam.f_ref) if ks else [])
+                D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info, jumps=jumps)
 
 
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:

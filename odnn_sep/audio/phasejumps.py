@@ -14,9 +14,11 @@ predicts ``A_k = g B_k exp(2 pi i k delta)`` for every harmonic and channel. Wit
 ``omega`` (the inverse variance of ``A - B`` from the line's local scatter), the best ``delta``
 maximises ``S(delta) = sum omega Re(A conj(B) exp(-2 pi i k delta))``, and the likelihood-ratio
 statistic of the jump against none is ``(S(delta)^2 - S(0)^2) / sum omega |B|^2``. A jump is
-taken where that exceeds ``LR_JUMP``, the prediction explains at least ``EXPLAINED`` of the
-change's weighted energy, and ``delta`` is at least ``MIN_JUMP`` cycles from a whole cycle:
-smaller jumps are followed by the fine track's own step search, which was tuned on them.
+taken where that exceeds ``LR_JUMP``, also without the harmonic that gains most from it (else it
+is that line's own phase change: a note partial), the prediction explains at least ``EXPLAINED``
+of the change's weighted energy, and ``delta`` is at least ``MIN_JUMP`` cycles from a whole
+cycle: smaller jumps are followed by the fine track's own step search, which was tuned on them.
+Fewer than ``MIN_LINES`` harmonics are not searched.
 
 Each jump is then placed at the 10 ms chunk where the chunk sums before and after it agree best
 with the phases on either side (phasesteps.place_steps, over the whole test window: the largest
@@ -37,7 +39,9 @@ from scipy import ndimage
 LR_JUMP = 100.0        # likelihood ratio a jump needs (a z-score of 10, as phasesteps.Z_STEP)
 EXPLAINED = 0.8        # share of the change's weighted energy the jump must explain
 MIN_JUMP = 0.2         # cycles: smaller steps are left to phasesteps.find_steps
-MAX_CANDIDATES = 256   # instants searched over delta (the largest changes)
+MAX_CANDIDATES = 256   # instants searched over delta (the largest changes), plus one per 5 s
+LOCAL = 2              # a candidate is the largest change within this many samples (0.2 s)
+MIN_LINES = 3          # harmonics a jump is estimated on (fewer can match any phase change)
 MAX_JUMPS = 64         # as phasesteps.MAX_STEPS
 GRID_PER_K = 16        # delta grid points per cycle of the highest harmonic
 SHARP_MIN = 0.005      # cycles: a change of the phase between two chunk centres this far from its
@@ -49,13 +53,17 @@ AR_ORDER = 16          # its order
 
 def _local_noise(v: np.ndarray, span: int) -> np.ndarray:
     """Each line's local noise variance (nd, C, K): from successive differences (blind to the
-    line's slow changes and to one step), the median over ``span`` samples (blind to a few loud
-    instants)."""
+    line's slow changes and to one step), the median over blocks of ``span`` samples (blind to a
+    few loud instants; blocks rather than a running median, which costs ``span`` times more on
+    an hour of input)."""
     d2 = np.abs(np.diff(v, axis=0)) ** 2 / (2 * np.log(2.0))      # median of |d|^2 is 2 var ln 2
     d2 = np.concatenate([d2[:1], d2], axis=0)
-    med = ndimage.median_filter(d2, size=(span, 1, 1), mode="nearest")
+    n = len(d2)
+    nb = -(-n // span)
+    pad = np.concatenate([d2, np.repeat(d2[-1:], nb * span - n, axis=0)], axis=0)
+    med = np.median(pad.reshape(nb, span, *d2.shape[1:]), axis=1)
     floor = 1e-12 * np.median(d2) + 1e-300
-    return np.maximum(med, floor)
+    return np.maximum(np.repeat(med, span, axis=0)[:n], floor)
 
 
 def _delta_search(A: np.ndarray, B: np.ndarray, om: np.ndarray, ks: np.ndarray) -> tuple[float, float, float]:
@@ -79,6 +87,16 @@ def _delta_search(A: np.ndarray, B: np.ndarray, om: np.ndarray, ks: np.ndarray) 
     r_best = float((om * np.abs(A) ** 2).sum()) - max(s_best, 0.0) ** 2 / Q
     r_none = float((om * np.abs(A) ** 2).sum()) - s0 ** 2 / Q
     explained = 1.0 - max(r_best, 0.0) / r_none if r_none > 0 else 0.0
+    # a jump is the comb's: it must stand (the same delta, the same test) without the line that
+    # gains most from it, or it is that line's own phase change (a note partial), which some
+    # delta always matches
+    turned = np.real(cross * np.exp(-2j * np.pi * ks * delta))
+    top = int(np.argmax(turned - np.real(cross)))
+    keep = np.arange(len(ks)) != top
+    q_rest = float((om[:, keep] * np.abs(B[:, keep]) ** 2).sum())
+    s_rest, s0_rest = max(float(turned[keep].sum()), 0.0), max(float(np.real(cross[keep]).sum()), 0.0)
+    if q_rest <= 0 or (s_rest ** 2 - s0_rest ** 2) / q_rest <= LR_JUMP:
+        return delta, lr, 0.0
     return delta, lr, explained
 
 
@@ -125,9 +143,11 @@ def find_jumps(v: np.ndarray, ks, w: int) -> list[tuple[int, float]]:
     R0 = (om * np.abs(A - B) ** 2).sum(axis=(1, 2))
     dof = 2 * v.shape[1] * v.shape[2]
     # candidates: local maxima of the change that could pass the test at all (a jump's likelihood
-    # ratio is at most the change's weighted energy beyond what noise gives)
-    big = np.flatnonzero((R0 - dof > LR_JUMP) & (R0 == ndimage.maximum_filter1d(R0, 2 * w + 1)))
-    big = big[np.argsort(-R0[big])][:MAX_CANDIDATES]
+    # ratio is at most the change's weighted energy beyond what noise gives). Only the nearest
+    # samples are compared: a note's onset on one harmonic a second from a splice changes more
+    # than the splice does, and must not hide it
+    big = np.flatnonzero((R0 - dof > LR_JUMP) & (R0 == ndimage.maximum_filter1d(R0, 2 * LOCAL + 1)))
+    big = big[np.argsort(-R0[big])][:MAX_CANDIDATES + nd // 50]
     found = []
     for j in big:
         delta, lr, explained = _delta_search(A[j], B[j], om[j], ks)
@@ -209,6 +229,8 @@ def follow(D, sr: int, ks, psi0: np.ndarray, w: int) -> tuple[np.ndarray, dict[i
 
     ks = np.asarray(ks, dtype=np.float64)
     nd = D.shape[0] // _ft.DECIM
+    if len(ks) < MIN_LINES:
+        return psi0, {}
     v = _ft.decimated_baseband(D, psi0, ks, np.ones(len(ks), bool), nd)
     jumps = find_jumps(v, ks, w)
     if not jumps:
@@ -227,7 +249,7 @@ def follow(D, sr: int, ks, psi0: np.ndarray, w: int) -> tuple[np.ndarray, dict[i
     return psi, cuts
 
 
-def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[int, float]]:
+def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> tuple[np.ndarray, list[tuple[int, float]]]:
     """The steps of ``psi`` (kept whole by :func:`follow` and the fine track), each placed to the
     sample where it happens: ``(first sample after it, step in cycles)``.
 
@@ -257,6 +279,10 @@ def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[in
 
     Returns
     -------
+    psi : (J,) array
+        ``psi`` with each step moved to the chunk centres on either side of its sample (the
+        sample is searched from one centre before the step's interval to one after it: the 10 ms
+        chunk it was placed at can be the neighbour of the right one under a loud host).
     list of (int, float)
         For ``finetrack.PhaseTrack(jumps=...)``.
 
@@ -269,8 +295,11 @@ def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[in
     >>> x = sum(np.cos(k * ph) for k in (1, 2, 3))
     >>> src = ArraySource(x, sr); D = demodulate(src, 50.0, [1, 2, 3])
     >>> psi = 0.5 * (np.arange(len(D)) >= 1001)                # the fine track's step, between centres
-    >>> to_the_sample(src, D, psi, np.array([1.0, 2, 3]), 50.0)
+    >>> to_the_sample(src, D, psi, np.array([1.0, 2, 3]), 50.0)[1]
     [(20013, 0.5)]
+    >>> psi2, jumps = to_the_sample(src, D, 0.5 * (np.arange(len(D)) >= 1002), np.array([1.0, 2, 3]), 50.0)
+    >>> jumps, bool(np.array_equal(psi2, psi))              # a chunk late: moved back
+    ([(20013, 0.5)], True)
     """
     from odnn_sep.audio import finetrack as _ft
     from odnn_sep.audio import track as _track
@@ -278,7 +307,7 @@ def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[in
     psi = np.asarray(psi, dtype=np.float64)
     J = len(psi)
     if J < 8:
-        return []
+        return psi, []
     sr = source.sr
     ks = np.asarray(ks, dtype=np.float64)
     d = np.diff(psi)
@@ -289,6 +318,7 @@ def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[in
     m = _track.chunk_length(sr)
     x0 = (m - 1) / 2
     out = []
+    fixed = psi.copy()
     for i in np.flatnonzero(peak)[:MAX_JUMPS]:
         delta = float(dev[i])
         lo, hi = max(i - SHARP_SPAN, 0), min(i + 2 + SHARP_SPAN, J)
@@ -300,12 +330,14 @@ def to_the_sample(source, D, psi: np.ndarray, ks, f_ref: float) -> list[tuple[in
         Dt = D[lo:hi].astype(np.complex128) * turn[:, None, :]
         # per-sample complex amplitudes of the lines (a chunk sum is m / 2 times the amplitude)
         cb, ca = 2 * Dt[: i - lo].mean(axis=0) / m, 2 * Dt[i + 2 - lo:].mean(axis=0) / m   # (C, K)
-        first = np.arange(int(np.ceil(x0 + i * m)), int(np.floor(x0 + (i + 1) * m)) + 1)
+        first = np.arange(int(np.ceil(x0 + (i - 1) * m)), int(np.floor(x0 + (i + 2) * m)) + 1)
         at = _place(source, first, i, m, x0, smooth[i - lo - WHITEN_CHUNKS: i + 2 - lo + WHITEN_CHUNKS],
                     ks, f_ref, cb, ca)
         if at is not None:
             out.append((at, delta))
-    return out
+            near = np.arange(i - 1, i + 3)
+            fixed[near] = psi[near] - delta * (near >= i + 1) + delta * (x0 + m * near >= at)
+    return fixed, out
 
 
 def _place(source, first, i, m, x0, psi_near, ks, f_ref, cb, ca):
@@ -355,4 +387,5 @@ def _place(source, first, i, m, x0, psi_near, ks, f_ref, cb, ca):
     return int(first[int(np.argmin(misfit))])
 
 
-__all__ = ["find_jumps", "follow", "window", "to_the_sample", "LR_JUMP", "EXPLAINED", "MIN_JUMP", "MAX_CANDIDATES", "MAX_JUMPS"]
+__all__ = ["find_jumps", "follow", "window", "to_the_sample", "LR_JUMP", "EXPLAINED", "MIN_JUMP", "MAX_CANDIDATES",
+           "MAX_JUMPS", "MIN_LINES"]

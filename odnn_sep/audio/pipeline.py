@@ -186,8 +186,10 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
     # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
     steady = bg.submit(_amplitude.steady_amplitudes, comb.D, comb.f_ref, ks, trk, plan)
     means = _steadypath.block_means(comb.D, sr, ks, comb.psi, plan, keep_power=True)
-    main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan, means=means)
-    env = _envelope.shared_envelope(comb.D, sr, comb.f_ref, ks, comb.psi, plan, main_amps, means[4])
+    main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan, means=means,
+                                                  jumps=comb.jumps)
+    env = _envelope.shared_envelope(comb.D, sr, comb.f_ref, ks, comb.psi, plan, main_amps, means[4],
+                                    jumps=comb.jumps)
     if env is not None:
         log.info("the hum level changes within the blocks: followed at %.1f s (gain %.2f-%.2f)",
                  env.width_s, float(env.gain.min()), float(env.gain.max()))

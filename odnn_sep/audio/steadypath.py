@@ -233,7 +233,7 @@ def _best_span(A, prec, var_noise, var_fit):
 
 
 def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, plan: BlockPlan,
-                          means=None):
+                          means=None, jumps=()):
     """Complex amplitudes ``z`` (blocks, C, K) of the tracked harmonics in each block's own phase
     reference (the block fit's: ``hum = Re(z exp(2 pi i k (phase(t) - phase(centre))))``), NaN
     where the block fit's own amplitude is kept; None when no line has a smoothed path.
@@ -254,6 +254,10 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
         The fit blocks.
     means : tuple, optional
         :func:`block_means` of the same arguments, when the caller has it (its first four parts).
+    jumps : sequence of (int, float), optional
+        Steps of ``psi`` placed to the sample (finetrack.PhaseTrack): the block fit's phase has
+        them, so the block references here must too (a block centred within 10 ms of a step
+        would otherwise be turned by part of it).
 
     Returns
     -------
@@ -276,7 +280,7 @@ def comb_block_amplitudes(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndar
     nb, C, K = A.shape
     out = np.full((nb, C, K), np.nan, complex)
     centres = np.arange(nb) * float(plan.hop)
-    ph = PhaseTrack(psi, sr, f_ref)
+    ph = PhaseTrack(psi, sr, f_ref, jumps)
     cyc = np.mod(centres * (f_ref / sr), 1.0) + ph.offset_cycles(centres)
     any_path = False
     for i, k in enumerate(ks):
