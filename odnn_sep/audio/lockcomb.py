@@ -27,6 +27,8 @@ SETTLE_ROUNDS = 3     # track / lock-test rounds until the set of locked lines s
 LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
 WEIGHTED_HIGH = 2     # spectrum lines up to this times LOWEST_K get the weighted test too (Bonferroni)
 WEIGHTED_REACH = 2    # the weighted lock test looks at harmonics up to this times the highest locked one
+HIGH_REACH = 4        # a comb locked to within this many harmonics of the candidates' top is extended
+MAX_SUMS_MB = 160     # chunk sums held for the comb's lines at most (an hour of 44.1 kHz mono: 55 lines)
 
 
 @dataclass
@@ -269,9 +271,45 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     if not fams:
         return None
     best = max(fams, key=lambda f: f.evidence)
+    if test:
+        _extend_high(source, spec, best, alpha=alpha, max_hz=max_hz, n_first=n_first)
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
              [round(f.evidence, 1) for f in fams])
     return best
+
+
+def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int) -> None:
+    """Harmonics above the candidates (``detect.MAX_HARMONICS``) for a comb locked to near
+    their top, in place: a phase-cut dimmer's or a rectifier's current keeps strong harmonics
+    far up (1/k), and stopping at the 40th leaves about -20 dB of its hum. Each further range
+    (up to twice the last) is demodulated and every line in it lock-tested against the settled
+    phase, as the harmonics the spectrum missed (Bonferroni over every harmonic tested, -50 dB
+    of the strongest locked line); it goes on while the comb keeps reaching the top, below
+    Nyquist, with at most ``MAX_SUMS_MB`` of chunk sums held for the comb."""
+    sr = source.sr
+    ks = list(comb.harmonics)
+    top = _detect.MAX_HARMONICS
+    J, C = comb.D.shape[:2]
+    while ks and max(ks) > top - HIGH_REACH:
+        room = int(MAX_SUMS_MB * 2 ** 20 // (J * C * 8)) - len(ks)
+        new_top = min(2 * top, top + max(room, 0))
+        cand = [k for k in _detect.candidate_harmonics(comb.f_ref, sr, new_top, max_hz) if k > top]
+        if not cand:
+            break
+        D = _track.demodulate(source, comb.f_ref, cand)
+        _, info = _lock.locked(D, sr, cand, comb.psi, alpha=alpha)
+        comb.lock.update(info)
+        strongest = max(comb.lock[k][2] for k in ks if k in comb.lock)
+        new = [k for k in cand if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
+        top = new_top
+        if not new:
+            break
+        comb.D = np.concatenate([comb.D, D[:, :, [cand.index(k) for k in new]]], axis=2)
+        comb.weights = np.concatenate([comb.weights, _weights(spec, comb.f_ref, new, {})], axis=1)
+        comb.evidence += float(sum(-np.log10(max(info[k][0], 1e-300)) for k in new))
+        ks += new
+        log.info("harmonics %d-%d locked above the first %d: %s", min(new), max(new), _detect.MAX_HARMONICS, new)
+    comb.harmonics = ks
 
 
 def _low_harmonics_retry(source, spec, det, *, alpha: float, max_hz, n_first: int) -> Comb | None:
