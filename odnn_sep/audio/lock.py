@@ -169,7 +169,7 @@ WEIGHTED_SEG_S = 1.0    # units of the weighted test (s): short, so speech pause
 # weighted sums (|sum|^2 over their scatter about the weighted mean, which is its own calibration: the
 # weights only set the relative precision of the units). The weights depend on the content's power
 # only, never on its phase, so circular content still has mean zero.
-def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
+def weighted_lock_p_values(u: np.ndarray, sr: int, presence: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Like :func:`lock_p_values`, with every chunk weighted by the inverse of the content power near
     the line at that moment, whatever its offset (:func:`odnn_sep.audio.nearpower.near_power`): the generalised
     least-squares mean of the tracked baseband, which takes the pauses of speech and the rests
@@ -182,6 +182,10 @@ def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarr
         Tracked baseband (chunk sums turned by the tracked phase).
     sr : int
         Sample rate of the audio (Hz).
+    presence : (J,) array, optional
+        Where the hum is on (1) and off (0), from other lines (:func:`presence`): a further
+        factor of the weights, so a hum switched off for half the input is tested where it is.
+        It must not depend on the tested line's phase (the test then stays calibrated).
 
     Returns
     -------
@@ -216,18 +220,79 @@ def weighted_lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarr
         for i in range(K):
             v = u[: B * n, c, i].astype(np.complex128)
             w = 1.0 / near_power(v, fs)
+            if presence is not None:
+                w = w * presence[: B * n]
             Y = (w * v).reshape(B, n).sum(axis=1)
             W = w.reshape(B, n).sum(axis=1)
+            if presence is not None:
+                Y, W = Y[W > 0], W[W > 0]             # units where the hum is off carry nothing
+                if len(Y) < 6:
+                    continue
             m = Y.sum() / W.sum()
-            scat = (np.abs(Y - W * m) ** 2).sum() / (B - 1)
+            Bu = len(Y)
+            scat = (np.abs(Y - W * m) ** 2).sum() / (Bu - 1)
             # Var(sum Y) is B times a unit's variance; the weighted sum's |.|^2 over that
-            x[i] += np.abs(Y.sum()) ** 2 / max(B * scat, 1e-300) / C
+            x[i] += np.abs(Y.sum()) ** 2 / max(Bu * scat, 1e-300) / C
             amp[i] += np.abs(m) / C
+    if presence is not None:
+        B = int((presence[: B * n].reshape(B, n).sum(axis=1) > 0).sum())
+        if B < 6:
+            return np.ones(K), np.zeros(K)
     p = special.fdtrc(2.0 * C, 2.0 * C * (B - 1), x)
     return p, amp
 
 
-def weighted_locked(D, sr: int, ks, psi: np.ndarray) -> dict:
+PRESENCE_OFF = 0.05     # a unit whose comb power is below this share of the on units' is "off"
+PRESENCE_MIN = 0.2      # the hum must be off (and on) for at least this share of the input
+
+
+def presence(u: np.ndarray, sr: int) -> np.ndarray | None:
+    """Where a hum that is switched on and off is on: 1 for the chunks of the 1 s units where
+    the comb's locked lines ``u`` (their tracked baseband, (J, C, K)) hold their power, 0 where
+    they fall below ``PRESENCE_OFF`` of it; None for a hum that stays (off for less than
+    ``PRESENCE_MIN`` of the input, or on for less), so a steady hum's tests are untouched.
+
+    Parameters
+    ----------
+    u : (J, C, K) complex array
+        Tracked baseband of the locked lines.
+    sr : int
+        Sample rate of the audio (Hz).
+
+    Returns
+    -------
+    (J,) float array or None
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> u = 0.1 * (rng.standard_normal((3000, 1, 2)) + 1j * rng.standard_normal((3000, 1, 2)))
+    >>> on = (np.arange(3000) >= 800) & (np.arange(3000) < 2200)         # on from 8 s to 22 s
+    >>> g = presence(u + 2.0 * on[:, None, None], 8000)
+    >>> int(g[:800].sum()), int(g[800:2200].sum()), presence(u + 2.0, 8000) is None
+    (0, 1400, True)
+    """
+    J = u.shape[0]
+    fs = sr / _track.chunk_length(sr)
+    n = max(2, int(round(WEIGHTED_SEG_S * fs)))
+    B = J // n
+    if B < 12:
+        return None
+    U = u[: B * n].astype(np.complex128).reshape(B, n, -1)
+    # coherent power of each unit (the lines keep their phase within a second), less what the
+    # unit's own scatter puts in it, summed over the lines
+    m = U.mean(axis=1)
+    noise = (np.abs(U - m[:, None]) ** 2).sum(axis=1) / (n * (n - 1))
+    power = np.maximum(np.abs(m) ** 2 - noise, 0.0).sum(axis=1)
+    on_level = np.median(power[power >= np.quantile(power, 0.5)])
+    off = power < PRESENCE_OFF * on_level
+    if not (PRESENCE_MIN <= off.mean() <= 1 - PRESENCE_MIN):
+        return None
+    g = np.repeat((~off).astype(float), n)
+    return np.concatenate([g, np.zeros(J - B * n)])
+
+
+def weighted_locked(D, sr: int, ks, psi: np.ndarray, presence: np.ndarray | None = None) -> dict:
     """Per harmonic of ``ks`` (columns of the chunk sums ``D``), ``(p, amplitude)`` of
     :func:`weighted_lock_p_values` on its baseband tracked by ``psi`` (as :func:`locked`).
 
@@ -241,6 +306,8 @@ def weighted_locked(D, sr: int, ks, psi: np.ndarray) -> dict:
         Harmonic numbers of ``D``'s columns.
     psi : (J,) float array
         Tracked phase of the fundamental (cycles, relative to ``f_ref t``).
+    presence : (J,) array, optional
+        As :func:`weighted_lock_p_values`.
 
     Returns
     -------
@@ -261,6 +328,6 @@ def weighted_locked(D, sr: int, ks, psi: np.ndarray) -> dict:
     out = {}
     for i, k in enumerate(ks):
         rot = _finetrack.phase_turn(psi, k)
-        p, amp = weighted_lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr)
+        p, amp = weighted_lock_p_values(D[:, :, i: i + 1] * rot[:, None, None], sr, presence)
         out[int(k)] = (float(p[0]), float(amp[0]))
     return out
