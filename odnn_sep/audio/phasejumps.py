@@ -41,7 +41,8 @@ EXPLAINED = 0.8        # share of the change's weighted energy the jump must exp
 MIN_JUMP = 0.2         # cycles: smaller steps are left to phasesteps.find_steps
 MAX_CANDIDATES = 256   # instants searched over delta (the largest changes), plus one per 5 s
 LOCAL = 2              # a candidate is the largest change within this many samples (0.2 s)
-MIN_LINES = 3          # harmonics a jump is estimated on (fewer can match any phase change)
+MIN_LINES = 2          # harmonics a jump is estimated on (one can match any phase change)
+EDGE_FRACTION = 0.25   # instants nearer an end than this share of the window are not searched
 MAX_JUMPS = 64         # as phasesteps.MAX_STEPS
 GRID_PER_K = 16        # delta grid points per cycle of the highest harmonic
 SHARP_MIN = 0.005      # cycles: a change of the phase between two chunk centres this far from its
@@ -145,10 +146,15 @@ def find_jumps(v: np.ndarray, ks, w: int) -> list[tuple[int, float]]:
         return []
     var = _local_noise(v, 2 * w)
     cs = np.concatenate([np.zeros((1, *v.shape[1:]), v.dtype), np.cumsum(v, axis=0)], axis=0)
-    idx = np.arange(w, nd - w + 1)
-    A = (cs[idx + w] - cs[idx]) / w                                  # (m, C, K): means after
-    B = (cs[idx] - cs[idx - w]) / w                                  # means before
-    om = w / (2.0 * var[idx])                                        # inverse variance of A - B
+    # every instant at least EDGE_FRACTION w from the ends: near an end the side that reaches it
+    # is shorter (a splice half a second from the start still moves the phase of that half second)
+    edge = max(4, int(EDGE_FRACTION * w))
+    idx = np.arange(edge, nd - edge + 1)
+    na = np.minimum(w, nd - idx)[:, None, None]
+    nb = np.minimum(w, idx)[:, None, None]
+    A = (cs[idx + na[:, 0, 0]] - cs[idx]) / na                       # (m, C, K): means after
+    B = (cs[idx] - cs[idx - nb[:, 0, 0]]) / nb                       # means before
+    om = (2 * na * nb / (na + nb)) / (2.0 * var[idx])                # inverse variance of A - B
     R0 = (om * np.abs(A - B) ** 2).sum(axis=(1, 2))
     dof = 2 * v.shape[1] * v.shape[2]
     # candidates: local maxima of the change that could pass the test at all (a jump's likelihood
@@ -397,4 +403,4 @@ def _place(source, first, i, m, x0, psi_near, ks, f_ref, cb, ca):
 
 
 __all__ = ["find_jumps", "follow", "window", "to_the_sample", "LR_JUMP", "EXPLAINED", "MIN_JUMP", "MAX_CANDIDATES",
-           "MAX_JUMPS", "MIN_LINES"]
+           "MAX_JUMPS", "MIN_LINES", "EDGE_FRACTION"]

@@ -71,3 +71,27 @@ def test_no_jump_is_found_in_steady_or_modulated_lines():
     assert find_jumps(partial, high, 24) == []
     jumped = steady * np.exp(2j * np.pi * ks * 0.4 * (t >= 30))
     assert [(i, round(d, 1)) for i, d in find_jumps(jumped, ks, 24)] == [(300, 0.4)]
+
+
+def test_a_splice_near_either_end_is_followed():
+    rng = np.random.default_rng(3)
+    sr = 4000
+    t = np.arange(30 * sr) / sr
+    host = 0.3 * rng.standard_normal(t.size)
+    for at in (0.8, 29.2):
+        ph = 2 * np.pi * 50.01 * t + np.pi * (t >= at)
+        hum = sum(np.cos(k * ph + k) / k for k in range(1, 6))
+        # the half-second side of the splice would otherwise keep its hum whole (about 13 dB)
+        assert _gain_db(host, hum, denoise(host + hum, sr).y) > 35, at
+
+
+def test_a_jump_is_found_with_two_harmonics_only():
+    # EEG at 250 Hz holds 50 and 100 Hz only; a discontinuity of the recording jumps both
+    from odnn_sep.audio.phasejumps import find_jumps
+
+    rng = np.random.default_rng(4)
+    ks = np.array([1.0, 2.0])
+    t = np.arange(600)[:, None, None] / 10.0
+    v = np.ones((600, 1, 2)) + 0.05 * (rng.standard_normal((600, 1, 2)) + 1j * rng.standard_normal((600, 1, 2)))
+    v = v * np.exp(2j * np.pi * ks * 0.45 * (t >= 20))
+    assert [(i, round(d, 2)) for i, d in find_jumps(v, ks, 24)] == [(200, 0.45)]
