@@ -73,6 +73,17 @@ def test_no_jump_is_found_in_steady_or_modulated_lines():
     assert [(i, round(d, 1)) for i, d in find_jumps(jumped, ks, 24)] == [(300, 0.4)]
 
 
+def test_a_splice_in_a_short_input_is_followed():
+    # shorter than the four 2.4 s windows of the search: windows of a quarter of the input
+    rng = np.random.default_rng(5)
+    sr = 4000
+    t = np.arange(3 * sr) / sr
+    host = 0.3 * rng.standard_normal(t.size)
+    ph = 2 * np.pi * 50.01 * t + np.pi * (t >= 1.5)
+    hum = sum(np.cos(k * ph + k) / k for k in range(1, 6))
+    assert _gain_db(host, hum, denoise(host + hum, sr).y) > 30
+
+
 def test_a_splice_near_either_end_is_followed():
     rng = np.random.default_rng(3)
     sr = 4000
