@@ -143,6 +143,10 @@ def run(args) -> int:
             f0 = f"{res.mains_hz:.4f} Hz" if res.mains_hz else "-"
             level = res.info.get("level_followed_s")
             level = f"; its level changes and was followed at {level:g} s" if level else ""
+            steps = res.info.get("phase_steps") or []
+            if steps:
+                at = ", ".join(f"{st['time_s']:.3f}" for st in steps[:5]) + (", ..." if len(steps) > 5 else "")
+                level += f"; its phase jumps at {at} s (a splice or a source switched over)"
             print(f"removed hum: fundamental {f0} (family {res.nominal_hz}), lines {lines}{level} -> {args.output}")
         else:
             print(f"no significant hum found; wrote the input unchanged -> {args.output}")

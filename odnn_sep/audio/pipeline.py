@@ -287,6 +287,9 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
         candidates=det.candidates + [c for comb in lines.combs for c in comb.candidates],
         block_valid=valid, amplitude_overall=overall,
         info={"solver": opts.solver, "block_s": found.plan.block_s, "channels": C, "frames": N,
-              "duration_s": N / sr, "level_followed_s": found.envelope.width_s if found.envelope else None},
+              "duration_s": N / sr, "level_followed_s": found.envelope.width_s if found.envelope else None,
+              # steps of the hum's phase kept whole (a splice, a source switched over: phasejumps.py)
+              "phase_steps": [{"time_s": a / sr, "cycles": d}
+                              for a, d in getattr(getattr(trk, "phase", None), "jumps", None) or []]},
         spectra={"freqs": found.spec_before.freqs, "before": found.spec_before.psd, "after": spec_after.psd},
     )

@@ -48,6 +48,9 @@ def test_hum_with_a_half_cycle_jump_is_removed_as_well_as_steady_hum():
         # (the phase is interpolated between 10 ms chunk centres, so the jump's own chunk keeps
         # some hum: a few dB below the quarter-cycle case, where fewer harmonics wrap)
         assert g > 30 and g > g0 - 10, (jump, g, g0)
+    # the report says where the phase jumps (to the sample: the jump is at 15 s exactly)
+    steps = denoise(host + hum, sr).info["phase_steps"]
+    assert len(steps) == 1 and abs(steps[0]["time_s"] - 15.0) < 2e-3 and abs(abs(steps[0]["cycles"]) - 0.4) < 0.03
 
 
 def test_no_jump_is_found_in_steady_or_modulated_lines():
