@@ -413,7 +413,7 @@ class PhaseTrack:
     f_ref : float
         Reference fundamental (Hz).
     jumps : sequence of (int, float), optional
-        Steps of ``psi`` placed to the sample (phasejumps.to_the_sample): ``(first sample after,
+        Steps of ``psi`` placed to the sample (phaseplace.to_the_sample): ``(first sample after,
         cycles)``. ``psi`` holds them between two chunk centres; they are taken out of the
         interpolation and added back sharp at their sample.
 

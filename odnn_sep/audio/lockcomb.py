@@ -17,6 +17,7 @@ from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lock as _lock
 from odnn_sep.audio import phasejumps as _phasejumps
+from odnn_sep.audio import phaseplace as _phaseplace
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.blockplan import BlockPlan, hop_samples
 
@@ -54,7 +55,7 @@ class Comb:
     lock : dict
         Harmonic -> ``(p, lock index, amplitude)`` of every line tested.
     jumps : list of (int, float)
-        Steps of ``psi`` placed to the sample (a splice: phasejumps.to_the_sample).
+        Steps of ``psi`` placed to the sample (a splice: phaseplace.to_the_sample).
 
     Examples
     --------
@@ -198,7 +199,7 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
     D = fam.D[:, :, cols] if ks else None
     jumps = []
     if ks:
-        psi, jumps = _phasejumps.to_the_sample(source, D, psi, ks, fam.f_ref)
+        psi, jumps = _phaseplace.to_the_sample(source, D, psi, ks, fam.f_ref)
     return Comb(nominal_hz=det.nominal_hz, f_ref=fam.f_ref, harmonics=ks, psi=psi if ks else None,
                 D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info, jumps=jumps)
 
