@@ -141,7 +141,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
     psi = psi0.copy()
     known: dict[int, int] = dict(cuts or {}) if steps else {}   # steps: decimated index -> first chunk after it
-    n_min = max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
+    n_min = shortest_kernel(sr)
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
@@ -171,6 +171,28 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
             known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
     return psi
+
+
+def shortest_kernel(sr: int) -> int:
+    """Decimated samples of the shortest phase-correction kernel (``SMOOTH_HZ`` bandwidth); twice
+    it is the half-window of the step searches (phasesteps.py, phasejumps.py).
+
+    Parameters
+    ----------
+    sr : int
+        Sample rate (Hz).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> shortest_kernel(44100), shortest_kernel(8000)
+    (12, 12)
+    """
+    fs_d = sr / _track.chunk_length(sr) / DECIM
+    return max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
 
 
 def _at_chunks(tc: np.ndarray, td: np.ndarray, err: np.ndarray, cuts, starts) -> np.ndarray:

@@ -177,7 +177,7 @@ def find_jumps(v: np.ndarray, ks, w: int) -> list[tuple[int, float]]:
 
 def window(sr: int) -> int:
     """Samples averaged on each side of an instant: 2.4 s of the decimated baseband, the window
-    of the fine track's own step search (``2 n_min`` in finetrack.refine_phase).
+    of the fine track's own step search (twice finetrack.shortest_kernel).
 
     Parameters
     ----------
@@ -194,10 +194,8 @@ def window(sr: int) -> int:
     (24, 24)
     """
     from odnn_sep.audio import finetrack as _ft
-    from odnn_sep.audio import track as _track
 
-    fs_d = sr / _track.chunk_length(sr) / _ft.DECIM
-    return 2 * max(3, int(round(0.72 / _ft.SMOOTH_HZ * fs_d)))
+    return 2 * _ft.shortest_kernel(sr)
 
 
 def follow(D, sr: int, ks, psi0: np.ndarray, w: int) -> tuple[np.ndarray, dict[int, int]]:
