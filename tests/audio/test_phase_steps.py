@@ -109,3 +109,20 @@ def test_a_jump_is_found_with_two_harmonics_only():
     v = np.ones((600, 1, 2)) + 0.05 * (rng.standard_normal((600, 1, 2)) + 1j * rng.standard_normal((600, 1, 2)))
     v = v * np.exp(2j * np.pi * ks * 0.45 * (t >= 20))
     assert [(i, round(d, 2)) for i, d in find_jumps(v, ks, 24)] == [(200, 0.45)]
+
+
+def test_many_jumps_are_followed_and_a_frequency_step_makes_none():
+    rng = np.random.default_rng(7)
+    sr, dur = 8000, 60
+    t = np.arange(dur * sr) / sr
+    host = 0.3 * rng.standard_normal(t.size)
+    times = np.arange(3, dur, 3.0)                                   # a splice every 3 s
+    ph = 2 * np.pi * 50.01 * t + 2 * np.pi * sum(j * (t >= a) for a, j in zip(times, rng.uniform(0, 1, times.size)))
+    hum = sum(np.cos(k * ph + k) / k for k in range(1, 6))
+    r = denoise(host + hum, sr)
+    assert _gain_db(host, hum, r.y) > 33 and len(r.info["phase_steps"]) >= 15
+    # a generator 0.05 Hz faster from 30 s on: the phase bends, it does not jump
+    ph = 2 * np.pi * np.cumsum(np.where(t < 30, 50.01, 50.06)) / sr
+    hum = sum(np.cos(k * ph + k) / k for k in range(1, 6))
+    r = denoise(host + hum, sr)
+    assert r.info["phase_steps"] == [] and _gain_db(host, hum, r.y) > 38
