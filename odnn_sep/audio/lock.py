@@ -246,16 +246,17 @@ PRESENCE_OFF = 0.05     # a unit whose comb power is below this share of the on 
 PRESENCE_MIN = 0.2      # the hum must be off (and on) for at least this share of the input
 
 
-def presence(u: np.ndarray, sr: int) -> np.ndarray | None:
+def presence(lines, sr: int) -> np.ndarray | None:
     """Where a hum that is switched on and off is on: 1 for the chunks of the 1 s units where
-    the comb's locked lines ``u`` (their tracked baseband, (J, C, K)) hold their power, 0 where
-    they fall below ``PRESENCE_OFF`` of it; None for a hum that stays (off for less than
-    ``PRESENCE_MIN`` of the input, or on for less), so a steady hum's tests are untouched.
+    the comb's locked lines hold their power, 0 where it falls below ``PRESENCE_OFF`` of it; None
+    for a hum that stays (off for less than ``PRESENCE_MIN`` of the input, or on for less), so a
+    steady hum's tests are untouched.
 
     Parameters
     ----------
-    u : (J, C, K) complex array
-        Tracked baseband of the locked lines.
+    lines : iterable of (J, C) complex arrays
+        Tracked baseband of each locked line (one at a time: an hour of chunk sums of every line
+        at once would be the run's largest array).
     sr : int
         Sample rate of the audio (Hz).
 
@@ -268,28 +269,33 @@ def presence(u: np.ndarray, sr: int) -> np.ndarray | None:
     >>> rng = np.random.default_rng(0)
     >>> u = 0.1 * (rng.standard_normal((3000, 1, 2)) + 1j * rng.standard_normal((3000, 1, 2)))
     >>> on = (np.arange(3000) >= 800) & (np.arange(3000) < 2200)         # on from 8 s to 22 s
-    >>> g = presence(u + 2.0 * on[:, None, None], 8000)
-    >>> int(g[:800].sum()), int(g[800:2200].sum()), presence(u + 2.0, 8000) is None
+    >>> g = presence((u + 2.0 * on[:, None, None]).transpose(2, 0, 1), 8000)
+    >>> int(g[:800].sum()), int(g[800:2200].sum()), presence((u + 2.0).transpose(2, 0, 1), 8000) is None
     (0, 1400, True)
     """
-    J = u.shape[0]
-    fs = sr / _track.chunk_length(sr)
-    n = max(2, int(round(WEIGHTED_SEG_S * fs)))
-    B = J // n
-    if B < 12:
+    power, J = None, 0
+    for u in lines:
+        J = u.shape[0]
+        fs = sr / _track.chunk_length(sr)
+        n = max(2, int(round(WEIGHTED_SEG_S * fs)))
+        B = J // n
+        if B < 12:
+            return None
+        U = u[: B * n].astype(np.complex128).reshape(B, n, -1)
+        # coherent power of each unit (the lines keep their phase within a second), less what
+        # the unit's own scatter puts in it, summed over the lines
+        m = U.mean(axis=1)
+        noise = (np.abs(U - m[:, None]) ** 2).sum(axis=1) / (n * (n - 1))
+        p = np.maximum(np.abs(m) ** 2 - noise, 0.0).sum(axis=1)
+        power = p if power is None else power + p
+    if power is None:
         return None
-    U = u[: B * n].astype(np.complex128).reshape(B, n, -1)
-    # coherent power of each unit (the lines keep their phase within a second), less what the
-    # unit's own scatter puts in it, summed over the lines
-    m = U.mean(axis=1)
-    noise = (np.abs(U - m[:, None]) ** 2).sum(axis=1) / (n * (n - 1))
-    power = np.maximum(np.abs(m) ** 2 - noise, 0.0).sum(axis=1)
     on_level = np.median(power[power >= np.quantile(power, 0.5)])
     off = power < PRESENCE_OFF * on_level
     if not (PRESENCE_MIN <= off.mean() <= 1 - PRESENCE_MIN):
         return None
     g = np.repeat((~off).astype(float), n)
-    return np.concatenate([g, np.zeros(J - B * n)])
+    return np.concatenate([g, np.zeros(J - len(g))])
 
 
 def weighted_locked(D, sr: int, ks, psi: np.ndarray, presence: np.ndarray | None = None) -> dict:

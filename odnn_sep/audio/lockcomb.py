@@ -29,7 +29,8 @@ LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
 WEIGHTED_HIGH = 2     # spectrum lines up to this times LOWEST_K get the weighted test too (Bonferroni)
 WEIGHTED_REACH = 2    # the weighted lock test looks at harmonics up to this times the highest locked one
 HIGH_REACH = 4        # a comb locked to within this many harmonics of the candidates' top is extended
-MAX_SUMS_MB = 160     # chunk sums held for the comb's lines at most (an hour of 44.1 kHz mono: 55 lines)
+MAX_SUMS_MB = 120     # chunk sums held for the comb's lines at most (an hour of 44.1 kHz mono: 43 lines)
+EXTEND_BATCH = 16     # further harmonics demodulated per pass over the input
 
 
 @dataclass
@@ -287,7 +288,8 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
     (up to twice the last) is demodulated and every line in it lock-tested against the settled
     phase, as the harmonics the spectrum missed (Bonferroni over every harmonic tested, -50 dB
     of the strongest locked line); it goes on while the comb keeps reaching the top, below
-    Nyquist, with at most ``MAX_SUMS_MB`` of chunk sums held for the comb."""
+    Nyquist, with at most ``MAX_SUMS_MB`` of chunk sums held for the comb (the range is read
+    ``EXTEND_BATCH`` lines at a time and only the locked lines' sums are kept)."""
     sr = source.sr
     ks = list(comb.harmonics)
     top = _detect.MAX_HARMONICS
@@ -298,17 +300,26 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
         cand = [k for k in _detect.candidate_harmonics(comb.f_ref, sr, new_top, max_hz) if k > top]
         if not cand:
             break
-        D = _track.demodulate(source, comb.f_ref, cand)
-        _, info = _lock.locked(D, sr, cand, comb.psi, alpha=alpha)
-        comb.lock.update(info)
         strongest = max(comb.lock[k][2] for k in ks if k in comb.lock)
-        new = [k for k in cand if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
+        new, cols = [], []
+        # a few lines per pass over the input, keeping only the locked ones' chunk sums: the
+        # range's sums at once, beside the comb's, would double what is held
+        for i in range(0, len(cand), EXTEND_BATCH):
+            batch = cand[i: i + EXTEND_BATCH]
+            D = _track.demodulate(source, comb.f_ref, batch)
+            _, info = _lock.locked(D, sr, batch, comb.psi, alpha=alpha)
+            comb.lock.update(info)
+            ok = [k for k in batch if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
+            new += ok
+            cols += [D[:, :, batch.index(k)] for k in ok]
+            del D
         top = new_top
         if not new:
             break
-        comb.D = np.concatenate([comb.D, D[:, :, [cand.index(k) for k in new]]], axis=2)
+        comb.D = np.concatenate([comb.D, np.stack(cols, axis=2)], axis=2)
+        del cols
         comb.weights = np.concatenate([comb.weights, _weights(spec, comb.f_ref, new, {})], axis=1)
-        comb.evidence += float(sum(-np.log10(max(info[k][0], 1e-300)) for k in new))
+        comb.evidence += float(sum(-np.log10(max(comb.lock[k][0], 1e-300)) for k in new))
         ks += new
         log.info("harmonics %d-%d locked above the first %d: %s", min(new), max(new), _detect.MAX_HARMONICS, new)
     comb.harmonics = ks
@@ -414,9 +425,8 @@ def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:
     only, never from the tested one, so the test stays calibrated (same Bonferroni count, -50 dB
     of the strongest locked line); a steady hum is not tested again."""
     sr = fam.sr
-    u = np.stack([fam.D[:, :, c] * _finetrack.phase_turn(psi, k)[:, None] for k, c in zip(ks, fam.cols(ks), strict=True)],
-                 axis=2)
-    g = _lock.presence(u, sr)
+    g = _lock.presence((fam.D[:, :, c] * _finetrack.phase_turn(psi, k)[:, None]
+                        for k, c in zip(ks, fam.cols(ks), strict=True)), sr)
     if g is None:
         return []
     rest = [k for k in fam.cand if k not in ks and k <= WEIGHTED_REACH * max(ks)]

@@ -44,4 +44,4 @@ def test_a_steady_hum_has_no_presence():
     u = 0.5 * (rng.standard_normal((3000, 1, 3)) + 1j * rng.standard_normal((3000, 1, 3)))
     # loud content over a steady hum for a third of the time is not the hum switched off
     u[1000:2000] *= 6.0
-    assert presence(u + 1.0, 8000) is None
+    assert presence((u + 1.0).transpose(2, 0, 1), 8000) is None
