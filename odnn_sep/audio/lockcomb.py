@@ -311,7 +311,7 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
             comb.lock.update(info)
             ok = [k for k in batch if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
             new += ok
-            cols += [D[:, :, batch.index(k)] for k in ok]
+            cols += [D[:, :, batch.index(k)].copy() for k in ok]     # (a view would keep all of D)
             del D
         top = new_top
         if not new:
