@@ -406,14 +406,23 @@ def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     # near the line (lock.py): a weak harmonic under speech or notes shows in their pauses (same
     # Bonferroni count, -50 dB of the strongest locked line by the same weighted mean)
     rest = [k for k in others if k not in out and k <= WEIGHTED_REACH * max(ks)]
-    if rest:
-        w_inf = {}
-        for k, col in zip(rest, fam.cols(rest), strict=True):  # one view at a time, as above
-            w_inf.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], sr, [k], psi))
-        top = max(ks, key=lambda k: info[k][2])
-        top_w = _lock.weighted_locked(fam.D[:, :, fam.cols([top])], sr, [top], psi)[top][1]
-        out += [k for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
-    return sorted(out)
+    return sorted(out + _weighted_pass(fam, ks, rest, psi))
+
+
+def _weighted_pass(fam: _Family, ks, rest, psi, presence=None) -> list[int]:
+    """The lines of ``rest`` that pass the weighted lock test (lock.weighted_locked, with the
+    ``presence`` factor where given) against ``psi``: Bonferroni over ``fam.n_tests`` and at least
+    -50 dB of the strongest locked line of ``ks`` by the same weighted mean."""
+    if not rest:
+        return []
+    sr = fam.sr
+    w_inf = {}
+    # one line at a time through a view of its column (as _new_lines' plain test)
+    for k, col in zip(rest, fam.cols(rest), strict=True):
+        w_inf.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], sr, [k], psi, presence=presence))
+    top = max(ks, key=lambda k: fam.info.get(k, (1.0, 0.0, 0.0))[2])
+    top_w = _lock.weighted_locked(fam.D[:, :, fam.cols([top])], sr, [top], psi, presence=presence)[top][1]
+    return [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
 
 
 def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:
@@ -430,14 +439,7 @@ def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:
     if g is None:
         return []
     rest = [k for k in fam.cand if k not in ks and k <= WEIGHTED_REACH * max(ks)]
-    if not rest:
-        return []
-    w_inf = {}
-    for k, col in zip(rest, fam.cols(rest), strict=True):     # one view at a time (as _new_lines)
-        w_inf.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], sr, [k], psi, presence=g))
-    top = max(ks, key=lambda k: fam.info.get(k, (1.0, 0.0, 0.0))[2])
-    top_w = _lock.weighted_locked(fam.D[:, :, fam.cols([top])], sr, [top], psi, presence=g)[top][1]
-    out = [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
+    out = _weighted_pass(fam, ks, rest, psi, presence=g)
     if out:
         log.info("hum on for %.0f%% of the input: lines %s locked where it is on", 100 * g.mean(), out)
     return out
