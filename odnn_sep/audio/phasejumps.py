@@ -88,8 +88,9 @@ def _delta_search(A: np.ndarray, B: np.ndarray, om: np.ndarray, ks: np.ndarray,
     s0 = max(float(np.real(cross.sum())), 0.0)
     lr = (max(s_best, 0.0) ** 2 - s0 ** 2) / Q
     # weighted misfit left with the jump and the best common level: sum omega |A|^2 - S^2 / Q
-    r_best = float((om * np.abs(A) ** 2).sum()) - max(s_best, 0.0) ** 2 / Q
-    r_none = float((om * np.abs(A) ** 2).sum()) - s0 ** 2 / Q
+    energy = float((om * np.abs(A) ** 2).sum())
+    r_best = energy - max(s_best, 0.0) ** 2 / Q
+    r_none = energy - s0 ** 2 / Q
     explained = 1.0 - max(r_best, 0.0) / r_none if r_none > 0 else 0.0
     # a jump is the comb's: it must stand (the same delta, the same test) without the line that
     # gains most from it, or it is that line's own phase change (a note partial), which some
