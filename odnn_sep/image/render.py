@@ -230,6 +230,11 @@ def render_text(text: str, font, size: float) -> np.ndarray:
         raise InputError("text is empty or only whitespace; pass the watermark's visible text")
     if not size > 0:
         raise InputError(f"font size must be > 0 px; got {size}")
+    from odnn_sep.image.layout import render_layout, split_layout
+
+    base, shifts = split_layout(font)
+    if shifts is not None:  # a layout fitted glyph by glyph (``glyphfit``)
+        return render_layout(str(text), str(resolve_font(base)), round(float(size), 3), shifts)
     base, tracking = split_tracking(font)
     return _render_cached(str(text), str(resolve_font(base)), round(float(size), 3), tracking)
 

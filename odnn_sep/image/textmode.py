@@ -188,11 +188,16 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
     >>> round(best.size), score > 0.19
     (18, True)
     """
+    from odnn_sep.image.layoutlook import keep_better, layout_look
     from odnn_sep.image.locate import least_alike
     from odnn_sep.image.render import spaced
 
-    first = best_match(y, text, fonts, region, angle_range, random_state, reduced)
+    tried = []
+    first = best_match(y, text, fonts, region, angle_range, random_state, reduced, tried=tried)
     if first[0] is not None and first[2] >= min_score:
+        if len(fonts) > 1 and not reduced:  # the font is a guess: its glyphs may sit elsewhere
+            best, score = keep_better(y, text, first[0], first[2], random_state)
+            return (best, _as_match(best, score, first[3]), score) + first[3:]
         return first
     looks = [(fonts, {"coarse_font": least_alike(text, fonts)})] if len(fonts) > 1 else []
     if len(fonts) > 1:
@@ -201,14 +206,26 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
         looks.append((wide, {"coarse_font": wide[0]}))
     looks.append((fonts, {"coarse_height": FINE_LOOK_HEIGHT}))
     for look_fonts, look in looks:
-        again = best_match(y, text, look_fonts, region, angle_range, random_state, reduced, **look)
+        again = best_match(y, text, look_fonts, region, angle_range, random_state, reduced, tried=tried, **look)
         log.debug("another look for %r (%s): best score %.3f (first look %.3f)", text, look, again[2], first[2])
         if again[0] is not None and again[2] >= SECOND_LOOK_FACTOR * min_score:
             return again
+    if len(fonts) > 1 and tried:  # a font the tool does not have: its glyphs elsewhere (``glyphfit``)
+        best, score = layout_look(y, text, tried, random_state)
+        log.debug("glyph-by-glyph look for %r: best score %.3f", text, score)
+        if best is not None and score >= SECOND_LOOK_FACTOR * min_score:
+            return (best, _as_match(best, score, first[3]), score) + first[3:]
     return first
 
 
-def best_match(y, text, fonts, region, angle_range, random_state, reduced=False, **coarse):
+def _as_match(p, score, off):
+    """The search hypothesis of a registered placement ``p`` (in the searched view's coordinates)."""
+    from odnn_sep.image.locate import Match
+
+    return Match(p.font, p.size, p.angle, (p.center[0] - off[0], p.center[1] - off[1]), score)
+
+
+def best_match(y, text, fonts, region, angle_range, random_state, reduced=False, tried=None, **coarse):
     """(best registered placement or None, its search match, its detection score, offset, searched view).
 
     ``coarse``: ``coarse_font`` and ``coarse_height`` of the search's coarse grid (``locate.search``).
@@ -297,6 +314,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         # alignment can beat a faint real mark; the out-of-sample score is what decides detection.
         scores = {id(p): placement_score(y, p, random_state=random_state)
                   for p, _ in refined}
+        if tried is not None:
+            tried.extend(p for p, _ in refined)
         best, best_nc = max(refined, key=lambda t: scores[id(t[0])])
         # the font (and size) at the chosen place: by the likelihood on the same pixels
         rivals = [(p, c) for p, c in refined if _overlap(p.box, best.box) > 0.5]
