@@ -17,7 +17,9 @@ from odnn_sep.errors import NotIdentifiableError
 
 log = logging.getLogger(__name__)
 
-LOOK_PLACES = 6          # registered placements (best in-sample share first) whose glyphs are moved
+# Registered placements of each look (best in-sample share first) whose glyphs are moved: each look's
+# own, since a look with a slanted or spaced font registers placements another look ranks low.
+LOOK_PLACES = 3
 REFINE_ITERATIONS = 30   # registration of a moved layout (centre, size, angle; the layout is kept)
 # A found mark keeps its whole-string rendering unless moving the glyphs raises its detection score by
 # this factor and this much: moving the glyphs of the right font only fits noise (a DejaVu mark of the
@@ -70,8 +72,8 @@ def _distinct(placements):
 
 
 def layout_look(y, text, tried, random_state):
-    """The best moved layout among the ``LOOK_PLACES`` distinct placements of ``tried`` with the
-    largest in-sample share explained: (placement, score), or (None, 0.0).
+    """The best moved layout among the ``LOOK_PLACES`` distinct placements of each look in ``tried``
+    with the largest in-sample share explained: (placement, score), or (None, 0.0).
 
     Parameters
     ----------
@@ -79,8 +81,8 @@ def layout_look(y, text, tried, random_state):
         The whole image, float (H, W, C) in [0, 1].
     text : str
         The mark's text.
-    tried : list of Placed
-        Registered placements of the earlier looks.
+    tried : list of list of Placed
+        Registered placements of the earlier looks, one list per look.
     random_state : int or Generator
         Seed of the fits.
 
@@ -88,9 +90,11 @@ def layout_look(y, text, tried, random_state):
     -------
     tuple of (Placed or None, float)
     """
-    order = sorted(tried, key=lambda p: -p.fit.explained)
+    places = []
+    for look in tried:
+        places += _distinct(sorted(look, key=lambda p: -p.fit.explained))[:LOOK_PLACES]
     best, best_score = None, 0.0
-    for p in _distinct(order)[:LOOK_PLACES]:
+    for p in places:  # not made distinct across looks: another font at the same place is another try
         q, sc = moved(y, text, p, random_state)
         log.debug("moved glyphs at (%.0f, %.0f): score %.3f", p.center[0], p.center[1], sc)
         if q is not None and sc > best_score:

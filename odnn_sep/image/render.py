@@ -22,6 +22,9 @@ DEFAULT_FONT_NAMES = (
     "DejaVuSans-Bold", "DejaVuSans", "DejaVuSerif-Bold", "DejaVuSerif", "DejaVuSansMono-Bold",
     "Arial Bold", "Arial", "LiberationSans-Bold", "LiberationSans-Regular", "Helvetica",
 )
+# The same family's slanted faces, tried by one more look when nothing upright is found: an italic
+# mark's strokes lean away from every upright rendering (``textmode.find``).
+SLANTED_FONT_NAMES = ("DejaVuSerif-Italic", "DejaVuSans-Oblique")
 
 
 def font_dirs() -> list[Path]:
@@ -93,13 +96,15 @@ def resolve_font(font) -> Path:
     )
 
 
-def default_fonts() -> list[Path]:
+def default_fonts(names=DEFAULT_FONT_NAMES) -> list[Path]:
     """The candidate fonts tried when the user does not pin one (those present on this system).
+
+    ``names``: the font names to look up (``SLANTED_FONT_NAMES`` for the slanted look).
 
     Returns
     -------
     list of Path
-        Font files of ``DEFAULT_FONT_NAMES`` that were found, in that order, without repeats.
+        Font files of ``names`` that were found, in that order, without repeats.
 
     Examples
     --------
@@ -108,7 +113,7 @@ def default_fonts() -> list[Path]:
     'DejaVuSans-Bold.ttf'
     """
     out = []
-    for name in DEFAULT_FONT_NAMES:
+    for name in names:
         try:
             p = resolve_font(name)
         except InputError:

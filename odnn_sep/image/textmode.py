@@ -24,6 +24,11 @@ RIVAL_SCREEN_RATIO = 0.5
 # 160 clean-photo searches) later looks scored up to 0.192 by chance, while the 16 marks they found
 # (of 120 marks, besides the 96 the first look found) scored 0.40-1.18.
 SECOND_LOOK_FACTOR = 1.3
+# What the glyph-by-glyph look (``layoutlook``) finds counts only at this multiple of the detection
+# threshold: moving each glyph is more freedom than a later look's search. Development seeds 501-502
+# (34 clean-photo searches, random text and post-processing): the look scored up to 0.233 by chance
+# (a 4-letter text), next 0.149; the marks it found on seeds 7 and 11 scored 0.26-0.67.
+LAYOUT_LOOK_FACTOR = 1.6
 # Glyph height (px) of the finer coarse grid of the last look (``find``); the first uses 10.
 FINE_LOOK_HEIGHT = 14.0
 # Letter spacing (em) of the spaced fonts of one more look (``find``): marks are often drawn spaced
@@ -190,10 +195,10 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
     """
     from odnn_sep.image.layoutlook import keep_better, layout_look
     from odnn_sep.image.locate import least_alike
-    from odnn_sep.image.render import spaced
+    from odnn_sep.image.render import SLANTED_FONT_NAMES, default_fonts, spaced
 
-    tried = []
-    first = best_match(y, text, fonts, region, angle_range, random_state, reduced, tried=tried)
+    tried = [[]]  # the registered placements of every look, one list per look
+    first = best_match(y, text, fonts, region, angle_range, random_state, reduced, tried=tried[0])
     if first[0] is not None and first[2] >= min_score:
         if len(fonts) > 1 and not reduced:  # the font is a guess: its glyphs may sit elsewhere
             best, score = keep_better(y, text, first[0], first[2], random_state)
@@ -205,15 +210,18 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
         wide = [Path(spaced(f, LOOK_TRACKING)) for f in fonts[:2]]
         looks.append((wide, {"coarse_font": wide[0]}))
     looks.append((fonts, {"coarse_height": FINE_LOOK_HEIGHT}))
+    if len(fonts) > 1 and default_fonts(SLANTED_FONT_NAMES):
+        looks.append((default_fonts(SLANTED_FONT_NAMES), {}))
     for look_fonts, look in looks:
-        again = best_match(y, text, look_fonts, region, angle_range, random_state, reduced, tried=tried, **look)
+        tried.append([])
+        again = best_match(y, text, look_fonts, region, angle_range, random_state, reduced, tried=tried[-1], **look)
         log.debug("another look for %r (%s): best score %.3f (first look %.3f)", text, look, again[2], first[2])
         if again[0] is not None and again[2] >= SECOND_LOOK_FACTOR * min_score:
             return again
-    if len(fonts) > 1 and tried:  # a font the tool does not have: its glyphs elsewhere (``glyphfit``)
+    if len(fonts) > 1:  # a font the tool does not have: its glyphs elsewhere (``glyphfit``)
         best, score = layout_look(y, text, tried, random_state)
         log.debug("glyph-by-glyph look for %r: best score %.3f", text, score)
-        if best is not None and score >= SECOND_LOOK_FACTOR * min_score:
+        if best is not None and score >= LAYOUT_LOOK_FACTOR * min_score:
             return (best, _as_match(best, score, first[3]), score) + first[3:]
     return first
 

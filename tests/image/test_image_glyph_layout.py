@@ -9,7 +9,7 @@ from odnn_sep.image.layout import split_layout, with_layout
 from odnn_sep.image.layoutlook import layout_look
 from odnn_sep.image.render import _load, render_text, resolve_font
 from odnn_sep.image.synth import photo_like
-from odnn_sep.image.textmode import SECOND_LOOK_FACTOR, best_match
+from odnn_sep.image.textmode import LAYOUT_LOOK_FACTOR, best_match
 
 TEXT = "PROOF COPY"
 
@@ -45,8 +45,8 @@ def test_moved_glyphs_find_a_mark_the_whole_string_misses(images):
     tried = []
     _, _, score, _, _ = best_match(y, TEXT, [resolve_font("DejaVuSans")], None, 0.0, 0, tried=tried)
     assert score < THRESHOLD and tried          # the rendering of the whole string explains nothing
-    q, moved = layout_look(y, TEXT, tried, 0)
-    assert moved >= SECOND_LOOK_FACTOR * THRESHOLD
+    q, moved = layout_look(y, TEXT, [tried], 0)
+    assert moved >= LAYOUT_LOOK_FACTOR * THRESHOLD
     assert abs(q.center[0] - centre[0]) < 3 and abs(q.center[1] - centre[1]) < 3
     shifts = split_layout(q.font)[1]
     steps = np.diff([dx for dx, _ in shifts])[:6]
@@ -57,7 +57,7 @@ def test_moved_glyphs_stay_below_the_threshold_on_the_clean_photo(images):
     _, clean, _ = images
     tried = []
     best_match(clean, TEXT, [resolve_font("DejaVuSans")], None, 0.0, 0, tried=tried)
-    _, moved = layout_look(clean, TEXT, tried, 0)
+    _, moved = layout_look(clean, TEXT, [tried], 0)
     assert moved < THRESHOLD
 
 
