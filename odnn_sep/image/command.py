@@ -110,7 +110,6 @@ def run(args) -> int:
     ...
     odnn_sep.errors.InputError: give the watermark's text (--text) or a mask of its area (--mask), ...
     """
-    from pathlib import Path
 
     from odnn_sep.errors import InputError
     from odnn_sep.image.api import unwatermark
@@ -151,12 +150,36 @@ def run(args) -> int:
               + "; try --font with the mark's font file, or --mask over the mark", file=sys.stderr)
         return EXIT_MARK_VISIBLE
     if not args.quiet:
-        where = f"font {Path(report['font']).name} {report['font_size_px']:.1f} px, angle {report['angle_deg']:.1f} deg, " \
-            if "font" in report else ""
+        where = f"font {_font_text(report['font'])} {report['font_size_px']:.1f} px, angle " \
+            f"{report['angle_deg']:.1f} deg, " if "font" in report else ""
         print(f"removed watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
               f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
               f"{float(residual.get('score') or 0.0):.3f} -> {args.output}")
     return 0
+
+
+def _font_text(font) -> str:
+    """The font's file name for the summary line, with its letter spacing or moved glyphs in words.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.command import _font_text
+    >>> _font_text("/fonts/DejaVuSans.ttf@glyphs=0.01:0,0.2:0")
+    'DejaVuSans.ttf (glyphs moved to the image)'
+    >>> _font_text("/fonts/DejaVuSans.ttf@tracking=0.18")
+    'DejaVuSans.ttf (letter-spaced 0.18 em)'
+    """
+    from pathlib import Path
+
+    from odnn_sep.image.layout import split_layout
+    from odnn_sep.image.render import split_tracking
+
+    base, shifts = split_layout(font)
+    base, tracking = split_tracking(base)
+    name = Path(base).name
+    if shifts is not None:
+        return f"{name} (glyphs moved to the image)"
+    return f"{name} (letter-spaced {tracking:g} em)" if tracking else name
 
 
 def _checked_paths(args):
