@@ -36,9 +36,10 @@ class Layout:
     correlation: float
 
 
-def _upright(y, center, angle, shape, ext) -> np.ndarray:
+def _upright(y, center, angle, shape, ext, ext_y) -> np.ndarray:
     """The image sampled on the upright grid of a rendering of ``shape`` = (h, w) centred at
-    ``center`` and turned by ``angle`` (as ``render.place`` puts it), with ``ext`` px more each side."""
+    ``center`` and turned by ``angle`` (as ``render.place`` puts it), with ``ext`` px more left and
+    right and ``ext_y`` px more above and below."""
     import cv2
 
     h, w = shape
@@ -46,15 +47,15 @@ def _upright(y, center, angle, shape, ext) -> np.ndarray:
     c, s = np.cos(th), np.sin(th)
     A = np.array([[c, s], [-s, c]])
     # only the image around the mark is read (y may be a view of a large photo)
-    r = int(np.ceil(0.5 * np.hypot(w + 2 * ext, h + 2 * ext))) + 2
+    r = int(np.ceil(0.5 * np.hypot(w + 2 * ext, h + 2 * ext_y))) + 2
     H, W = y.shape[:2]
     x0, y0 = max(0, int(center[0]) - r), max(0, int(center[1]) - r)
     x1, y1 = min(W, int(center[0]) + r + 1), min(H, int(center[1]) + r + 1)
     crop = np.asarray(y[y0:y1, x0:x1], dtype=np.float32)
     if crop.ndim == 2:
         crop = crop[:, :, None]
-    t = np.array([center[0] - x0, center[1] - y0]) - A @ np.array([(w - 1) / 2.0 + ext, (h - 1) / 2.0 + ext])
-    out = cv2.warpAffine(crop, np.hstack([A, t[:, None]]), (w + 2 * ext, h + 2 * ext),
+    t = np.array([center[0] - x0, center[1] - y0]) - A @ np.array([(w - 1) / 2.0 + ext, (h - 1) / 2.0 + ext_y])
+    out = cv2.warpAffine(crop, np.hstack([A, t[:, None]]), (w + 2 * ext, h + 2 * ext_y),
                          flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_REFLECT)
     return out if out.ndim == 3 else out[:, :, None]
 
@@ -71,16 +72,18 @@ def _fit_one(y, text, font, size, angle, center, direction, f_font):
         return None
     full, (ox, oy) = compose(pats, [(0.0, 0.0)] * n, canvas)
     idx = np.arange(n) - (n - 1) / 2.0
-    reach = float(np.max(np.abs(idx))) * max(abs(TRACKINGS_EM[0]), TRACKINGS_EM[-1]) * size
-    ext = int(np.ceil(reach + (OFFSETS_EM[-1] + LOCAL_EM) * size)) + 4
-    strip = _upright(y, center, angle, full.shape, ext)
-    g = np.ascontiguousarray(strip @ direction, dtype=np.float32)
+    track = max(abs(TRACKINGS_EM[0]), TRACKINGS_EM[-1]) * size
+    # how far each glyph can move: the string's spacing grows towards its ends
+    reach = [int(np.ceil(abs(i) * track + (OFFSETS_EM[-1] + LOCAL_EM) * size)) + 2 for i in idx]
+    ext = max(reach) + 2
     ry = int(np.ceil(VERTICAL_EM * size))
+    strip = _upright(y, center, angle, full.shape, ext, ry + 2)
+    g = np.ascontiguousarray(strip @ direction, dtype=np.float32)
     cols, dys, base = [], [], []
-    for gl, gx, gy in pats:
-        bx, by = int(round(gx - ox)) + ext, int(round(gy - oy)) + ext
-        ya, xa = max(0, by - ry), max(0, bx - ext)
-        reg = g[ya:min(g.shape[0], by + gl.shape[0] + ry), xa:min(g.shape[1], bx + gl.shape[1] + ext)]
+    for (gl, gx, gy), rx in zip(pats, reach):
+        bx, by = int(round(gx - ox)) + ext, int(round(gy - oy)) + ry + 2
+        ya, xa = max(0, by - ry), max(0, bx - rx)
+        reg = g[ya:min(g.shape[0], by + gl.shape[0] + ry), xa:min(g.shape[1], bx + gl.shape[1] + rx)]
         if reg.shape[0] < gl.shape[0] or reg.shape[1] < gl.shape[1] or float(gl.std()) == 0.0:
             cols.append(None)
             dys.append(None)
