@@ -28,7 +28,14 @@ VERTICAL_EM = 0.12   # each glyph's vertical shift (baselines differ between fon
 @dataclasses.dataclass
 class Layout:
     """A moved layout: the font name with the shifts in it, the em size, the ink-box centre (x, y)
-    it moves the placement to, and the mean correlation of its glyphs with the image."""
+    it moves the placement to, and the mean correlation of its glyphs with the image.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.glyphfit import Layout
+    >>> Layout("DejaVuSans@glyphs=0:0,0.1:0", 24.0, (50.0, 20.0), 0.8).size
+    24.0
+    """
 
     font: str
     size: float

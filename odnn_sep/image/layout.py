@@ -146,7 +146,17 @@ def compose(patches, shifts_px, canvas) -> tuple[np.ndarray, tuple[float, float]
 def render_layout(text: str, font: str, size: float, shifts: tuple) -> np.ndarray:
     """Upright coverage of ``text`` with each inked glyph moved by ``shifts`` em (``render_text``'s
     contract: the ink box plus a 2-px border). Shifts beyond the glyph count are ignored, missing
-    ones are zero."""
+    ones are zero.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.layout import render_layout
+    >>> from odnn_sep.image.render import resolve_font
+    >>> f = str(resolve_font("DejaVuSans"))
+    >>> wide = render_layout("AB", f, 20.0, ((0.0, 0.0), (0.5, 0.0)))
+    >>> wide.shape[1] - render_layout("AB", f, 20.0, ()).shape[1]
+    10
+    """
     from odnn_sep.image.render import _load
 
     pats, canvas = glyphs(text, _load(font, float(size)), float(size))
