@@ -16,6 +16,10 @@ log = logging.getLogger(__name__)
 
 # A watermark line longer than this is not a watermark (and would render to an unbounded template).
 MAX_TEXT_CHARS = 200
+# Without --font, a mark found below this detection score gets a warning to check the output: on a
+# development case (an Atkinson 800 mark found with DejaVu at 0.208) the opacity was underestimated
+# and the letters stayed readable while every residual measure called the mark removed.
+LOW_CONFIDENCE_SCORE = 0.3
 
 
 @dataclasses.dataclass
@@ -218,6 +222,12 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     report.update({"alpha": round(float(alpha), 5), **color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})
+    score = report.get("match_score")
+    if text and font is None and score is not None and score < LOW_CONFIDENCE_SCORE \
+            and not report["residual_mark"].get("visible"):
+        log.warning("the mark was found only just over the detection threshold (score %.3f < %g) with a font "
+                    "the tool guessed: a fainter copy of its letters may remain; check the output, or give "
+                    "--font with the mark's font file", score, LOW_CONFIDENCE_SCORE)
     return UnwatermarkResult(restored, float(alpha), np.asarray(color), M, lost, report)
 
 

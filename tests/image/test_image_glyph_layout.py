@@ -67,3 +67,17 @@ def test_a_moved_layout_renders_at_any_size():
     plain = render_text("ABC", "DejaVuSans", 20)
     assert abs((small.shape[1] - plain.shape[1]) - 0.6 * 20) <= 2
     assert abs((big.shape[1] - 4) - 2 * (small.shape[1] - 4)) <= 3
+
+
+def test_a_low_score_without_font_warns_to_check_the_output(monkeypatch, caplog):
+    import odnn_sep.image.api as api
+    from odnn_sep.image import make_watermark_demo, unwatermark
+
+    y, _, truth = make_watermark_demo(random_state=2)
+    monkeypatch.setattr(api, "LOW_CONFIDENCE_SCORE", 5.0)   # every score counts as low here
+    with caplog.at_level("WARNING", logger="odnn_sep.image.api"):
+        unwatermark(y, text=truth["text"], font="DejaVuSans-Bold")
+    assert "check the output" not in caplog.text            # the font was given: its rendering is the mark
+    with caplog.at_level("WARNING", logger="odnn_sep.image.api"):
+        unwatermark(y, text=truth["text"])
+    assert "check the output" in caplog.text
