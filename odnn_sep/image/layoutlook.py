@@ -48,21 +48,9 @@ def moved(y, text, p, random_state):
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from odnn_sep.image.layout import with_layout
     >>> from odnn_sep.image.layoutlook import moved
-    >>> from odnn_sep.image.register import refine
-    >>> from odnn_sep.image.render import place, render_text
-    >>> from odnn_sep.image.screening import placement_score
-    >>> rng = np.random.default_rng(0)
-    >>> y = 0.3 + 0.2 * np.linspace(0, 1, 200)[None, :, None] + 0.01 * rng.standard_normal((56, 200, 3))
-    >>> far = with_layout("DejaVuSans", [(0, 0), (0.3, 0), (0.3, 0), (0.6, 0), (0.6, 0)])  # another layout
-    >>> M, box = place(render_text("ABCDE", far, 28), (56, 200), (100, 28), 0)
-    >>> y[box[1]:box[3], box[0]:box[2]] += 0.4 * M[..., None]
-    >>> p = refine(y, "ABCDE", "DejaVuSans", 28, 0, (100, 28))    # the font's own layout
-    >>> score = placement_score(y, p)
-    >>> bool(score < 0.1)
-    True
+    >>> from odnn_sep.image.synth import moved_layout_demo
+    >>> y, p = moved_layout_demo()    # glyphs off the font's own layout; p: registered with that layout
     >>> q, moved_score = moved(y, "ABCDE", p, 0)
     >>> bool(moved_score > 1.0)
     True
@@ -113,21 +101,9 @@ def layout_look(y, text, tried, random_state):
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from odnn_sep.image.layout import with_layout
     >>> from odnn_sep.image.layoutlook import layout_look
-    >>> from odnn_sep.image.register import refine
-    >>> from odnn_sep.image.render import place, render_text
-    >>> from odnn_sep.image.screening import placement_score
-    >>> rng = np.random.default_rng(0)
-    >>> y = 0.3 + 0.2 * np.linspace(0, 1, 200)[None, :, None] + 0.01 * rng.standard_normal((56, 200, 3))
-    >>> far = with_layout("DejaVuSans", [(0, 0), (0.3, 0), (0.3, 0), (0.6, 0), (0.6, 0)])  # another layout
-    >>> M, box = place(render_text("ABCDE", far, 28), (56, 200), (100, 28), 0)
-    >>> y[box[1]:box[3], box[0]:box[2]] += 0.4 * M[..., None]
-    >>> p = refine(y, "ABCDE", "DejaVuSans", 28, 0, (100, 28))    # the font's own layout
-    >>> score = placement_score(y, p)
-    >>> bool(score < 0.1)
-    True
+    >>> from odnn_sep.image.synth import moved_layout_demo
+    >>> y, p = moved_layout_demo()    # glyphs off the font's own layout; p: registered with that layout
     >>> bool(layout_look(y, "ABCDE", [[p]], 0)[1] > 1.0)
     True
     """
@@ -166,21 +142,11 @@ def keep_better(y, text, p, score, random_state):
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from odnn_sep.image.layout import with_layout
     >>> from odnn_sep.image.layoutlook import keep_better
-    >>> from odnn_sep.image.register import refine
-    >>> from odnn_sep.image.render import place, render_text
+    >>> from odnn_sep.image.synth import moved_layout_demo
+    >>> y, p = moved_layout_demo()    # glyphs off the font's own layout; p: registered with that layout
     >>> from odnn_sep.image.screening import placement_score
-    >>> rng = np.random.default_rng(0)
-    >>> y = 0.3 + 0.2 * np.linspace(0, 1, 200)[None, :, None] + 0.01 * rng.standard_normal((56, 200, 3))
-    >>> far = with_layout("DejaVuSans", [(0, 0), (0.3, 0), (0.3, 0), (0.6, 0), (0.6, 0)])  # another layout
-    >>> M, box = place(render_text("ABCDE", far, 28), (56, 200), (100, 28), 0)
-    >>> y[box[1]:box[3], box[0]:box[2]] += 0.4 * M[..., None]
-    >>> p = refine(y, "ABCDE", "DejaVuSans", 28, 0, (100, 28))    # the font's own layout
     >>> score = placement_score(y, p)
-    >>> bool(score < 0.1)
-    True
     >>> q, better = keep_better(y, "ABCDE", p, score, 0)
     >>> q is not p, bool(better > 1.0)
     (True, True)

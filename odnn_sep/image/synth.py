@@ -213,3 +213,27 @@ def make_watermark_demo(random_state=0, shape=(320, 480)):
     truth = {"text": text, "font": str(font), "size": size, "angle": angle, "center": center, "alpha": alpha,
              "color": color, "mask": M}
     return y, clean, truth
+
+
+def moved_layout_demo(text: str = "ABCDE"):
+    """A mark whose glyphs sit off the font's own layout (as another font's would), and the placement
+    registered there with the font's own layout: ``(y, placement)``, ``y`` float (56, 200, 3) in [0, 1].
+
+    Examples
+    --------
+    >>> from odnn_sep.image.screening import placement_score
+    >>> from odnn_sep.image.synth import moved_layout_demo
+    >>> y, p = moved_layout_demo()
+    >>> bool(placement_score(y, p) < 0.1)   # the font's own layout explains almost nothing
+    True
+    """
+    from odnn_sep.image.layout import with_layout
+    from odnn_sep.image.register import refine
+    from odnn_sep.image.render import place, render_text
+
+    rng = np.random.default_rng(0)
+    y = 0.3 + 0.2 * np.linspace(0, 1, 200)[None, :, None] + 0.01 * rng.standard_normal((56, 200, 3))
+    steps = [(0.3 * (k // 2 + k % 2), 0.0) for k in range(len(text))]   # 0, .3, .3, .6, .6, ...
+    M, box = place(render_text(text, with_layout("DejaVuSans", steps), 28), (56, 200), (100, 28), 0)
+    y[box[1]:box[3], box[0]:box[2]] += 0.4 * M[..., None]
+    return y, refine(y, text, "DejaVuSans", 28, 0, (100, 28))
