@@ -184,7 +184,8 @@ def _start(args, cwd):
 def test_signal_mid_write_leaves_no_debris(tmp_path, sig, code):
     src = tmp_path / "in"
     src.mkdir()
-    write_wav(src / "long.wav", seconds=900, sr=8000)  # long enough that the signal lands mid-run
+    # long enough that the signal lands mid-run, also on a loaded machine (900 s was not, under load 4)
+    write_wav(src / "long.wav", seconds=2700, sr=8000)
     out = tmp_path / "out"
     out.mkdir()
     before = snapshot(src)
@@ -212,7 +213,7 @@ def _alive(pid):
         return fh.read().split()[2] != "Z"
 
 
-def _batch_folder(tmp_path, n=4, seconds=300):
+def _batch_folder(tmp_path, n=4, seconds=900):  # 300 s files could all finish before the signal under load
     src = tmp_path / "in"
     src.mkdir()
     for k in range(n):
