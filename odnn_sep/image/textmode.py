@@ -210,8 +210,9 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
         wide = [Path(spaced(f, LOOK_TRACKING)) for f in fonts[:2]]
         looks.append((wide, {"coarse_font": wide[0]}))
     looks.append((fonts, {"coarse_height": FINE_LOOK_HEIGHT}))
-    if len(fonts) > 1 and default_fonts(SLANTED_FONT_NAMES):
-        looks.append((default_fonts(SLANTED_FONT_NAMES), {}))
+    slanted = default_fonts(SLANTED_FONT_NAMES) if len(fonts) > 1 else []
+    if slanted:
+        looks.append((slanted, {}))
     for look_fonts, look in looks:
         tried.append([])
         again = best_match(y, text, look_fonts, region, angle_range, random_state, reduced, tried=tried[-1], **look)
