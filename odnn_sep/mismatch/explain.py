@@ -280,6 +280,8 @@ def _candidate_factory(t, y, aux, G, slow_hz):
             regs = getattr(cur.model.preset, "coupling", None) or \
                 coupling_regressors(t, aux, f0=cur.params["f0"], harmonics=cur.params["harmonics"])
             me = with_coupling(cur.model, regs)
+            if not with_starts:
+                return me
             return me, [coupling_start(me, cur, t, y, G, regs)]
         from odnn_sep.mismatch.candidates import with_data_bounds
         from odnn_sep.mismatch.starts import effect_starts

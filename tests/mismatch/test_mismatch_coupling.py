@@ -130,3 +130,19 @@ def test_csv_other_numeric_columns_become_aux(tmp_path):
     assert list(aux) == ["b"] and info["aux_channels"] == ["b"]
     assert np.allclose(aux["b"], 2 * y)
     assert len(load_data(p, column="a")) == 3
+
+
+def test_candidate_factory_builds_the_coupling_model_without_starts():
+    # the rival re-check rebuilds the final model effect by effect without starts; the coupling
+    # effect (built from the aux channels) returned (model, starts) there and the run crashed
+    from odnn_sep.mismatch.coupling import EFFECT
+    from odnn_sep.mismatch.explain import _candidate_factory
+    from odnn_sep.mismatch.fitting import fit
+
+    a, b = _pair(2, kappa=0.05)
+    cur = fit(make_model("hum", {"f0": 50.0}), T, a)
+    factory = _candidate_factory(T, a, {"B": b}, None, 0.0)
+    model = factory(EFFECT, cur, with_starts=False)
+    assert "kappa_B" in model.start
+    with_starts = factory(EFFECT, cur)
+    assert isinstance(with_starts, tuple) and with_starts[0].start.keys() == model.start.keys()
