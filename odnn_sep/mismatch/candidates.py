@@ -202,10 +202,24 @@ def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
             errors.append(str(exc))
     if best is None:
         return None, "the model could not be evaluated from any start" + (f" ({errors[0]})" if errors else "")
-    if best.rss > cur.rss * (1 + 1e-6):
+    if _worse_than_penalty(best, cur):
         return None, (f"refit ended worse than the model without it (RSS {best.rss:.4g} > {cur.rss:.4g}) "
                       f"after a retry")
     return best, None
+
+
+def _worse_than_penalty(f, cur):
+    """Whether refit ``f`` ends worse than ``cur`` (which it contains) by more than its BIC penalty.
+
+    Within the penalty it is a fit that found nothing (a score at or below zero, never named), for
+    instance a numerically integrated model whose effect-free start differs from the closed-form
+    base by the integration error; beyond it the optimiser failed.
+    """
+    if not np.isfinite(cur.rss):
+        return False
+    n = max(float(getattr(cur, "n_eff", len(f.residual))), 2.0)
+    extra = max(float(f.n_params) - float(getattr(cur, "n_params", f.n_params)), 1.0)
+    return n * np.log(max(f.rss, 1e-300) / max(cur.rss, 1e-300)) > extra * np.log(n)
 
 
 def heldout(c, cur_mse, t, y, G, block_id, folds):

@@ -17,6 +17,7 @@ import numpy as np
 
 from odnn_sep.core.bounded_interval import bounded_interval
 from odnn_sep.core.linalg import Projector, orthonormal_basis, solve, varpro
+from odnn_sep.core.numdiff import forward_jacobian
 from odnn_sep.core.uncertainty import sandwich_standard_errors
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
@@ -222,11 +223,12 @@ def _optimise(model, t, y, idx, P, p0, max_nfev):
         return unpack(x0), np.zeros((len(yy), 0)), True
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        res = varpro(resid, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
-                     method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                     # ODE solutions carry ~1e-8 relative error: a 1e-5 step keeps
-                     # finite-difference Jacobians well above that floor
-                     diff_step=1e-5).result
+        # ODE solutions carry ~1e-8 relative error: a step of 1e-5 of the parameter, or of 1 for a
+        # parameter near zero (not 1e-5 of ~0, SciPy's rule for a given diff_step), keeps the
+        # finite-difference Jacobian well above that floor
+        fun, jac = forward_jacobian(resid, 1e-5, lo, hi)
+        res = varpro(fun, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
+                     method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10, jac=jac).result
     return unpack(res.x), res.jac, bool(res.status > 0)
 
 

@@ -44,7 +44,7 @@ def integrate_ode(name, rhs, state0, t, p):
     with np.errstate(all="ignore"), warnings.catch_warnings():
         # a failure is reported below as one clear error, not as solver chatter
         warnings.simplefilter("ignore")
-        sol, info = odeint(rhs, state0, t, full_output=True, mxstep=20000, rtol=1e-7, atol=1e-9,
+        sol, info = odeint(rhs, state0, t, full_output=True, mxstep=20000, rtol=1e-9, atol=1e-11,
                            tfirst=True)
     if info.get("message", "").lower().find("successful") < 0 or not np.all(np.isfinite(sol)):
         shown = {k: round(float(v), 6) for k, v in p.items()}

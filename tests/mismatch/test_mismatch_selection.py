@@ -69,6 +69,28 @@ def test_failed_fit_is_reported_not_ranked():
     assert f is None and "could not be evaluated" in why
 
 
+@pytest.mark.parametrize("bias, fails", [(0.012, False), (0.3, True)])
+def test_refit_worse_than_its_base_fails_only_beyond_the_penalty(bias, fails):
+    # a numerically integrated refit can end a hair above the closed-form base it contains (the
+    # integration error): that is a fit that found nothing, not a failure; far above it is one
+    base = explain("cooling", T, make_model("cooling", COOL).predict(T) + _noise(4), effects=[]).calibration.fit
+    m = base.model.with_effect("radiation")
+
+    class Biased:
+        def __getattr__(self, k):
+            return getattr(m, k)
+
+        def predict(self, t, p=None):
+            return m.predict(t, p) + bias * np.sin(2 * np.pi * np.asarray(t) / 3.1)
+
+    f, why = refit_robust("radiation", Biased(), [dict(m.start)], base, T, base.prediction + base.residual, None)
+    assert (f is None) == fails
+    if fails:
+        assert "worse than the model without it" in why
+    else:
+        assert f.rss > base.rss
+
+
 def test_intervals_respect_bounds():
     t = np.linspace(0, 0.6, 120)
     y = make_model("freefall", {"g": 9.81, "h0": 2.0}).predict(t) + 0.001 * np.random.default_rng(5).normal(size=120)

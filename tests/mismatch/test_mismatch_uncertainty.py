@@ -82,3 +82,28 @@ def test_two_exponential_cooling_is_reported_in_one_labelling():
     assert abs(f.params["h"] - 0.02) < 0.002 and abs(f.params["B_2"] - 2.0) < 0.5
     lo, hi = f.intervals()["B_2"]
     assert lo < 2.0 < hi
+
+
+def test_a_parameter_near_zero_of_an_integrated_model_gets_its_own_spread():
+    # parameters near 0 (an initial velocity, a cubic term): a finite-difference step of 1e-5 of
+    # the value (SciPy's rule for a given diff_step) fell under the integration error, and their
+    # standard errors came out orders of magnitude too small (beta: 5e-10). The spread must match
+    # the profile of the fit (chi2 up by about 1 at one standard error), and a free extra
+    # parameter can only widen the spread of v0 over the closed-form linear model's.
+    from dataclasses import replace
+
+    from odnn_sep.mismatch.fitting import fit
+    from odnn_sep.mismatch.model import make_model
+
+    t = np.linspace(0, 10, 300)
+    truth = make_model("oscillator", {"k": 4.0, "c": 0.1, "x0": 1.0, "v0": 1e-4})
+    y = truth.predict(t) + 0.01 * np.random.default_rng(3).normal(size=300)
+    closed = fit(truth, t, y, start=truth.start)
+    m = truth.with_effect("cubic_stiffness")
+    f = fit(m, t, y, start={**closed.params, "beta": 0.0})
+    assert f.stderr["v0"] >= 0.9 * closed.stderr["v0"]
+    se = f.stderr["beta"]
+    sigma2 = f.rss / (len(t) - len(f.free))
+    for b in (f.params["beta"] - se, f.params["beta"] + se):
+        g = fit(replace(m, bounds={**m.bounds, "beta": (b, b + 1e-12)}), t, y, start={**f.params, "beta": b})
+        assert 0.3 < (g.rss - f.rss) / sigma2 < 3.0
