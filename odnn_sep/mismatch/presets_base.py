@@ -9,6 +9,10 @@ from odnn_sep.core.linalg import solve
 from odnn_sep.errors import InputError, ModelIntegrationError  # noqa: F401  (re-exported)
 
 INF = np.inf
+# right-hand-side calls one integration may make: a smooth 500-sample pendulum takes about 2400 at
+# the tolerance used, a stiff friction law some 10-20 thousand
+ODE_CALL_BUDGET = 100_000
+ODE_CALLS_PER_SAMPLE = 100
 
 
 def integrate_ode(name, rhs, state0, t, p):
@@ -41,17 +45,36 @@ def integrate_ode(name, rhs, state0, t, p):
     """
     from scipy.integrate import odeint  # on use: the package is imported by every subcommand
 
+    limit = ODE_CALL_BUDGET + ODE_CALLS_PER_SAMPLE * len(t)
+    budget = [limit]
+
+    def counted(tt, st):
+        # a total budget of calls: mxstep bounds the steps of one output interval only, and a stiff
+        # or slowly diverging trial point of an optimiser could otherwise run for many minutes
+        budget[0] -= 1
+        if budget[0] < 0:
+            raise _OverBudget
+        return rhs(tt, st)
+
     with np.errstate(all="ignore"), warnings.catch_warnings():
         # a failure is reported below as one clear error, not as solver chatter
         warnings.simplefilter("ignore")
-        sol, info = odeint(rhs, state0, t, full_output=True, mxstep=20000, rtol=1e-9, atol=1e-11,
-                           tfirst=True)
+        try:
+            sol, info = odeint(counted, state0, t, full_output=True, mxstep=20000, rtol=1e-9, atol=1e-11,
+                               tfirst=True)
+        except _OverBudget:
+            sol, info = np.full((len(t), len(state0)), np.nan), {
+                "message": f"more than {limit} evaluations of the equations: stiff or diverging"}
     if info.get("message", "").lower().find("successful") < 0 or not np.all(np.isfinite(sol)):
         shown = {k: round(float(v), 6) for k, v in p.items()}
         raise ModelIntegrationError(
             f"model {name!r} failed to integrate with parameters {shown} "
             f"({info.get('message', 'non-finite values')}); check the starting values (--param)")
     return sol
+
+
+class _OverBudget(Exception):
+    """Raised from the right-hand side when an integration exceeds its call budget."""
 
 
 def friction_scale(v_scale):

@@ -1,4 +1,5 @@
 import numpy as np
+import pytest
 from scipy.integrate import odeint
 
 from odnn_sep.mismatch import EFFECTS, PRESETS, VOCABULARY, make_model
@@ -72,3 +73,17 @@ def test_predict_does_not_mutate_inputs():
 def test_every_effect_has_consistent_bounds():
     for e in EFFECTS.values():
         assert set(e.bounds) <= set(e.params)
+
+
+def test_an_integration_over_its_call_budget_is_a_clear_error(monkeypatch):
+    # a stiff or slowly diverging trial point must fail fast (mxstep bounds one output interval
+    # only: such a point of an optimiser ran for many minutes)
+    import odnn_sep.mismatch.presets_base as pb
+    from odnn_sep.mismatch.presets import ModelIntegrationError
+
+    monkeypatch.setattr(pb, "ODE_CALL_BUDGET", 50)
+    monkeypatch.setattr(pb, "ODE_CALLS_PER_SAMPLE", 0)
+    with pytest.raises(ModelIntegrationError, match="more than 50 evaluations"):
+        pb.integrate_ode("stiff", lambda t, s: [-1e4 * (s[0] - np.cos(t))], [0.0], np.linspace(0, 10, 20), {})
+    monkeypatch.setattr(pb, "ODE_CALL_BUDGET", 100_000)
+    assert pb.integrate_ode("decay", lambda t, s: [-s[0]], [1.0], np.linspace(0, 1, 20), {}).shape == (20, 1)
