@@ -113,12 +113,63 @@ def _verdict(res, effects):
         # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
         verdict["ambiguous_with"] = list(res.named[0].equivalent)
     verdict["effects"] = effects
+    verdict["not_established"] = not_established(res) if not effects else []
     verdict["disturbances"] = list(res.disturbances)
     verdict["declared_disturbances"] = list(res.declared)
     verdict["dropped_by_backward_check"] = list(res.dropped)
     verdict["warnings"] = list(res.warnings)
     verdict["notes"] = list(res.notes)
     return verdict
+
+
+# a physics candidate scoring above this share of the BIC threshold, on a record where nothing is
+# named, is reported as a hint the data cannot establish: on null records (development seeds of the
+# benchmark, every disturbance kind) the best physics candidate scored at most about 1
+HINT_SHARE = 0.5
+
+
+def not_established(res, bic_threshold=None, heldout_threshold=None):
+    """Physics candidates of the first step the data hint at but cannot show (nothing named).
+
+    A candidate counts when it was not set aside as a disturbance's stand-in, and either its BIC
+    drop is above ``HINT_SHARE`` of the threshold but not above it, or it passed the BIC drop but
+    not the held-out gain: "possible, not established", never named.
+
+    Parameters
+    ----------
+    res : MismatchResult
+        What :func:`~odnn_sep.mismatch.explain.explain` returned.
+    bic_threshold, heldout_threshold : float, optional
+        The decision thresholds (default: those of :func:`~odnn_sep.mismatch.explain.explain`).
+
+    Returns
+    -------
+    list of dict
+        ``effect``, ``score``, ``heldout_gain`` (None when not computed), best first.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> cands = [NS(effect="two_body_heat", score=7.9, heldout_gain=None, note=None),
+    ...          NS(effect="periodic_pickup", score=30.0, heldout_gain=40.0, note=None),
+    ...          NS(effect="radiation", score=1.0, heldout_gain=None, note=None)]
+    >>> not_established(NS(named=[], candidates=cands))
+    [{'effect': 'two_body_heat', 'score': 7.9, 'heldout_gain': None}]
+    """
+    from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS
+    from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
+    bic_threshold = BIC_THRESHOLD if bic_threshold is None else bic_threshold
+    heldout_threshold = HELDOUT_THRESHOLD if heldout_threshold is None else heldout_threshold
+    if res.named:
+        return []
+    out = []
+    for c in res.candidates:
+        if c.effect in DISTURBANCE_EFFECTS or getattr(c, "note", None) or c.score <= HINT_SHARE * bic_threshold:
+            continue
+        gain = getattr(c, "heldout_gain", None)
+        if c.score <= bic_threshold or gain is None or gain <= heldout_threshold:
+            out.append({"effect": c.effect, "score": float(c.score), "heldout_gain": gain})
+    return out
 
 
 def _calibration_bias(base, final):
@@ -139,8 +190,15 @@ def _fmt(v):
 
 
 def _verdict_lines(v):
+    from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
     if v["effect"] is None:
-        return [f"Verdict: {v['description']}"]
+        lines = [f"Verdict: {v['description']}"]
+        for h in v.get("not_established", []):
+            gain = "" if h["heldout_gain"] is None else f", held-out gain {h['heldout_gain']:.1f}"
+            lines.append(f"  Not established: {h['effect']} (BIC drop {h['score']:.1f}{gain}; an effect "
+                         f"needs a drop > {BIC_THRESHOLD:g} and a held-out gain > {HELDOUT_THRESHOLD:g}): "
+                         f"the data hint at it but cannot show it; a longer or less noisy record could")
+        return lines
     lines = [f"Verdict: {len(v['effects'])} effect(s) missing from the model, in the order found:"]
     for i, e in enumerate(v["effects"], 1):
         gain = "-" if e["heldout_gain"] is None else f"{e['heldout_gain']:.1f}"

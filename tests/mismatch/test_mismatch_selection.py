@@ -132,3 +132,15 @@ def test_units():
     assert "degF" in note and unit == ""
     y, unit, note = to_celsius(np.array([200.0, 32.0]), "degF")
     assert np.allclose(y, [93.333333, 0.0]) and unit == "degC"
+
+
+def test_a_hint_below_the_threshold_is_reported_not_established_never_named():
+    m = make_model("cooling", COOL).with_effect("two_body_heat", {"B_2": 0.25, "lam_2": 0.2})
+    res = explain("cooling", T, m.predict(T) + 0.1 * np.random.default_rng(7).normal(size=200))
+    assert res.effects == []
+    hints = res.as_dict()["verdict"]["not_established"]
+    assert hints and hints[0]["effect"] == "two_body_heat" and 5.0 < hints[0]["score"] <= 10.0
+    assert "Not established: two_body_heat" in summary_text(res)
+    null = explain("cooling", T, make_model("cooling", COOL).predict(T) + _noise(7))
+    assert null.as_dict()["verdict"]["not_established"] == []
+    assert "Not established" not in summary_text(null)
