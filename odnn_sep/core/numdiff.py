@@ -2,7 +2,7 @@
 
 SciPy's ``least_squares(diff_step=h)`` steps each parameter by ``h * |x|``. For a parameter near
 zero (an initial velocity, a damping, a friction coefficient) that step falls to ``1e-10`` and
-below, under the error of a numerically integrated model (relative 1e-7): the Jacobian column is
+below, under the error of a numerically integrated model (relative 1e-9 to 1e-7): the Jacobian column is
 then integration noise, its standard error comes out 100x too small and the optimiser cannot move
 the parameter. Here the step is ``h * max(|x|, floor)``, the rule SciPy applies when no relative
 step is given, so a parameter near zero is stepped on its own scale (``floor``, 1 by default:

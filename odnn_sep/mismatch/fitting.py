@@ -223,9 +223,9 @@ def _optimise(model, t, y, idx, P, p0, max_nfev):
         return unpack(x0), np.zeros((len(yy), 0)), True
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        # ODE solutions carry ~1e-8 relative error: a step of 1e-5 of the parameter, or of 1 for a
-        # parameter near zero (not 1e-5 of ~0, SciPy's rule for a given diff_step), keeps the
-        # finite-difference Jacobian well above that floor
+        # ODE solutions carry ~1e-9 relative error: a step of 1e-5 of the parameter, and 1e-5
+        # absolute for a parameter below 1 (not 1e-5 of ~0, SciPy's rule for a given diff_step),
+        # keeps the finite-difference Jacobian well above that floor
         fun, jac = forward_jacobian(resid, 1e-5, lo, hi)
         res = varpro(fun, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
                      method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10, jac=jac).result

@@ -1,7 +1,8 @@
 """Report of a mismatch analysis: the JSON the issue names, a text summary, and the figure."""
 from __future__ import annotations
 
-from odnn_sep.mismatch.effects import EFFECTS
+from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
+from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
 
 
 def _params_table(fit):
@@ -113,7 +114,7 @@ def _verdict(res, effects):
         # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
         verdict["ambiguous_with"] = list(res.named[0].equivalent)
     verdict["effects"] = effects
-    verdict["not_established"] = not_established(res) if not effects else []
+    verdict["not_established"] = not_established(res)
     verdict["disturbances"] = list(res.disturbances)
     verdict["declared_disturbances"] = list(res.declared)
     verdict["dropped_by_backward_check"] = list(res.dropped)
@@ -156,8 +157,6 @@ def not_established(res, bic_threshold=None, heldout_threshold=None):
     >>> not_established(NS(named=[], candidates=cands))
     [{'effect': 'two_body_heat', 'score': 7.9, 'heldout_gain': None}]
     """
-    from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS
-    from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
     bic_threshold = BIC_THRESHOLD if bic_threshold is None else bic_threshold
     heldout_threshold = HELDOUT_THRESHOLD if heldout_threshold is None else heldout_threshold
     if res.named:
@@ -190,7 +189,6 @@ def _fmt(v):
 
 
 def _verdict_lines(v):
-    from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
     if v["effect"] is None:
         lines = [f"Verdict: {v['description']}"]
         for h in v.get("not_established", []):
@@ -243,8 +241,8 @@ def _where_lines(where):
 
 
 def _fit_lines(d):
-    lines = ["Candidates of the first step (score = BIC drop; an effect needs score > 10 and held-out "
-             "gain > 6):"]
+    lines = [f"Candidates of the first step (score = BIC drop; an effect needs score > {BIC_THRESHOLD:g} and "
+             f"held-out gain > {HELDOUT_THRESHOLD:g}):"]
     for c in d["candidates"][:6]:
         hi = "" if c["heldout_gain"] is None else \
             f", held-out RMSE {100 * c['heldout_improvement']:+.1f}%, gain {c['heldout_gain']:.1f}"
