@@ -6,7 +6,8 @@ every harmonic's complex baseband (pass 1's chunk sums, turned by the block trac
 low-passed to 10 Hz; its phase against its complex mean over the whole input is ``k`` times the
 error of the track's phase at that instant (hum keeps one phase against the fundamental). The harmonics' phase errors are combined with weights
 ``k^2 |mean|^2 / noise`` (each harmonic's SNR: the minimum-variance combination of the ``k``-scaled
-estimates), low-passed to ``SMOOTH_HZ`` (zero phase) and added to the track's phase; three rounds,
+estimates) times how present the hum is at that instant (:func:`hum_present`: 0 where a switched
+hum is off), low-passed to ``SMOOTH_HZ`` (zero phase) and added to the track's phase; three rounds,
 the first on the low harmonics only (a phase error that is small at ``k = 1`` can wrap at ``k = 20``).
 
 The result is one unwrapped phase of the fundamental ``psi(t)`` (cycles, relative to ``f_ref * t``)
@@ -157,7 +158,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         noise = np.maximum(noise, 1e-12 * np.median(r2) + 1e-300)
         theta = np.angle(v * np.conj(c))                                                # rad, k x error
         w = (np.abs(c) ** 2 / noise) * ks[use] ** 2                                     # (nd, C, Ku)
-        w = np.minimum(w, 1e8)
+        w = np.minimum(w, 1e8) * hum_present(v, fs_d)[:, None, None]
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
         power = np.abs(c[0]) ** 2
@@ -171,6 +172,56 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
             known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
     return psi
+
+
+LEVEL_ON = 0.25      # hum at this share of its on-level or more counts as fully present
+
+
+def hum_present(v: np.ndarray, fs_d: float) -> np.ndarray:
+    """How present the hum is at each decimated sample, 0-1: the lines' coherent power over
+    1 s (less what their scatter puts in it) against the level of the hum where it is on.
+
+    The weights of the phase estimates measure each line's noise as its scatter about the
+    whole input's mean; where the hum is switched off, that scatter is the missing hum itself,
+    as large as where it is on, so the content's phase (a held note's steady slope) was
+    weighted as if it were the hum's and bent the track for a second around each switch.
+    Where the hum is at least ``LEVEL_ON`` of its on-level (any steady hum) this is 1 and
+    changes nothing.
+
+    Parameters
+    ----------
+    v : (nd, C, K) complex array
+        Decimated tracked baseband of the lines (:func:`decimated_baseband`).
+    fs_d : float
+        Its sample rate (Hz).
+
+    Returns
+    -------
+    (nd,) float array
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> v = 0.05 * (rng.standard_normal((300, 1, 2)) + 1j * rng.standard_normal((300, 1, 2)))
+    >>> on = (np.arange(300) >= 100) & (np.arange(300) < 200)
+    >>> g = hum_present(v + on[:, None, None], 10.0)
+    >>> float(g[:90].max()) < 0.05, float(g[110:190].min())
+    (True, 1.0)
+    >>> float(hum_present(v + 1.0, 10.0).min())
+    1.0
+    """
+    size = max(2, int(round(fs_d)))
+    loc = (ndimage.uniform_filter1d(v.real, size, axis=0, mode="nearest")
+           + 1j * ndimage.uniform_filter1d(v.imag, size, axis=0, mode="nearest"))
+    scatter = ndimage.uniform_filter1d(np.abs(v - loc) ** 2, size, axis=0, mode="nearest")
+    noise = (scatter / (size - 1)).sum(axis=(1, 2))
+    power = np.maximum(np.abs(loc) ** 2 - scatter / (size - 1), 0.0).sum(axis=(1, 2))
+    on_level = float(np.median(power[power >= np.quantile(power, 0.5)])) if len(power) else 0.0
+    if on_level <= 0:
+        return np.ones(len(power))
+    # the hum is taken for off only where even its power plus twice the estimate's noise is
+    # below the bar: weak lines (ECG, EEG), whose 1 s power scatters, keep their weights
+    return np.minimum((power + 2.0 * noise) / (LEVEL_ON * on_level), 1.0)
 
 
 def shortest_kernel(sr: int) -> int:

@@ -45,3 +45,36 @@ def test_a_steady_hum_has_no_presence():
     # loud content over a steady hum for a third of the time is not the hum switched off
     u[1000:2000] *= 6.0
     assert presence((u + 1.0).transpose(2, 0, 1), 8000) is None
+
+
+def _held_note_under_switched_hum(sr=8000, dur=30.0):
+    """Hum on from 8 s to 22 s; a note held throughout 0.8 Hz above the 2nd harmonic, whose
+    phase turns steadily where the hum is off."""
+    rng = np.random.default_rng(3)
+    t = np.arange(int(dur * sr)) / sr
+    on = np.clip((t - 8) / 0.05, 0, 1) * np.clip((22 - t) / 0.05, 0, 1)
+    hum = on * sum(np.cos(2 * np.pi * 50.02 * k * t + k) / k for k in range(1, 6))
+    note = 0.1 * np.cos(2 * np.pi * (2 * 50.02 + 0.8) * t) + 0.05 * np.cos(2 * np.pi * (3 * 50.02 + 1.2) * t)
+    return 0.2 * (note + 0.05 * rng.standard_normal(t.size)), 0.2 * hum, sr, t
+
+
+def _phase_error_before_off():
+    """The fundamental's phase error (rad) of the subtracted hum over the 0.6 s before the
+    switch-off, and the SNR gain (dB)."""
+    host, hum, sr, t = _held_note_under_switched_hum()
+    r = denoise(host + hum, sr)
+    sl = slice(int(21.3 * sr), int(21.9 * sr))
+    e = np.exp(-2j * np.pi * 50.02 * t[sl])
+    err = abs(float(np.angle(np.sum(r.hum[sl] * e) / np.sum(hum[sl] * e))))
+    return err, 10 * np.log10(np.sum(hum ** 2) / np.sum((r.y - host) ** 2))
+
+
+def test_where_the_hum_is_off_its_phase_track_ignores_the_content(monkeypatch):
+    from odnn_sep.audio import finetrack
+
+    err, gain = _phase_error_before_off()
+    # every instant weighted as if the hum were there: the notes' turning phases bend the
+    # track where the hum is off, and around the switches
+    monkeypatch.setattr(finetrack, "hum_present", lambda v, fs_d: np.ones(v.shape[0]))
+    err_all, gain_all = _phase_error_before_off()
+    assert err < 0.01 and err_all > 3 * err and gain > gain_all + 5, (err, gain, err_all, gain_all)
