@@ -432,7 +432,8 @@ def population(args, names):
     else:
         jobs = population_jobs(
             names, lambda n: applicable_kinds(SYSTEMS[n]),
-            lambda n: range(base, base + (args.pop_seeds_ode if n in ODE_SYSTEMS else args.pop_seeds)))
+            lambda n: range(base + args.pop_seed_skip,
+                            base + args.pop_seed_skip + (args.pop_seeds_ode if n in ODE_SYSTEMS else args.pop_seeds)))
     if args.population_json:
         rows = []
         for f in args.population_json.split(","):
@@ -518,6 +519,8 @@ def main(argv=None):
     ap.add_argument("--pop-seeds-ode", type=int, default=2,
                     help="population seeds for the ODE systems (oscillator, pendulum: seconds per case)")
     ap.add_argument("--kinds", default=None, help="comma-separated subset of disturbance kinds")
+    ap.add_argument("--pop-seed-skip", type=int, default=0,
+                    help="start the population's seeds this many after the first (to add seeds to an earlier run)")
     ap.add_argument("--parts-json", default="",
                     help="strength-sweep rows and real-recording tables: read from this file when it exists "
                          "(written there otherwise), so the section can be re-assembled without re-running them")

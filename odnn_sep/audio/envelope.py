@@ -37,6 +37,12 @@ from odnn_sep.audio.blockplan import BlockPlan, sin2_window
 from odnn_sep.audio.finetrack import PhaseTrack, phase_turn
 
 WIDTHS_S = (0.1, 0.2, 0.5, 1.0, 2.0)   # Hann widths of the gain tried (s)
+STEP_WINDOW_S = 0.5                    # each side's span of the step test (s)
+STEP_Z = 6.0                           # a step's size over its standard error, at least,
+STEP_IM_MAX = 1.5                      # ... and this many times the largest the test gives on Im G
+STEP_IM = 4.0                          # ... and this many times the test on Im G at the same place
+STEP_DECIM = 5                         # chunks pooled for finding the steps in long inputs ...
+STEP_FULL_CHUNKS = 60_000              # ... longer than this (10 min of 10 ms chunks)
 KAPPA = 4.0                            # real-part energy over imaginary-part energy needed
 MIN_LINES = 2                          # a level shared by the harmonics needs two of them to show it
                                        # (one line's level and a click in phase with it look alike)
@@ -64,12 +70,114 @@ class Envelope:
         return np.interp(np.arange(i0, i0 + n, dtype=np.float64), self.t, self.gain[:, c])
 
 
-def _smooth(x: np.ndarray, w: np.ndarray, n: int) -> np.ndarray:
-    """Weighted Hann moving mean of ``x`` (weights ``w``), ``n`` chunks wide."""
+def _smooth(x: np.ndarray, w: np.ndarray, n: int, cuts=()) -> np.ndarray:
+    """Weighted Hann moving mean of ``x`` (weights ``w``), ``n`` chunks wide, never across a
+    step of the level (``cuts``: the first chunk after each)."""
     h = np.hanning(n + 2)[1:-1]
-    num = np.convolve(x * w, h, "same")
-    den = np.convolve(w, h, "same")
-    return num / np.maximum(den, 1e-300)
+    out = np.empty(len(x))
+    edges = [0, *cuts, len(x)]
+    lo = (n - 1) // 2             # where np.convolve's "same" starts in the full convolution
+    for a, b in zip(edges[:-1], edges[1:]):
+        num = np.convolve(x[a:b] * w[a:b], h)[lo: lo + b - a]
+        den = np.convolve(w[a:b], h)[lo: lo + b - a]
+        out[a:b] = num / np.maximum(den, 1e-300)
+    return out
+
+
+def _step_fits(ys, w: np.ndarray, L: int):
+    """At every boundary ``j`` (between chunks ``j - 1`` and ``j``, for ``j = L .. len(w) - L``) a
+    weighted fit over the ``2 L`` chunks around it of a cubic plus a step at ``j``: for each
+    array of ``ys``, the step's size; and the step's variance over the noise's (``sigma^2 / w``
+    per chunk). A cubic takes up a level that moves smoothly (a load modulated at 0.5 Hz bends
+    within a second), so only a jump shows as a step."""
+    x = (np.arange(-L, L) + 0.5) / L                        # the window's chunks, scaled to [-1, 1]
+    right = (x > 0).astype(float)
+    cols = [x ** p for p in range(4)] + [right]
+
+    def window_sums(v, kern):
+        # sum over the window starting at j - L of v * kern, for every boundary j
+        return np.convolve(v, kern[::-1], "valid")
+
+    n = len(cols)
+    A = np.empty((len(w) - 2 * L + 1, n, n))
+    for i in range(n):
+        for k in range(i, n):
+            A[:, i, k] = A[:, k, i] = window_sums(w, cols[i] * cols[k])
+    # the step's row of the inverse: its variance, and its weights on the right-hand sides
+    good = np.abs(np.linalg.det(A)) > 1e-12 * np.prod(np.diagonal(A, axis1=1, axis2=2), axis=1)
+    A[~good] = np.eye(n)
+    inv_last = np.linalg.solve(A, np.broadcast_to(np.eye(n)[-1], (A.shape[0], n))[..., None])[..., 0]
+    var = np.where(good, inv_last[:, -1], np.inf)
+    steps = []
+    for y in ys:
+        rhs = np.stack([window_sums(w * y, c) for c in cols], axis=1)
+        steps.append(np.where(good, np.einsum("ji,ji->j", inv_last, rhs), 0.0))
+    return steps, var
+
+
+def level_steps(G: np.ndarray, W: np.ndarray, fs: float) -> list[int]:
+    """Chunks where the shared level steps (a load switched, a device turned on or off): the
+    first chunk after each step.
+
+    Around every boundary a weighted cubic plus a step there is fitted to ``Re G`` over
+    ``STEP_WINDOW_S`` on each side: a level that moves smoothly (a load modulated at 0.5 Hz) is
+    the cubic's, and only a jump shows as a step.
+    The noise of ``G`` is what the content puts into it: measured on ``Im G`` (a change of level is
+    real). A step must be ``STEP_Z`` standard errors, ``STEP_IM_MAX`` times the largest value the
+    same test reaches on ``Im G`` anywhere, and ``STEP_IM`` times its value there. Local maxima at
+    least a window apart.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> G = 1 + 0.05 * (rng.standard_normal(1000) + 1j * rng.standard_normal(1000))
+    >>> G[400:] *= 0.4
+    >>> level_steps(G, np.ones(1000), 100.0)
+    [400]
+    >>> t = np.arange(1000) / 100.0
+    >>> level_steps(1 + 0.4 * np.sin(np.pi * t) + 0.05j * rng.standard_normal(1000), np.ones(1000), 100.0)
+    []
+    """
+    L = max(5, int(round(STEP_WINDOW_S * fs)))
+    if len(G) < 4 * L:
+        return []
+    # G's noise per chunk is sigma^2 / W: sigma^2 from the imaginary part, robustly (speech bursts)
+    sigma2 = float(np.median(W * G.imag ** 2)) / 0.4549
+    if not sigma2 > 0:
+        return []
+    # beyond STEP_FULL_CHUNKS found on means over STEP_DECIM chunks (the fits cost the same per
+    # boundary, and an hour has 360 000 of them), then placed to the chunk; the bar set by Im G's
+    # largest value is then that of the means (fewer, smoother values: a lower bar)
+    dec = STEP_DECIM if L >= 4 * STEP_DECIM and len(G) > STEP_FULL_CHUNKS else 1
+    n = len(G) // dec
+    Wd = W[: n * dec].reshape(n, dec).sum(axis=1)
+    Gd = (G[: n * dec] * W[: n * dec]).reshape(n, dec).sum(axis=1) / np.maximum(Wd, 1e-300)
+    z, z_im = _step_z(Gd, Wd, L // dec, sigma2)
+    # what the content alone gives the test (Im G has no change of level) sets the bar: speech
+    # bursts near the lines are heavy-tailed, and their largest values reach far beyond a
+    # Gaussian's
+    ok = (z > max(STEP_Z, STEP_IM_MAX * float(z_im.max()))) & (z > STEP_IM * z_im)
+    found = []
+    for i in np.argsort(-z):
+        if not ok[i]:
+            break
+        j = (int(i) + L // dec) * dec
+        if all(abs(j - q) >= L for q in found):
+            found.append(j)
+    out = []
+    for j in found:
+        lo, hi = max(0, j - dec - L), min(len(G), j + dec + L)
+        zj, _ = _step_z(G[lo:hi], W[lo:hi], L, sigma2)
+        out.append(lo + L + int(np.argmax(zj)) if len(zj) else j)
+    return sorted(out)
+
+
+def _step_z(G: np.ndarray, W: np.ndarray, L: int, sigma2: float):
+    """The step test of :func:`level_steps` on ``Re G`` and on ``Im G`` at every boundary
+    ``L .. len(G) - L``: each step's size over its standard error."""
+    (d_re, d_im), var = _step_fits((G.real, G.imag), W, L)
+    sd = np.sqrt(sigma2 * var)
+    return np.abs(d_re) / sd, np.abs(d_im) / sd
 
 
 def _subtracted(u: np.ndarray, tj: np.ndarray, plan: BlockPlan, path: np.ndarray | None) -> np.ndarray:
@@ -154,6 +262,11 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
     for c in range(C):
         num = np.zeros(J, complex)
         W = np.zeros(J)
+        # the same ratio with each line's content power taken as its median: the step test's
+        # (a step of the hum itself raises the power measured beside the line for a while, and
+        # with it the step would weight itself out of its own test)
+        num_s = np.zeros(J, complex)
+        W_s = np.zeros(J)
         for i, k in enumerate(ks):
             u = D[:, c, i].astype(np.complex128) * phase_turn(psi, k)
             path = None
@@ -164,15 +277,19 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
             q = np.maximum(near[:, c, i].astype(np.float64), 1e-300)
             num += np.conj(T) * u / q
             W += np.abs(T) ** 2 / q
+            q_med = float(np.median(q))
+            num_s += np.conj(T) * u / q_med
+            W_s += np.abs(T) ** 2 / q_med
         G = num / np.maximum(W, 1e-300)
-        best = _choose_width(G, W, fs)
+        cuts = level_steps(num_s / np.maximum(W_s, 1e-300), W_s, fs)
+        best = _choose_width(G, W, fs, cuts)
         if best is not None:
-            gains[:, c] = _smooth(G.real, W, max(3, int(round(best * fs))))
+            gains[:, c] = _smooth(G.real, W, max(3, int(round(best * fs))), cuts)
             width = best if width is None else min(width, best)
     return Envelope(t=tj, gain=gains, width_s=width) if width is not None else None
 
 
-def _choose_width(G: np.ndarray, W: np.ndarray, fs: float) -> float | None:
+def _choose_width(G: np.ndarray, W: np.ndarray, fs: float, cuts=()) -> float | None:
     """The Hann width with the largest expected benefit ``E_re - 2 E_im`` among those whose real
     part holds ``KAPPA`` times the imaginary part's energy there and at the next wider width (a
     change of level that shows at one width shows at twice it; content moves the real part at one
@@ -180,8 +297,8 @@ def _choose_width(G: np.ndarray, W: np.ndarray, fs: float) -> float | None:
     energies = []
     for s in WIDTHS_S:
         n = max(3, int(round(s * fs)))
-        energies.append((float(np.sum(W * _smooth(G.real - 1.0, W, n) ** 2)),
-                         float(np.sum(W * _smooth(G.imag, W, n) ** 2))))
+        energies.append((float(np.sum(W * _smooth(G.real - 1.0, W, n, cuts) ** 2)),
+                         float(np.sum(W * _smooth(G.imag, W, n, cuts) ** 2))))
     real = [e_re > KAPPA * e_im for e_re, e_im in energies]
     best, best_b = None, 0.0
     for i, s in enumerate(WIDTHS_S):

@@ -43,3 +43,35 @@ def test_steady_hum_is_left_to_the_block_fit():
     host = 0.3 * rng.standard_normal(t.size)
     r = denoise(host + 0.3 * _hum(t), sr)
     assert r.info["level_followed_s"] is None
+
+
+def _stepped(seed=5):
+    sr = 4000
+    t = np.arange(30 * sr) / sr
+    rng = np.random.default_rng(seed)
+    host = 0.1 * rng.standard_normal(t.size)
+    level = np.select([t < 10, t < 20], [1.0, 0.3], 1.2)          # a load switched twice
+    return host, 0.3 * _hum(t) * level, sr
+
+
+def test_a_level_that_steps_is_followed_without_blurring_the_steps(monkeypatch):
+    from odnn_sep.audio import envelope
+
+    host, hum, sr = _stepped()
+    found = []
+    monkeypatch.setattr(envelope, "level_steps", lambda *a, f=envelope.level_steps: found.append(f(*a)) or found[-1])
+    gain = _gain_db(host, hum, denoise(host + hum, sr).y)
+    monkeypatch.setattr(envelope, "level_steps", lambda *a: [])
+    gain_blurred = _gain_db(host, hum, denoise(host + hum, sr).y)
+    fs = 100.0                                   # the gain's rate: one value per 10 ms chunk
+    assert [round(j / fs) for j in found[0]] == [10, 20], found
+    assert gain > gain_blurred + 3, (gain, gain_blurred)
+
+
+def test_a_smoothly_modulated_level_has_no_steps():
+    from odnn_sep.audio import envelope
+
+    rng = np.random.default_rng(6)
+    t = np.arange(3000) / 100.0
+    G = 1 + 0.4 * np.sin(2 * np.pi * 0.5 * t) + 0.05 * (rng.standard_normal(3000) + 1j * rng.standard_normal(3000))
+    assert envelope.level_steps(G, np.ones(3000), 100.0) == []
