@@ -143,6 +143,10 @@ def run(args) -> int:
             f0 = f"{res.mains_hz:.4f} Hz" if res.mains_hz else "-"
             level = res.info.get("level_followed_s")
             level = f"; its level changes and was followed at {level:g} s" if level else ""
+            jumps = res.info.get("level_steps_s") or []
+            if jumps:
+                at = ", ".join(f"{t:.2f}" for t in jumps[:5]) + (", ..." if len(jumps) > 5 else "")
+                level += f", stepping at {at} s"
             steps = res.info.get("phase_steps") or []
             if steps:
                 at = ", ".join(f"{st['time_s']:.3f}" for st in steps[:5]) + (", ..." if len(steps) > 5 else "")

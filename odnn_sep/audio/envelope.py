@@ -64,6 +64,7 @@ class Envelope:
     t: np.ndarray          # (J,) chunk centres, samples
     gain: np.ndarray       # (J, C)
     width_s: float
+    steps_s: tuple = ()    # times (s) where the level steps (level_steps), any channel, in order
 
     def at(self, i0: int, n: int, c: int) -> np.ndarray:
         """The gain of channel ``c`` at samples ``i0 .. i0 + n``."""
@@ -258,7 +259,7 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
     if main_amps is not None:
         centres = np.arange(plan.count) * float(plan.hop)
         cyc_b = np.mod(centres * (f_ref / sr), 1.0) + PhaseTrack(psi, sr, f_ref, jumps).offset_cycles(centres)
-    gains, width = np.ones((J, C)), None
+    gains, width, steps = np.ones((J, C)), None, set()
     for c in range(C):
         num = np.zeros(J, complex)
         W = np.zeros(J)
@@ -286,7 +287,9 @@ def shared_envelope(D: np.ndarray, sr: int, f_ref: float, ks, psi: np.ndarray, p
         if best is not None:
             gains[:, c] = _smooth(G.real, W, max(3, int(round(best * fs))), cuts)
             width = best if width is None else min(width, best)
-    return Envelope(t=tj, gain=gains, width_s=width) if width is not None else None
+            # a step lies between chunks j - 1 and j: at the first sample of chunk j
+            steps.update(round(j * m / sr, 2) for j in cuts)
+    return Envelope(t=tj, gain=gains, width_s=width, steps_s=tuple(sorted(steps))) if width is not None else None
 
 
 def _choose_width(G: np.ndarray, W: np.ndarray, fs: float, cuts=()) -> float | None:

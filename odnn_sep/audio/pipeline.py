@@ -288,6 +288,8 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
         block_valid=valid, amplitude_overall=overall,
         info={"solver": opts.solver, "block_s": found.plan.block_s, "channels": C, "frames": N,
               "duration_s": N / sr, "level_followed_s": found.envelope.width_s if found.envelope else None,
+              # where that level steps (a load switched, a device turned on or off: envelope.level_steps)
+              "level_steps_s": list(found.envelope.steps_s) if found.envelope else [],
               # steps of the hum's phase kept whole (a splice, a source switched over: phasejumps.py)
               "phase_steps": [{"time_s": a / sr, "cycles": d}
                               for a, d in getattr(getattr(trk, "phase", None), "jumps", None) or []]},

@@ -60,7 +60,9 @@ def test_a_level_that_steps_is_followed_without_blurring_the_steps(monkeypatch):
     host, hum, sr = _stepped()
     found = []
     monkeypatch.setattr(envelope, "level_steps", lambda *a, f=envelope.level_steps: found.append(f(*a)) or found[-1])
-    gain = _gain_db(host, hum, denoise(host + hum, sr).y)
+    r = denoise(host + hum, sr)
+    gain = _gain_db(host, hum, r.y)
+    assert [round(t) for t in r.info["level_steps_s"]] == [10, 20], r.info["level_steps_s"]
     monkeypatch.setattr(envelope, "level_steps", lambda *a: [])
     gain_blurred = _gain_db(host, hum, denoise(host + hum, sr).y)
     fs = 100.0                                   # the gain's rate: one value per 10 ms chunk
