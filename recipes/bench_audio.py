@@ -310,6 +310,11 @@ def main(argv=None):
     ap.add_argument("--dev-seed0", type=int, default=None,
                     help="first development seed (>= 1000, e.g. 1024 for a second development set; implies --dev)")
     ap.add_argument("--population-only", action="store_true", help="only the generated cases (no file written)")
+    ap.add_argument("--rates", default=None,
+                    help="four comma-separated sample rates to draw the cases at instead of the population's "
+                         "(8, 16, 44.1, 48 kHz); BENCHMARKS.md is not updated")
+    ap.add_argument("--seed0", type=int, default=None,
+                    help="first seed of a further evaluation set (< 1000); BENCHMARKS.md is not updated")
     ap.add_argument("--speed-only", action="store_true",
                     help="only the one-hour file and the room recording's timing against MNE (no file written)")
     args = ap.parse_args(argv)
@@ -324,6 +329,17 @@ def main(argv=None):
             ap.error(f"--dev-seed0 must be >= {pop.cases.DEV_SEED0} (seeds below are the evaluation seeds)")
         args.dev = True
     seed0 = args.dev_seed0 if args.dev_seed0 is not None else (pop.cases.DEV_SEED0 if args.dev else pop.cases.EVAL_SEED0)
+    if args.seed0 is not None:
+        if args.dev or not 0 <= args.seed0 < pop.cases.DEV_SEED0:
+            ap.error(f"--seed0 must be in 0-{pop.cases.DEV_SEED0 - 1} and without --dev (development seeds: --dev-seed0)")
+        seed0 = args.seed0
+    if args.rates:
+        try:
+            pop.cases.RATES = tuple(int(float(r)) for r in args.rates.split(","))
+        except ValueError:
+            ap.error(f"--rates must be comma-separated sample rates in Hz; got {args.rates!r}")
+        if len(pop.cases.RATES) != 4 or not all(4000 <= r <= 192000 for r in pop.cases.RATES):
+            ap.error("--rates must be four sample rates in 4000-192000 Hz (the cases cycle through four)")
     n_cases = 3 if args.quick else args.cases
     if args.no_anchors and not args.dev:
         ap.error("--no-anchors is for development runs (--dev): the evaluation table compares with the anchors")
@@ -357,7 +373,7 @@ def main(argv=None):
     if args.json:
         Path(args.json).write_text(json.dumps({"population": pop_stats, "real": real_rows, "speed": speed,
                                                "long": long}, default=str, indent=1))
-    if args.quick or args.no_write or args.dev:
+    if args.quick or args.no_write or args.dev or args.rates or args.seed0 is not None:
         return 0
 
     counts = {"ahead": sum(pop_stats["ahead"]), "false_tonal": sum(pop_stats["false_tonal"]),
