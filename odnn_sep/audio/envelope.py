@@ -21,7 +21,10 @@ fundamental's phase is common to them (finetrack.py). Here, from pass 1's chunk 
    width chosen is the one with the largest expected benefit ``E_re - 2 E_im`` (what is
    followed, less the content the correction would then remove with it). Steady hum, and content
    that merely sits near the lines,
-   leave the output as it was.
+   leave the output as it was;
+4. a level that steps (a switch) would be blurred over the smoothing's width: the steps are found
+   first (:func:`level_steps`: a cubic plus a step fitted on each side of every boundary) and the
+   gain is smoothed between them, never across one.
 
 Pass 2 (blockfit.py) then scales the tracked comb it subtracts by ``g(t)`` (interpolated to the
 samples), per channel.
