@@ -74,6 +74,11 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
+def _first_times(times, decimals: int) -> str:
+    """The first five of ``times`` (s) for the summary line, "..." after them when there are more."""
+    return ", ".join(f"{t:.{decimals}f}" for t in times[:5]) + (", ..." if len(times) > 5 else "")
+
+
 def run(args) -> int:
     """Run ``odnn-sep denoise`` with the parsed ``args`` (see :func:`register`).
 
@@ -145,12 +150,11 @@ def run(args) -> int:
             level = f"; its level changes and was followed at {level:g} s" if level else ""
             jumps = res.info.get("level_steps_s") or []
             if jumps:
-                at = ", ".join(f"{t:.2f}" for t in jumps[:5]) + (", ..." if len(jumps) > 5 else "")
-                level += f", stepping at {at} s"
+                level += f", stepping at {_first_times(jumps, 2)} s"
             steps = res.info.get("phase_steps") or []
             if steps:
-                at = ", ".join(f"{st['time_s']:.3f}" for st in steps[:5]) + (", ..." if len(steps) > 5 else "")
-                level += f"; its phase jumps at {at} s (a splice or a source switched over)"
+                level += (f"; its phase jumps at {_first_times([st['time_s'] for st in steps], 3)} s "
+                          "(a splice or a source switched over)")
             print(f"removed hum: fundamental {f0} (family {res.nominal_hz}), lines {lines}{level} -> {args.output}")
         else:
             print(f"no significant hum found; wrote the input unchanged -> {args.output}")

@@ -214,8 +214,9 @@ def hum_present(v: np.ndarray, fs_d: float) -> np.ndarray:
     loc = (ndimage.uniform_filter1d(v.real, size, axis=0, mode="nearest")
            + 1j * ndimage.uniform_filter1d(v.imag, size, axis=0, mode="nearest"))
     scatter = ndimage.uniform_filter1d(np.abs(v - loc) ** 2, size, axis=0, mode="nearest")
-    noise = (scatter / (size - 1)).sum(axis=(1, 2))
-    power = np.maximum(np.abs(loc) ** 2 - scatter / (size - 1), 0.0).sum(axis=(1, 2))
+    of_mean = scatter / (size - 1)          # the scatter's share in the 1 s mean's power
+    noise = of_mean.sum(axis=(1, 2))
+    power = np.maximum(np.abs(loc) ** 2 - of_mean, 0.0).sum(axis=(1, 2))
     on_level = float(np.median(power[power >= np.quantile(power, 0.5)])) if len(power) else 0.0
     if on_level <= 0:
         return np.ones(len(power))
