@@ -13,6 +13,12 @@ waveform and level come from other mechanisms, each its own kind:
 - ``splice``: the recording is cut and joined: the hum's waveform jumps by a random fraction of a
   cycle (0.05-0.95) at a random instant (6-24 s).
 
+The waveforms of the first three kinds are summed from their Fourier series, only the harmonics
+below 0.45 of the sample rate (the version before sampled the waveform directly: the dimmer's
+jumps folded their harmonics above the Nyquist frequency back between the harmonics, a comb at
+k f0 +- (sr mod f0) that a sound card's anti-aliasing filter removes and no hum model can, which
+capped the dimmer cases near 25-30 dB).
+
 The hum after a jump is the same waveform drawn at shifted times (the version before the splice
 kind shifted the samples and held the last one for the jump's length at the very end: a few ms of
 flat hum that no hum model removes, which capped the phase_jump cases near 30-36 dB).
@@ -46,17 +52,34 @@ def _band_limit(s, sr):
     return np.fft.irfft(S, len(s))
 
 
+def _periodic(shape, ph, f0, sr, points: int = 1 << 14):
+    """``shape(ph)`` (a 2 pi-periodic waveform) with only its harmonics below 0.45 ``sr``: the
+    Fourier series of one period, summed at the phases ``ph``. A waveform with a corner or a jump
+    sampled directly folds its harmonics above the Nyquist frequency back between the harmonics
+    (a comb at k f0 +- (sr mod f0)) that no recorded hum has: a sound card's anti-aliasing
+    filter removes them before sampling."""
+    c = np.fft.rfft(shape(2 * np.pi * np.arange(points) / points)) / points
+    K = min(len(c) - 1, int(0.45 * sr / f0))
+    z = np.exp(1j * ph)
+    zk = np.ones_like(z)
+    out = np.full(ph.shape, c[0].real)
+    for k in range(1, K + 1):
+        zk *= z
+        out += 2 * (c[k] * zk).real
+    return out
+
+
 def _waveform(kind, t, f0, rng, sr):
     ph = 2 * np.pi * f0 * t + rng.uniform(0, 2 * np.pi)
     if kind == "saturated":
-        s = np.tanh(3 * np.sin(ph))
-    elif kind == "dimmer":
-        s = np.where(np.mod(ph, np.pi) > rng.uniform(1.2, 2.2), np.sin(ph), 0.0)
-    elif kind == "rectified":
-        s = np.abs(np.sin(ph)) - 2 / np.pi
-    else:
-        phases = rng.uniform(0, 2 * np.pi, 7)
-        s = sum(np.cos(k * ph + phases[k - 1]) / k for k in range(1, 8))
+        return _periodic(lambda p: np.tanh(3 * np.sin(p)), ph, f0, sr)
+    if kind == "dimmer":
+        cut = rng.uniform(1.2, 2.2)
+        return _periodic(lambda p: np.where(np.mod(p, np.pi) > cut, np.sin(p), 0.0), ph, f0, sr)
+    if kind == "rectified":
+        return _periodic(lambda p: np.abs(np.sin(p)) - 2 / np.pi, ph, f0, sr)
+    phases = rng.uniform(0, 2 * np.pi, 7)
+    s = sum(np.cos(k * ph + phases[k - 1]) / k for k in range(1, 8))
     return _band_limit(s, sr)
 
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from odnn_sep.audio import combpattern as _combpattern
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import lock as _lock
@@ -74,6 +75,7 @@ class Comb:
     evidence: float = 0.0         # sum of -log10 p of the locked lines
     lock: dict = field(default_factory=dict)
     jumps: list = field(default_factory=list)
+    lock_w: dict = field(default_factory=dict)   # harmonic -> p of the weighted lock test, where run
 
 
 def _weights(spec, f_ref, ks, det_floors):
@@ -106,6 +108,7 @@ class _Family:
     alpha: float
     n_tests: int
     info: dict = field(default_factory=dict)
+    winfo: dict = field(default_factory=dict)    # harmonic -> p of the weighted lock test
 
     def cols(self, lines) -> list[int]:
         return [self.cand.index(k) for k in lines]
@@ -188,6 +191,7 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
     if test and ks:
         ks = sorted(ks + _new_lines(fam, seen, ks, psi))
         ks = sorted(ks + _intermittent_lines(fam, ks, psi))
+        _weighted_rest(fam, ks, psi)
     if test and ks and min(ks) > LOWEST_K:
         # mains hum lives at the fundamental and the first harmonics (a weak fundamental is
         # normal, a comb with nothing locked below the 6th harmonic is not): locked lines only
@@ -202,7 +206,8 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
     if ks:
         psi, jumps = _phaseplace.to_the_sample(source, D, psi, ks, fam.f_ref)
     return Comb(nominal_hz=det.nominal_hz, f_ref=fam.f_ref, harmonics=ks, psi=psi if ks else None,
-                D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info, jumps=jumps)
+                D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info, jumps=jumps,
+                lock_w=fam.winfo)
 
 
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:
@@ -276,6 +281,7 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     best = max(fams, key=lambda f: f.evidence)
     if test:
         _extend_high(source, spec, best, alpha=alpha, max_hz=max_hz, n_first=n_first)
+        _add_pattern_lines(source, spec, best, alpha=alpha)
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
              [round(f.evidence, 1) for f in fams])
     return best
@@ -311,6 +317,10 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
             comb.lock.update(info)
             ok = [k for k in batch if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
             new += ok
+            # the weighted test's p-value of the others, for the second family (combpattern.py)
+            comb.lock_w.update({k: v[0] for k, v in _lock.weighted_locked(
+                D[:, :, [batch.index(k) for k in batch if k not in ok]], sr, [k for k in batch if k not in ok],
+                comb.psi).items()})
             cols += [D[:, :, batch.index(k)].copy() for k in ok]     # (a view would keep all of D)
             del D
         top = new_top
@@ -323,6 +333,20 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
         ks += new
         log.info("harmonics %d-%d locked above the first %d: %s", min(new), max(new), _detect.MAX_HARMONICS, new)
     comb.harmonics = ks
+
+
+def _add_pattern_lines(source, spec, comb: Comb, *, alpha: float) -> None:
+    """The comb's unlocked lines in its own pattern that pass the second family's test
+    (combpattern.py), added in place: demodulated once more, in harmonic order."""
+    new = _combpattern.pattern_lines(comb.harmonics, comb.lock, comb.lock_w, alpha=alpha, floor_rel=NUMERICAL_REL)
+    if not new:
+        return
+    ks = list(comb.harmonics) + new
+    order = np.argsort(ks, kind="stable")
+    comb.D = np.concatenate([comb.D, _track.demodulate(source, comb.f_ref, new)], axis=2)[:, :, order]
+    comb.weights = np.concatenate([comb.weights, _weights(spec, comb.f_ref, new, {})], axis=1)[:, order]
+    comb.harmonics = [int(ks[i]) for i in order]
+    log.info("lines %s of the comb's pattern locked in the second family of tests", new)
 
 
 def _low_harmonics_retry(source, spec, det, *, alpha: float, max_hz, n_first: int) -> Comb | None:
@@ -420,9 +444,26 @@ def _weighted_pass(fam: _Family, ks, rest, psi, presence=None) -> list[int]:
     # one line at a time through a view of its column (as _new_lines' plain test)
     for k, col in zip(rest, fam.cols(rest), strict=True):
         w_inf.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], sr, [k], psi, presence=presence))
+    if presence is None:
+        fam.winfo.update({k: v[0] for k, v in w_inf.items()})
     top = max(ks, key=lambda k: fam.info.get(k, (1.0, 0.0, 0.0))[2])
     top_w = _lock.weighted_locked(fam.D[:, :, fam.cols([top])], sr, [top], psi, presence=presence)[top][1]
     return [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
+
+
+def _weighted_rest(fam: _Family, ks, psi) -> None:
+    """The weighted lock test's p-value (in ``fam.winfo``) for the unlocked candidates of the
+    comb's pattern up to ``combpattern.REACH`` times its reach that have none yet (spectrum lines
+    dropped by the leave-one-out rounds): the second family of tests (combpattern.py) reads
+    them. Nothing is decided here."""
+    pat = _combpattern.pattern(ks)
+    if pat is None:
+        return
+    step, res = pat
+    rest = [k for k in fam.cand if k not in ks and k not in fam.winfo and k % step == res
+            and k <= _combpattern.REACH * max(ks)]
+    for k, col in zip(rest, fam.cols(rest), strict=True):
+        fam.winfo[k] = _lock.weighted_locked(fam.D[:, :, col: col + 1], fam.sr, [k], psi)[k][0]
 
 
 def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:

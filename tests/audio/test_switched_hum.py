@@ -26,8 +26,11 @@ def _gain(host, hum, sr):
 
 
 def test_weak_lines_of_a_switched_hum_are_found_where_the_hum_is_on(monkeypatch):
-    from odnn_sep.audio import lock
+    from odnn_sep.audio import combpattern, lock
 
+    # the second family of tests (combpattern.py) takes the same weak line without the presence;
+    # it is left out here so that the presence's own effect is what is measured
+    monkeypatch.setattr(combpattern, "pattern_lines", lambda *a, **k: [])
     host, hum, sr = _switched()
     lines, gain = _gain(host, hum, sr)
     monkeypatch.setattr(lock, "PRESENCE_MIN", 1.1)              # never on and off: the tests before
