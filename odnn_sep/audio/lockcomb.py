@@ -339,13 +339,19 @@ def _add_pattern_lines(source, spec, comb: Comb, *, alpha: float) -> None:
     """The comb's unlocked lines in its own pattern that pass the second family's test
     (combpattern.py), added in place: demodulated once more, in harmonic order."""
     new = _combpattern.pattern_lines(comb.harmonics, comb.lock, comb.lock_w, alpha=alpha, floor_rel=NUMERICAL_REL)
+    J, C, K = comb.D.shape
+    # the strongest first, within the chunk sums' bound of the whole comb (_extend_high's)
+    new = sorted(sorted(new, key=lambda k: -comb.lock[k][2])[: max(int(MAX_SUMS_MB * 2 ** 20 // (J * C * 8)) - K, 0)])
     if not new:
         return
-    ks = list(comb.harmonics) + new
-    order = np.argsort(ks, kind="stable")
-    comb.D = np.concatenate([comb.D, _track.demodulate(source, comb.f_ref, new)], axis=2)[:, :, order]
-    comb.weights = np.concatenate([comb.weights, _weights(spec, comb.f_ref, new, {})], axis=1)[:, order]
-    comb.harmonics = [int(ks[i]) for i in order]
+    ks = sorted(list(comb.harmonics) + new)
+    D_new = _track.demodulate(source, comb.f_ref, new)
+    D = np.empty((J, C, len(ks)), comb.D.dtype)       # filled column by column: one copy of the sums
+    for i, k in enumerate(ks):
+        D[:, :, i] = D_new[:, :, new.index(k)] if k in new else comb.D[:, :, comb.harmonics.index(k)]
+    W = np.concatenate([comb.weights, _weights(spec, comb.f_ref, new, {})], axis=1)
+    comb.weights = W[:, [(list(comb.harmonics) + new).index(k) for k in ks]]
+    comb.D, comb.harmonics = D, ks
     log.info("lines %s of the comb's pattern locked in the second family of tests", new)
 
 
