@@ -51,6 +51,23 @@ def pattern(ks) -> tuple[int, int] | None:
     return step, ks[0] % step
 
 
+def candidates(ks, tested) -> list[int]:
+    """The lines of ``tested`` in the pattern of the locked ``ks`` that are not locked, up to
+    ``REACH`` times the highest locked harmonic (none without a pattern).
+
+    Examples
+    --------
+    >>> candidates([1, 3, 5, 9], range(1, 30))
+    [7, 11, 13, 15, 17]
+    """
+    pat = pattern(ks)
+    if pat is None:
+        return []
+    step, res = pat
+    top = REACH * max(ks)
+    return [int(k) for k in sorted(tested) if k not in ks and k <= top and k % step == res]
+
+
 def pattern_lines(ks, lock: dict, lock_w: dict, *, alpha: float, floor_rel: float) -> list[int]:
     """The unlocked lines of the comb's pattern that pass the second family's test.
 
@@ -81,15 +98,10 @@ def pattern_lines(ks, lock: dict, lock_w: dict, *, alpha: float, floor_rel: floa
     >>> pattern_lines([1, 3, 5, 9, 11], lock, {13: 1e-9}, alpha=1e-3, floor_rel=3e-3)
     [7, 13]
     """
-    pat = pattern(ks)
-    if pat is None:
-        return []
-    step, res = pat
-    top = REACH * max(ks)
-    cand = [k for k in sorted(lock) if k not in ks and k <= top and k % step == res]
+    cand = candidates(ks, lock)
     if not cand:
         return []
-    strongest = max(lock[k][2] for k in ks if k in lock) if any(k in lock for k in ks) else 0.0
+    strongest = max((lock[k][2] for k in ks if k in lock), default=0.0)
     n = 2 * len(cand)
     return [int(k) for k in cand
             if min(lock[k][0], lock_w.get(k, 1.0)) * n < alpha and lock[k][2] > floor_rel * strongest]

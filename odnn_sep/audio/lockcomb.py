@@ -318,9 +318,9 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
             ok = [k for k in batch if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
             new += ok
             # the weighted test's p-value of the others, for the second family (combpattern.py)
-            comb.lock_w.update({k: v[0] for k, v in _lock.weighted_locked(
-                D[:, :, [batch.index(k) for k in batch if k not in ok]], sr, [k for k in batch if k not in ok],
-                comb.psi).items()})
+            others = [k for k in batch if k not in ok]
+            w_inf = _lock.weighted_locked(D[:, :, [batch.index(k) for k in others]], sr, others, comb.psi)
+            comb.lock_w.update({k: v[0] for k, v in w_inf.items()})
             cols += [D[:, :, batch.index(k)].copy() for k in ok]     # (a view would keep all of D)
             del D
         top = new_top
@@ -349,8 +349,9 @@ def _add_pattern_lines(source, spec, comb: Comb, *, alpha: float) -> None:
     D = np.empty((J, C, len(ks)), comb.D.dtype)       # filled column by column: one copy of the sums
     for i, k in enumerate(ks):
         D[:, :, i] = D_new[:, :, new.index(k)] if k in new else comb.D[:, :, comb.harmonics.index(k)]
+    src = list(comb.harmonics) + new                    # the weights' columns, in this order
     W = np.concatenate([comb.weights, _weights(spec, comb.f_ref, new, {})], axis=1)
-    comb.weights = W[:, [(list(comb.harmonics) + new).index(k) for k in ks]]
+    comb.weights = W[:, [src.index(k) for k in ks]]
     comb.D, comb.harmonics = D, ks
     log.info("lines %s of the comb's pattern locked in the second family of tests", new)
 
@@ -462,12 +463,7 @@ def _weighted_rest(fam: _Family, ks, psi) -> None:
     comb's pattern up to ``combpattern.REACH`` times its reach that have none yet (spectrum lines
     dropped by the leave-one-out rounds): the second family of tests (combpattern.py) reads
     them. Nothing is decided here."""
-    pat = _combpattern.pattern(ks)
-    if pat is None:
-        return
-    step, res = pat
-    rest = [k for k in fam.cand if k not in ks and k not in fam.winfo and k % step == res
-            and k <= _combpattern.REACH * max(ks)]
+    rest = [k for k in _combpattern.candidates(ks, fam.cand) if k not in fam.winfo]
     for k, col in zip(rest, fam.cols(rest), strict=True):
         fam.winfo[k] = _lock.weighted_locked(fam.D[:, :, col: col + 1], fam.sr, [k], psi)[k][0]
 
