@@ -121,7 +121,7 @@ def _step_fits(ys, w: np.ndarray, L: int):
     return steps, var
 
 
-def level_steps(G: np.ndarray, W: np.ndarray, fs: float, leak_chunks: int = 1) -> list[int]:
+def level_steps(G: np.ndarray, W: np.ndarray, fs: float, n_leak: int = 1) -> list[int]:
     """Chunks where the shared level steps (a load switched, a device turned on or off): the
     first chunk after each step.
 
@@ -133,7 +133,7 @@ def level_steps(G: np.ndarray, W: np.ndarray, fs: float, leak_chunks: int = 1) -
     same test reaches on ``Im G`` anywhere, and ``STEP_IM`` times its value there. Local maxima at
     least a window apart.
 
-    The search runs on ``G`` averaged over ``leak_chunks`` chunks (:func:`leak_chunks`); each step
+    The search runs on ``G`` averaged over ``n_leak`` chunks (:func:`leak_chunks`); each step
     is then placed on ``G`` itself. Each line's chunk sums hold a leak of the neighbouring
     harmonics that turns by part of a cycle from one chunk to the next (half a cycle for 50 Hz
     hum in 10 ms chunks) and flips ``G`` at the chunk rate: on a clean recording by more than the
@@ -155,13 +155,13 @@ def level_steps(G: np.ndarray, W: np.ndarray, fs: float, leak_chunks: int = 1) -
     if len(G) < 4 * L:
         return []
     G0, W0 = G, W
-    if leak_chunks > 1:
-        box = np.ones(leak_chunks)
+    if n_leak > 1:
+        box = np.ones(n_leak)
         den = np.convolve(W, box, "same")
         G = np.convolve(G * W, box, "same") / np.maximum(den, 1e-300)
-        W = den / leak_chunks          # neighbours now share data: the weight of one chunk's worth
-        W[: leak_chunks - 1] = 0.0     # means cut by the ends hold part of a turn of the leak
-        W[len(W) - leak_chunks + 1:] = 0.0
+        W = den / n_leak          # neighbours now share data: the weight of one chunk's worth
+        W[: n_leak - 1] = 0.0     # means cut by the ends hold part of a turn of the leak
+        W[len(W) - n_leak + 1:] = 0.0
     # G's noise per chunk is sigma^2 / W: sigma^2 from the imaginary part, robustly (speech bursts)
     sigma2 = float(np.median(W * G.imag ** 2)) / 0.4549
     if not sigma2 > 0:
