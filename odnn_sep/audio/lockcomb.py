@@ -301,7 +301,7 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
     top = _detect.MAX_HARMONICS
     J, C = comb.D.shape[:2]
     while ks and max(ks) > top - HIGH_REACH:
-        room = int(MAX_SUMS_MB * 2 ** 20 // (J * C * 8)) - len(ks)
+        room = _sums_room(J, C) - len(ks)
         new_top = min(2 * top, top + max(room, 0))
         cand = [k for k in _detect.candidate_harmonics(comb.f_ref, sr, new_top, max_hz) if k > top]
         if not cand:
@@ -335,13 +335,18 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
     comb.harmonics = ks
 
 
+def _sums_room(J: int, C: int) -> int:
+    """Lines whose chunk sums (``J`` chunks, ``C`` channels, complex64) fit in ``MAX_SUMS_MB``."""
+    return int(MAX_SUMS_MB * 2 ** 20 // (J * C * 8))
+
+
 def _add_pattern_lines(source, spec, comb: Comb, *, alpha: float) -> None:
     """The comb's unlocked lines in its own pattern that pass the second family's test
     (combpattern.py), added in place: demodulated once more, in harmonic order."""
     new = _combpattern.pattern_lines(comb.harmonics, comb.lock, comb.lock_w, alpha=alpha, floor_rel=NUMERICAL_REL)
     J, C, K = comb.D.shape
     # the strongest first, within the chunk sums' bound of the whole comb (_extend_high's)
-    new = sorted(sorted(new, key=lambda k: -comb.lock[k][2])[: max(int(MAX_SUMS_MB * 2 ** 20 // (J * C * 8)) - K, 0)])
+    new = sorted(sorted(new, key=lambda k: -comb.lock[k][2])[: max(_sums_room(J, C) - K, 0)])
     if not new:
         return
     ks = sorted(list(comb.harmonics) + new)
@@ -446,15 +451,11 @@ def _weighted_pass(fam: _Family, ks, rest, psi, presence=None) -> list[int]:
     -50 dB of the strongest locked line of ``ks`` by the same weighted mean."""
     if not rest:
         return []
-    sr = fam.sr
-    w_inf = {}
-    # one line at a time through a view of its column (as _new_lines' plain test)
-    for k, col in zip(rest, fam.cols(rest), strict=True):
-        w_inf.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], sr, [k], psi, presence=presence))
+    w_inf = _weighted_info(fam, rest, psi, presence)
     if presence is None:
         fam.winfo.update({k: v[0] for k, v in w_inf.items()})
     top = max(ks, key=lambda k: fam.info.get(k, (1.0, 0.0, 0.0))[2])
-    top_w = _lock.weighted_locked(fam.D[:, :, fam.cols([top])], sr, [top], psi, presence=presence)[top][1]
+    top_w = _weighted_info(fam, [top], psi, presence)[top][1]
     return [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
 
 
@@ -464,8 +465,17 @@ def _weighted_rest(fam: _Family, ks, psi) -> None:
     dropped by the leave-one-out rounds): the second family of tests (combpattern.py) reads
     them. Nothing is decided here."""
     rest = [k for k in _combpattern.candidates(ks, fam.cand) if k not in fam.winfo]
-    for k, col in zip(rest, fam.cols(rest), strict=True):
-        fam.winfo[k] = _lock.weighted_locked(fam.D[:, :, col: col + 1], fam.sr, [k], psi)[k][0]
+    fam.winfo.update({k: v[0] for k, v in _weighted_info(fam, rest, psi).items()})
+
+
+def _weighted_info(fam: _Family, lines, psi, presence=None) -> dict:
+    """lock.weighted_locked's ``(p, amplitude)`` of each of ``lines`` (candidates of ``fam``)
+    against ``psi``, one line at a time through a view of its column (as _new_lines' plain
+    test: a copy of all their chunk sums at once would be the analysis's largest array)."""
+    out = {}
+    for k, col in zip(lines, fam.cols(lines), strict=True):
+        out.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], fam.sr, [k], psi, presence=presence))
+    return out
 
 
 def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:
