@@ -51,6 +51,10 @@ def register(subparsers) -> None:
                    help="known disturbances, comma-separated: auto (default: slow band for oscillatory "
                         "models), slow, none, periodic:HZ (a known line), lines (every significant line of "
                         "the residual). What is declared is absorbed and never named")
+    p.add_argument("--keep-spikes", action="store_true",
+                   help="do not repair isolated outliers: by default single samples more than 5 noise levels "
+                        "off their neighbours' residual are replaced by that median before any effect is "
+                        "tested, and reported")
     p.add_argument("--input", action="append", default=[], metavar="COLUMN",
                    help="measured input column (repeatable) driving the model: oscillator/pendulum "
                         "m x'' + c x' + k x = kd u(t); cooling dT/dt = -h (T - T_amb) + kd u(t)")
@@ -209,7 +213,7 @@ def run(args) -> int:
     target, numeric = _explain_target(args, params, model, inputs, info)
     res = explain(target, t, y, params=numeric, effects=effects, disturbance=args.disturbance,
                   aux=aux or None, inputs=inputs or None, unit=unit, folds=args.folds,
-                  progress=not args.quiet and sys.stderr.isatty())
+                  progress=not args.quiet and sys.stderr.isatty(), despike=not args.keep_spikes)
     if args.report:
         d = result_dict(res)
         d["input"] = {"path": str(args.data), **info}

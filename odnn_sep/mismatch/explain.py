@@ -42,6 +42,7 @@ from odnn_sep.mismatch.fitting import cross_validate, cv_folds
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
 from odnn_sep.mismatch.selection import SelectionSetup, forward_backward
+from odnn_sep.mismatch.spikes import find_spikes
 
 log = logging.getLogger(__name__)
 
@@ -139,7 +140,7 @@ def _validate(t, y, model):
 
 def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=None, folds=4, blocks_per_fold=5,
             bic_threshold=BIC_THRESHOLD, heldout_threshold=HELDOUT_THRESHOLD, n_cv=N_CV, alpha=0.05,
-            max_effects=MAX_EFFECTS, unit="", inputs=None, progress=False):
+            max_effects=MAX_EFFECTS, unit="", inputs=None, progress=False, despike=True):
     """Find where a model and data disagree, name the missing effect, and refit with it.
 
     Parameters
@@ -173,6 +174,9 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         Measured inputs driving a preset (oscillator, pendulum, cooling): each enters the
         equation with its own fitted gain ``kd_<name>`` (see :mod:`odnn_sep.mismatch.inputs`).
         User ODE models take them in :func:`ode_model` instead.
+    despike : bool
+        Repair isolated outliers of the calibrated residual before any effect is tested
+        (:mod:`odnn_sep.mismatch.spikes`); they are listed among the disturbances.
 
     Returns
     -------
@@ -201,6 +205,11 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     m, t, y, aux, rate_note = _prepare(model, t, y, params, inputs, aux)
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
     G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
+    spikes = find_spikes(t, cal.fit.residual) if despike else None
+    if spikes is not None:
+        # the record as analysed from here on: every fit, test and interval sees the repaired samples
+        y = spikes.repaired(y)
+        G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
     base = cal.fit
     res = MismatchResult(t=t, y=y, model=m, calibration=cal, declared=declared, unit=unit)
     if rate_note:
@@ -228,6 +237,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     res.named = [c for c in out.accepted if c.effect not in DISTURBANCE_EFFECTS]
     res.disturbances = [_disturbance_entry(c, out.fit, unit) for c in out.accepted
                         if c.effect in DISTURBANCE_EFFECTS]
+    if spikes is not None:
+        res.disturbances.append(_spikes_entry(spikes, t, unit))
     from odnn_sep.mismatch.inputs import physical_warnings
     res.warnings = physical_warnings(out.fit.params)
     return res
@@ -337,3 +348,12 @@ def _disturbance_entry(c, final, unit):
             "score": c.score, "heldout_gain": c.heldout_gain, "note": c.note,
             "description": describe(c.effect, final.params, model_family=final.model.family,
                                     linear=linear_model(final.model), unit=unit)}
+
+
+def _spikes_entry(spikes, t, unit):
+    """The repaired spikes as a found disturbance: count, where (the first 20) and a plain sentence."""
+    where = np.asarray(t)[spikes.index[:20]]
+    return {"effect": "spikes", "parameters": {"count": spikes.count}, "interval95": {},
+            "score": None, "heldout_gain": None, "note": None,
+            "at": where.tolist(), "excess": [float(e) for e in spikes.excess[:20]],
+            "description": spikes.description(unit)}

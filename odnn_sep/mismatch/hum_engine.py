@@ -165,6 +165,9 @@ def explain_on_audio_engine(model, t, y, options):
     import inspect
     own = set(inspect.signature(explain).parameters) - {"model", "t", "y", "params", "aux", "inputs", "disturbance"}
     opts = {k: v for k, v in options.items() if k in own}
+    # a spike of the recording is spread over many samples of the decimated basebands: nothing
+    # there is a single-sample outlier, and a line's own bursts would be taken for some
+    opts["despike"] = False
     if options.get("effects") is None and not aux_bb:
         opts["effects"] = [e for e in BAND_EFFECTS if e != "channel_coupling"]
     elif options.get("effects") is None:
