@@ -9,6 +9,7 @@ that raises it.
 | text_chars  | 200        | ODNN_SEP_MAX_TEXT        | length of `unwatermark --text`                 |
 | magnitude   | 1e150      | ODNN_SEP_MAX_MAGNITUDE   | largest absolute data value (squares overflow) |
 | harmonics   | 200        | ODNN_SEP_MAX_HARMONICS   | highest harmonic number `denoise --harmonics`  |
+| tones       | 100        | ODNN_SEP_MAX_TONES       | distinct `denoise --tone` frequencies          |
 | channels    | 1024       | ODNN_SEP_MAX_CHANNELS    | channels `denoise` cleans in an EEG/MEG array  |
 | in_memory_samples | 50 000 000 | ODNN_SEP_MAX_IN_MEMORY_SAMPLES | frames x channels of `denoise --picks/--spatial` |
 """
@@ -25,6 +26,7 @@ DEFAULTS = {
     "text_chars": ("ODNN_SEP_MAX_TEXT", 200),
     "magnitude": ("ODNN_SEP_MAX_MAGNITUDE", 1e150),
     "harmonics": ("ODNN_SEP_MAX_HARMONICS", 200),
+    "tones": ("ODNN_SEP_MAX_TONES", 100),
     "channels": ("ODNN_SEP_MAX_CHANNELS", 1024),
     "in_memory_samples": ("ODNN_SEP_MAX_IN_MEMORY_SAMPLES", 50_000_000),
 }

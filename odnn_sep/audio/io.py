@@ -251,7 +251,26 @@ def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str
         if keep != src.subtype:
             log.warning("output format %s cannot hold subtype %s; writing %s", fmt, src.subtype, keep)
         st = keep
+    _check_writable(fmt, st, src.sr, src.channels)
     return fmt, st
+
+
+def _check_writable(fmt: str, subtype: str, sr: int, channels: int) -> None:
+    """Open the output format in memory with the input's rate and channels, before any work: a
+    container that cannot hold them (MP3 takes 8-48 kHz and at most 2 channels, FLAC at most 8
+    channels) otherwise failed when the file was opened or first written, after the analysis."""
+    import io
+
+    import numpy as np
+    import soundfile as sf
+
+    try:
+        with sf.SoundFile(io.BytesIO(), "w", samplerate=sr, channels=channels, format=fmt, subtype=subtype) as f:
+            f.write(np.zeros((16, channels)))
+    except (sf.LibsndfileError, RuntimeError, ValueError) as e:
+        why = str(e).split("Error : ")[-1].split(": ", 1)[-1].strip().rstrip(".")
+        raise InputError(f"the {fmt} format cannot hold {channels} channel(s) at {sr} Hz ({why}); write .wav or "
+                         f".flac instead") from None
 
 
 class BackgroundWriter:

@@ -188,12 +188,12 @@ def parse_harmonics(harmonics):
 
 
 def parse_tones(tones, sr):
-    """Tone frequencies (Hz) strictly between 0 and Nyquist.
+    """Tone frequencies (Hz) strictly between 0 and Nyquist, each once, in the order given.
 
     Parameters
     ----------
-    tones : sequence of float or None
-        Tone frequencies (Hz); None or empty for none.
+    tones : float, sequence of float or None
+        Tone frequencies (Hz); None or empty for none; one number for one tone.
     sr : int
         Sample rate (Hz).
 
@@ -204,17 +204,22 @@ def parse_tones(tones, sr):
     Raises
     ------
     InputError
-        When a tone is not a frequency strictly between 0 and ``sr / 2``.
+        When a tone is not a frequency strictly between 0 and ``sr / 2``, or there are more distinct
+        tones than the limit ``tones`` (odnn_sep.limits: every tone is a column of every block's fit).
 
     Examples
     --------
-    >>> parse_tones(["1000", 440], 8000), parse_tones(None, 8000)
-    ([1000.0, 440.0], [])
+    >>> parse_tones(["1000", 440, 1000.0], 8000), parse_tones(None, 8000), parse_tones(1000, 8000)
+    ([1000.0, 440.0], [], [1000.0])
     >>> parse_tones([5000], 8000)
     Traceback (most recent call last):
     ...
     odnn_sep.errors.InputError: tone=5000 Hz must be between 0 and the Nyquist frequency (4000 Hz)
     """
+    from odnn_sep import limits
+
+    if isinstance(tones, (int, float, np.integer, np.floating)) and not isinstance(tones, bool):
+        tones = [tones]
     out = []
     for t in tones or ():
         try:
@@ -223,7 +228,9 @@ def parse_tones(tones, sr):
             raise InputError(f"tone must be a frequency in Hz; got {t!r}") from None
         if not np.isfinite(v) or v <= 0 or v >= sr / 2:
             raise InputError(f"tone={t!r} Hz must be between 0 and the Nyquist frequency ({sr / 2:g} Hz)")
-        out.append(v)
+        if v not in out:      # a tone given twice is one line (two equal columns make the fit singular)
+            out.append(v)
+    limits.check("tones", len(out), "the number of tones (--tone)", hint="give the tones that are really there")
     return out
 
 

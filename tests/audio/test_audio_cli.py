@@ -210,3 +210,32 @@ def test_ogg_vorbis_roundtrip(tmp_path):
     assert main(["denoise", str(src), "-o", str(out), "--quiet"]) == 0
     info = sf.info(str(out))
     assert (info.samplerate, info.channels, info.subtype) == (8000, 1, "VORBIS")
+
+
+@pytest.mark.parametrize("rate,channels", [(96000, 1), (44100, 6)])
+def test_mp3_output_it_cannot_hold_is_refused_before_any_work(tmp_path, capsys, rate, channels):
+    import soundfile as sf
+
+    if "MP3" not in sf.available_formats():
+        pytest.skip("this libsndfile cannot write MP3")
+    wav = tmp_path / "in.wav"
+    sf.write(wav, np.zeros((rate // 2, channels)), rate)
+    out = tmp_path / "out.mp3"
+    assert main(["denoise", str(wav), "-o", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert "MP3 format cannot hold" in err and ".wav or .flac" in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.wav"]
+
+
+def test_tones_limited_and_merged(tmp_path, capsys):
+    from odnn_sep.audio.options import parse_tones
+
+    assert parse_tones([440, "440", 1000.0], 8000) == [440.0, 1000.0]
+    wav = tmp_path / "in.wav"
+    sf.write(wav, np.zeros(8000), 8000)
+    args = ["denoise", str(wav), "-o", str(tmp_path / "out.wav")]
+    for k in range(101):
+        args += ["--tone", str(100 + 10 * k)]
+    assert main(args) != 0
+    assert "above the limit of 100" in capsys.readouterr().err
+    assert not (tmp_path / "out.wav").exists()
