@@ -10,6 +10,42 @@ from pathlib import Path
 from odnn_sep.errors import FormatError, InputError
 
 
+def check_header(header, *, path) -> None:
+    """Refuse a CSV whose first row holds only numbers: it is data, not a header, and reading it as
+    one would drop that row and name the columns by its values.
+
+    Parameters
+    ----------
+    header : list of str
+        The first row's cells.
+    path : str or Path
+        The file (for the message).
+
+    Raises
+    ------
+    FormatError
+        When every cell of the first row is a number.
+
+    Examples
+    --------
+    >>> check_header(["t", "T"], path="a.csv")
+    >>> check_header(["0.0", "90.1"], path="a.csv")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.FormatError: 'a.csv' has no header row (its first row, ['0.0', '90.1'], holds only numbers); add a first line naming the columns, e.g. t,y
+    """
+    cells = [str(c).strip() for c in header]
+    if not cells or not any(cells):
+        return
+    for c in cells:
+        try:
+            float(c)
+        except ValueError:
+            return
+    raise FormatError(f"{str(path)!r} has no header row (its first row, {cells[:4]}, holds only numbers); add a "
+                      f"first line naming the columns, e.g. t,y")
+
+
 def pick_column(header, column, *, path) -> int:
     """Index of the value column of a CSV: the same rule for every command.
 

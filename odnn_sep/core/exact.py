@@ -82,7 +82,7 @@ def fit_linear_class(problem: Problem, projector: BaseProjector | None = None) -
     stderr = stderr_from_cov(cov_u, sigma2)
     diag.update({"sigma": float(np.sqrt(sigma2)) if np.isfinite(sigma2) else None, "dof": int(dof),
                  "disturbance_rank": int(rank_g)})
-    return {"theta": theta, "stderr": stderr, "interval": intervals(theta, stderr),
+    return {"theta": theta, "stderr": stderr, "interval": intervals(theta, stderr, dof=dof),
             "disturbance": disturbance, "diagnostics": diag, "cov": cov_u * sigma2}
 
 

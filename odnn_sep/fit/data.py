@@ -9,7 +9,7 @@ import numpy as np
 from odnn_sep import limits
 from odnn_sep.errors import FormatError, InputError, check_finite
 from odnn_sep.io_paths import check_input_path
-from odnn_sep.io_read import count_lines, load_npz_arrays, looks_binary, pick_column
+from odnn_sep.io_read import check_header, count_lines, load_npz_arrays, looks_binary, pick_column
 
 
 def _load_field(p: Path, value_name: list | None):
@@ -94,6 +94,7 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
             data = np.genfromtxt(p, delimiter=",", skip_header=1, dtype=float, invalid_raise=True)
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise FormatError(f"could not read {str(p)!r} as CSV: {str(exc).strip().splitlines()[-1]}") from None
+    check_header(header, path=p)
     data = np.atleast_2d(data)
     if data.size == 0 or data.shape[1] < 2 or data.shape[0] < 2:
         raise FormatError(f"{str(p)!r} needs a header row, at least two data rows and at least two columns "

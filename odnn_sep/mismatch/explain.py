@@ -119,6 +119,10 @@ class MismatchResult:
 
 
 def _validate(t, y, model):
+    if np.ndim(t) == 2 and isinstance(model, Model) and model.ndim != 2:
+        raise InputError(f"model {model.name!r} describes a time series, but the data are a 2-D field "
+                         f"(coordinates of shape {np.shape(t)}); use --model heat2d for a field, or give a CSV "
+                         f"with a time column")
     if isinstance(model, Model) and model.ndim == 2 or np.ndim(t) == 2:
         t = as_float_array("t (coordinates)", t, ndim=(2,))
         if t.shape[1] != 2:

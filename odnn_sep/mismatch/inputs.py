@@ -268,6 +268,8 @@ def physical_warnings(params) -> list[str]:
     []
     >>> [w.split(":")[0] for w in physical_warnings({"c": -0.2, "h": 0.0})]
     ['negative damping c = -0.2', 'heat-transfer rate h = 0 sits at its physical bound (0)']
+    >>> physical_warnings({"r_rad": -0.016})[0].split(":")[0]
+    'radiation r_rad = -0.016 is a heat gain'
     """
     out = []
     c = params.get("c")
@@ -280,6 +282,12 @@ def physical_warnings(params) -> list[str]:
         if v is not None and not isinstance(v, str) and v <= 0:
             out.append(f"{what} {k} = {v:.4g} sits at its physical bound (0): the model does not describe "
                        f"these data")
+    for k, what in (("r_rad", "radiation"), ("e_evap", "evaporation")):
+        # signed on purpose (the test is two-sided), so a loss term can come out as a gain
+        v = params.get(k)
+        if v is not None and not isinstance(v, str) and v < 0:
+            out.append(f"{what} {k} = {v:.4g} is a heat gain: a loss term fitted with the wrong sign stands in "
+                       f"for some other shape of the curve the model lacks, not for {what}")
     return out
 
 

@@ -39,7 +39,14 @@ MIN_SAMPLES = 20
 
 @dataclass
 class Spikes:
-    """Flagged samples: their indices and the excess removed from each (data minus repaired)."""
+    """Flagged samples: their indices and the excess removed from each (data minus repaired).
+
+    Examples
+    --------
+    >>> s = Spikes(index=np.array([2]), excess=np.array([1.5]), sigma=0.1)
+    >>> s.count, s.repaired(np.zeros(4)).tolist()
+    (1, [0.0, 0.0, -1.5, 0.0])
+    """
 
     index: np.ndarray
     excess: np.ndarray
