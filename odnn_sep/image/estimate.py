@@ -87,7 +87,13 @@ def stroke_width(M: np.ndarray) -> float:
         return 2.0
     d = cv2.distanceTransform(b, cv2.DIST_L2, 3)
     ridge = d[(d > 0) & (d >= cv2.dilate(d, np.ones((3, 3), np.uint8)) - 1e-6)]
-    return float(max(1.0, 2.0 * np.median(ridge))) if ridge.size else 2.0
+    if not ridge.size:
+        return 2.0
+    if float(d.max()) > sum(M.shape):
+        # a coverage without any uncovered pixel has no distance to one (OpenCV returns a huge
+        # number): no stroke is wider than the crop
+        return float(max(M.shape))
+    return float(max(1.0, 2.0 * np.median(ridge)))
 
 
 def patch_grid(M: np.ndarray, size: int, max_patches: int, rng) -> tuple[np.ndarray, np.ndarray, int]:

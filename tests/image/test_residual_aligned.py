@@ -42,3 +42,19 @@ def test_rims_along_the_glyph_edges_are_still_visible():
     out = (1 - 0.45 * rim) * photo + 0.45 * rim
     assert aligned_share(out, y, M) > 0.2
     assert measure(out, y, M, M)["visible"]
+
+
+def test_tiny_image_with_a_mask_covering_its_middle_runs(tmp_path, capsys):
+    # an 8x8 photo: the residual check's crop had no uncovered pixel, and the stroke width overflowed
+    from PIL import Image
+
+    from odnn_sep.cli import main
+
+    rng = np.random.default_rng(0)
+    Image.fromarray(rng.integers(0, 255, (8, 8, 3), dtype=np.uint8)).save(tmp_path / "t.png")
+    m = np.zeros((8, 8), np.uint8)
+    m[2:5, 2:5] = 255
+    Image.fromarray(m).save(tmp_path / "m.png")
+    rc = main(["unwatermark", str(tmp_path / "t.png"), "-o", str(tmp_path / "o.png"), "--mask", str(tmp_path / "m.png")])
+    assert rc in (0, 3)
+    assert "Traceback" not in capsys.readouterr().err
