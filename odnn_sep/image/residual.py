@@ -107,14 +107,20 @@ def contrast_levels(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     return float(255.0 * np.sqrt(np.mean(np.sum(d * d, axis=1) / d.shape[1])))
 
 
-def _edge_energy(y: np.ndarray) -> np.ndarray:
-    """Squared gradient magnitude (Sobel, summed over channels) of a (h, w, C) image."""
+def _gradient(ch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sobel gradient (x, y) of one (h, w) channel, in single precision."""
     import cv2
 
+    ch = np.ascontiguousarray(ch, dtype=np.float32)
+    return cv2.Sobel(ch, cv2.CV_32F, 1, 0, ksize=3), cv2.Sobel(ch, cv2.CV_32F, 0, 1, ksize=3)
+
+
+def _edge_energy(y: np.ndarray) -> np.ndarray:
+    """Squared gradient magnitude (Sobel, summed over channels) of a (h, w, C) image."""
     g = np.zeros(y.shape[:2])
     for c in range(y.shape[2]):
-        ch = np.ascontiguousarray(y[:, :, c], dtype=np.float32)
-        g += cv2.Sobel(ch, cv2.CV_32F, 1, 0, ksize=3) ** 2 + cv2.Sobel(ch, cv2.CV_32F, 0, 1, ksize=3) ** 2
+        gx, gy = _gradient(y[:, :, c])
+        g += gx ** 2 + gy ** 2
     return g
 
 
@@ -188,16 +194,12 @@ def aligned_energy(y: np.ndarray, cov: np.ndarray) -> float:
     """
     import cv2
 
-    Ms = cv2.GaussianBlur(np.ascontiguousarray(cov, dtype=np.float32), (0, 0), 1.0)
-    mx = cv2.Sobel(Ms, cv2.CV_32F, 1, 0, ksize=3)
-    my = cv2.Sobel(Ms, cv2.CV_32F, 0, 1, ksize=3)
+    mx, my = _gradient(cv2.GaussianBlur(np.ascontiguousarray(cov, dtype=np.float32), (0, 0), 1.0))
     mag = np.hypot(mx, my)
     nx, ny = mx / np.maximum(mag, 1e-12), my / np.maximum(mag, 1e-12)
     total = 0.0
     for c in range(y.shape[2]):
-        ch = np.ascontiguousarray(y[:, :, c], dtype=np.float32)
-        gx = cv2.Sobel(ch, cv2.CV_32F, 1, 0, ksize=3)
-        gy = cv2.Sobel(ch, cv2.CV_32F, 0, 1, ksize=3)
+        gx, gy = _gradient(y[:, :, c])
         across, along = gx * nx + gy * ny, gy * nx - gx * ny
         total += float(np.sum(mag ** 2 * (across ** 2 - along ** 2), dtype=np.float64))
     return total
