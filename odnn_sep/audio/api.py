@@ -15,6 +15,7 @@ from odnn_sep.audio.io import (
     FileSource,
     is_integer_subtype,
     output_subtype,
+    rounding_steps,
 )
 from odnn_sep.audio.options import DenoiseOptions
 from odnn_sep.audio.pipeline import run
@@ -214,7 +215,7 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
     try:
         out = check_output_path(path_out, src.path)
         fmt, st = output_subtype(src, out, subtype)
-        clip = ClipCounter(is_integer_subtype(st))
+        clip = ClipCounter(is_integer_subtype(st), rounding_steps(st))
         with atomic_output(out) as tmp:
             kw = {"endian": src.endian} if fmt == src.format else {}
             with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,

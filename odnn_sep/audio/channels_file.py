@@ -87,7 +87,7 @@ def denoise_file_channels(path_in, path_out, *, picks=None, spatial=False, subty
     import soundfile as sf
 
     from odnn_sep.audio.channels import denoise_channels
-    from odnn_sep.audio.io import ClipCounter, FileSource, is_integer_subtype, output_subtype
+    from odnn_sep.audio.io import ClipCounter, FileSource, is_integer_subtype, output_subtype, rounding_steps
     from odnn_sep.io_paths import check_output_path
     from odnn_sep.io_utils import atomic_output
 
@@ -105,7 +105,7 @@ def denoise_file_channels(path_in, path_out, *, picks=None, spatial=False, subty
         src.close()
     cleaned, report = denoise_channels(data, float(src.sr), picks=picks, spatial=spatial, channel_axis=1,
                                        return_report=True, **engine_options)
-    clip = ClipCounter(is_integer_subtype(st))
+    clip = ClipCounter(is_integer_subtype(st), rounding_steps(st))
     kw = {"endian": src.endian} if fmt == src.format else {}
     with atomic_output(out) as tmp:
         sf.write(str(tmp), clip(cleaned), src.sr, format=fmt, subtype=st, **kw)

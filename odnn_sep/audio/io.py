@@ -325,6 +325,9 @@ class ClipCounter:
     ----------
     integer : bool
         Whether the output subtype is an integer one (only those are clipped).
+    steps : int, optional
+        Round to this many steps per unit before writing (128 for 8-bit subtypes, which
+        libsndfile truncates: every sample came out half a step low, a DC shift of -0.5 LSB).
 
     Examples
     --------
@@ -336,10 +339,13 @@ class ClipCounter:
     'output clipped: 2 sample(s) exceeded full scale by up to 6.02 dB (peak 2.0000); ...'
     >>> ClipCounter(integer=False).message() is None
     True
+    >>> (ClipCounter(integer=True, steps=128)(np.array([0.3 + 0.7 / 128])) * 128).tolist()
+    [39.0]
     """
 
-    def __init__(self, integer: bool):
+    def __init__(self, integer: bool, steps: int | None = None):
         self.integer = integer
+        self.steps = steps
         self.n_clipped = 0
         self.peak = 0.0
 
@@ -354,6 +360,8 @@ class ClipCounter:
             if over.any():
                 self.n_clipped += int(over.sum())
                 block = np.clip(block, -1.0, 1.0)
+        if self.steps:
+            block = np.round(block * self.steps) / self.steps
         return block
 
     def message(self) -> str | None:
@@ -365,6 +373,18 @@ class ClipCounter:
                     f"(peak {self.peak:.4f}); lower the input gain or write a float subtype (--subtype FLOAT)")
         return (f"output peak {self.peak:.4f} exceeds full scale by {db:.2f} dB (float file, not clipped); "
                 f"players may clip it")
+
+
+def rounding_steps(subtype: str) -> int | None:
+    """Steps per unit to round to before writing ``subtype`` (see :class:`ClipCounter`): 128 for the
+    8-bit subtypes, None for the others (libsndfile rounds those itself).
+
+    Examples
+    --------
+    >>> rounding_steps("PCM_U8"), rounding_steps("PCM_16")
+    (128, None)
+    """
+    return 128 if subtype in ("PCM_U8", "PCM_S8") else None
 
 
 def is_integer_subtype(subtype: str) -> bool:

@@ -239,3 +239,16 @@ def test_tones_limited_and_merged(tmp_path, capsys):
     assert main(args) != 0
     assert "above the limit of 100" in capsys.readouterr().err
     assert not (tmp_path / "out.wav").exists()
+
+
+def test_8bit_output_has_no_half_step_shift(tmp_path):
+    sr = 8000
+    t = np.arange(6 * sr) / sr
+    y = 0.05 * np.random.default_rng(0).standard_normal(t.size) + 0.1 * np.sin(2 * np.pi * 50 * t)
+    wav = tmp_path / "u8.wav"
+    sf.write(wav, y, sr, subtype="PCM_U8")
+    x, _ = sf.read(wav)
+    assert main(["denoise", str(wav), "-o", str(tmp_path / "o.wav"), "--quiet"]) == 0
+    o, _ = sf.read(tmp_path / "o.wav")
+    assert sf.info(tmp_path / "o.wav").subtype == "PCM_U8"
+    assert abs(o.mean() - x.mean()) * 128 < 0.1          # was -0.5 step (libsndfile truncates 8-bit)
