@@ -100,6 +100,10 @@ def _pick_inputs(names, columns, info):
     for name in names:
         if name == info.get("column"):
             raise InputError(f"--input {name!r} is the analysed column itself; pick the drive's own column")
+        bad = info.get("not_numeric", {}).get(name)
+        if name not in columns and bad:
+            raise InputError(f"--input {name!r} has a missing or non-numeric value at {bad}; an input needs a "
+                             f"number on every row: fill that cell or drop the row")
         if name not in columns:
             import difflib
             close = difflib.get_close_matches(name, list(columns), n=1)
@@ -152,6 +156,7 @@ def _load_series(args, params, model):
     if info.get("frames"):
         params, model = _frame_params(args, params, model, info)
     inputs = _pick_inputs(args.input, aux, info)
+    info.pop("not_numeric", None)      # (only for the message above; the report lists the columns used)
     if args.no_aux or model.family != "hum":
         # other channels only enter through the hum preset's channel_coupling effect
         aux = {}

@@ -47,6 +47,9 @@ def parse_disturbance(spec):
         if not item:
             continue
         if item in ("auto", "slow", "none"):
+            if cls != "auto" and item != cls:
+                raise InputError(f"--disturbance names two wander classes, {cls!r} and {item!r}; give one of "
+                                 f"auto, slow or none")
             cls = item
         elif item == "lines":
             lines = True

@@ -17,17 +17,25 @@ def _pick_column(header, column, path="the CSV"):
     return pick_column(header, column, path=path)
 
 
-def _numeric_columns(rows, skip):
-    """{header: values} for every all-numeric column of ``rows[1:]`` not in ``skip`` (aux channels)."""
+def _numeric_columns(rows, skip, why=None):
+    """{header: values} for every all-numeric column of ``rows[1:]`` not in ``skip`` (aux channels);
+    ``why`` (a dict), when given, gets the first line and cell that kept each other column out."""
     header = [h.strip() for h in rows[0]]
     out = {}
     for j, name in enumerate(header):
         if j in skip:
             continue
-        try:
-            out[name or f"col{j}"] = np.array([float(r[j]) for r in rows[1:]])
-        except (ValueError, IndexError):
-            continue   # a label or unit column, not a channel
+        vals = []
+        for k, r in enumerate(rows[1:], start=2):
+            try:
+                vals.append(float(r[j]))
+            except (ValueError, IndexError):
+                # a label or unit column, not a channel
+                if why is not None:
+                    why[name or f"col{j}"] = f"line {k} ({r[j]!r})" if j < len(r) else f"line {k} (no cell)"
+                break
+        else:
+            out[name or f"col{j}"] = np.array(vals)
     return out
 
 
@@ -83,7 +91,8 @@ def read_csv(path, column=None, *, aux=False):
                               f"got {r[:max(j + 1, 1)]}") from None
     info = {"format": "csv", "column": header[j].strip(), "time": header[0].strip()}
     if aux:
-        return np.array(t), np.array(y), info, _numeric_columns(rows, {0, j})
+        info["not_numeric"] = {}
+        return np.array(t), np.array(y), info, _numeric_columns(rows, {0, j}, info["not_numeric"])
     return np.array(t), np.array(y), info
 
 

@@ -99,30 +99,3 @@ def test_cli_reports_spikes_and_keep_spikes_turns_it_off(tmp_path):
         assert ("spikes" in names) is want
         assert d["verdict"]["effects"] == []
 
-
-def test_field_given_to_a_time_series_preset_is_refused(tmp_path, capsys):
-    x, y = np.linspace(0, 1, 20), np.linspace(0, 1, 30)
-    X, Y = np.meshgrid(x, y)
-    f = tmp_path / "f.npz"
-    np.savez(f, x=x, y=y, z=np.sin(3 * X) * Y)
-    for model in ("oscillator", "cooling", "freefall"):
-        assert main(["mismatch", str(f), "--model", model]) != 0
-        err = capsys.readouterr().err
-        assert "2-D field" in err and "Traceback" not in err
-
-
-def test_csv_without_header_is_refused(tmp_path, capsys):
-    f = tmp_path / "nh.csv"
-    np.savetxt(f, np.column_stack([np.arange(50.0), np.exp(-np.arange(50.0) / 20)]), delimiter=",")
-    assert main(["mismatch", str(f), "--model", "cooling"]) != 0
-    assert "no header row" in capsys.readouterr().err
-    assert main(["separate", str(f), "--basis", "x", "-o", str(tmp_path / "o.csv")]) != 0
-    assert "no header row" in capsys.readouterr().err
-    assert not (tmp_path / "o.csv").exists()
-
-
-def test_negative_radiation_is_warned():
-    from odnn_sep.mismatch.inputs import physical_warnings
-
-    assert any("heat gain" in w for w in physical_warnings({"r_rad": -0.02, "h": 0.01}))
-    assert physical_warnings({"r_rad": 0.02, "h": 0.01}) == []
