@@ -49,6 +49,11 @@ class DenoiseOptions:
         max_hz = parse_max_hz(self.max_hz, sr)
         check_option("solver", self.solver, ("exact", "network"))
         block_s = parse_block_s(self.block_s)
+        lowest = 0.99 * (mains if isinstance(mains, (int, float)) else 50.0)
+        if max_hz is not None and max_hz < lowest:
+            # every line would be cut off: "no hum found" would be the option's doing, not the data's
+            raise InputError(f"max_hz={max_hz:g} Hz is below the mains fundamental ({lowest / 0.99:g} Hz): no line "
+                             f"could be removed; raise it (it is the highest harmonic frequency to consider)")
         check_type("alpha", self.alpha, numbers.Real, "a number between 0 and 1")
         if not 0 < float(self.alpha) < 1:
             raise InputError(f"alpha must be between 0 and 1 (a significance level); got {self.alpha!r}")

@@ -91,6 +91,8 @@ def test_truncated_wav_is_reported_and_bad_max_hz_refused(tmp_path, caplog):
     assert r.info["truncated"] and "truncated" in caplog.text and "ends at 3.00 s" in caplog.text
     with pytest.raises(InputError, match="max_hz must be a positive frequency"):
         denoise(y, SR, max_hz=-1)
+    with pytest.raises(InputError, match="below the mains fundamental"):
+        denoise(y, SR, max_hz=10)
 
 
 def test_requantisation_note():
