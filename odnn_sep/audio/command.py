@@ -129,7 +129,7 @@ def run(args) -> int:
     res = denoise_file(inp, args.output, subtype=args.subtype, mains=args.mains, harmonics=args.harmonics,
                        tones=args.tone, block_s=args.block_s, solver=args.solver, max_hz=args.max_hz,
                        progress=not args.quiet)
-    if res.clip_message:
+    if res.clip_message and args.quiet:     # (without --quiet the log has said it already)
         print(f"Warning: {res.clip_message}", file=sys.stderr)
     if args.report:
         write_json(args.report, res.as_dict())
@@ -173,7 +173,7 @@ def _run_channels(args, inp) -> int:
                                 subtype=args.subtype, mains=args.mains, harmonics=args.harmonics, tones=args.tone,
                                 block_s=args.block_s, solver=args.solver, max_hz=args.max_hz,
                                 progress=not args.quiet)
-    if rep["clipping"]:
+    if rep["clipping"] and args.quiet:
         print(f"Warning: {rep['clipping']}", file=sys.stderr)
     if args.report:
         write_json(args.report, rep)
