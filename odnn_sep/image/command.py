@@ -123,8 +123,8 @@ def run(args) -> int:
         raise InputError("--reference is used on its own; drop --text/--mask")
     inp = _checked_paths(args)
     img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
-    mask = read_image(args.mask) if args.mask else None  # its size is checked by unwatermark
-    reference = read_image(args.reference) if args.reference else None
+    mask = read_image(args.mask, what="--mask image") if args.mask else None  # its size is checked by unwatermark
+    reference = read_image(args.reference, what="--reference image") if args.reference else None
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
                       inpaint_lost=not args.no_inpaint, mask_invert=args.mask_invert, reference=reference)

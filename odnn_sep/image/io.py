@@ -215,13 +215,15 @@ def paste(planes: Planes, crop: np.ndarray | None = None, box=None) -> np.ndarra
     return out
 
 
-def read_image(path: str | os.PathLike) -> np.ndarray:
+def read_image(path: str | os.PathLike, *, what: str = "input image") -> np.ndarray:
     """Read an image file as an upright RGB/RGBA/grey/grey+alpha array of its own dtype (uint8 or uint16).
 
     Parameters
     ----------
     path : str or Path
         A PNG, JPEG, TIFF, WebP or BMP file.
+    what : str, optional
+        What the file is, for the messages (``--mask image``, ``--reference image``).
 
     Returns
     -------
@@ -240,10 +242,10 @@ def read_image(path: str | os.PathLike) -> np.ndarray:
     >>> b.shape, b.dtype, bool(np.array_equal(a, b))
     ((32, 48, 3), dtype('uint8'), True)
     """
-    return read_image_meta(path)[0]
+    return read_image_meta(path, what=what)[0]
 
 
-def read_image_meta(path):
+def read_image_meta(path, *, what: str = "input image"):
     """(pixels, :class:`io_meta.ImageMeta`) of an image file; the EXIF orientation is applied.
 
     Parameters
@@ -280,10 +282,10 @@ def read_image_meta(path):
     from odnn_sep.io_paths import check_input_path
     from odnn_sep.io_utils import ensure_readable
 
-    p = check_input_path(path, what="input image")
+    p = check_input_path(path, what=what)
     meta = read_meta(p)
     if meta.frames > 1:
-        raise FormatError(f"input image {str(p)!r} is animated ({meta.frames} frames); extract the one frame "
+        raise FormatError(f"{what} {str(p)!r} is animated ({meta.frames} frames); extract the one frame "
                           f"to process (e.g. as PNG) and pass that")
 
     def _read(q):
@@ -293,9 +295,9 @@ def read_image_meta(path):
             raise FormatError("not a readable PNG/JPEG/TIFF/WebP/BMP image")
         return img
 
-    img = ensure_readable(p, _read, what="input image")
+    img = ensure_readable(p, _read, what=what)
     if img.size == 0:
-        raise FormatError(f"input image {str(p)!r} is empty (no pixels)")
+        raise FormatError(f"{what} {str(p)!r} is empty (no pixels)")
     if img.ndim == 3 and img.shape[2] == 3:
         img = cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
     elif img.ndim == 3 and img.shape[2] == 4:
