@@ -134,3 +134,16 @@ def test_cli_exit_code_3_and_keep_partial(tmp_path, monkeypatch):
     out3 = tmp_path / "o3.png"
     assert main(["unwatermark", str(src), "--reference", str(big), "-o", str(out3)]) == 1
     assert not out3.exists()
+
+
+def test_unreadable_reference_is_named_as_the_reference(tmp_path, capsys):
+    from PIL import Image
+
+    from odnn_sep.cli import main
+
+    Image.fromarray(np.zeros((40, 60, 3), np.uint8)).save(tmp_path / "p.png")
+    (tmp_path / "logo.png").write_text("not an image")
+    assert main(["unwatermark", str(tmp_path / "p.png"), "-o", str(tmp_path / "o.png"), "--reference",
+                 str(tmp_path / "logo.png")]) != 0
+    assert "--reference image" in capsys.readouterr().err
+    assert not (tmp_path / "o.png").exists()

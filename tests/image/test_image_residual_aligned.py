@@ -59,15 +59,3 @@ def test_tiny_image_with_a_mask_covering_its_middle_runs(tmp_path, capsys):
     assert rc in (0, 3)
     assert "Traceback" not in capsys.readouterr().err
 
-
-def test_unreadable_reference_is_named_as_the_reference(tmp_path, capsys):
-    from PIL import Image
-
-    from odnn_sep.cli import main
-
-    Image.fromarray(np.zeros((40, 60, 3), np.uint8)).save(tmp_path / "p.png")
-    (tmp_path / "logo.png").write_text("not an image")
-    assert main(["unwatermark", str(tmp_path / "p.png"), "-o", str(tmp_path / "o.png"), "--reference",
-                 str(tmp_path / "logo.png")]) != 0
-    assert "--reference image" in capsys.readouterr().err
-    assert not (tmp_path / "o.png").exists()
