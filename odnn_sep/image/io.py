@@ -390,6 +390,9 @@ def write_image(path: str | os.PathLike, image: np.ndarray, *inputs, jpeg_qualit
         elif a.ndim == 3 and a.shape[2] == 4:
             a = cv2.cvtColor(a, cv2.COLOR_RGBA2BGRA)
         if a.dtype == np.uint16 and suffix in (".jpg", ".jpeg", ".webp", ".bmp"):
+            log.warning("%s holds 8 bits per channel: the 16-bit image is written at 8 bits to %s; use .png or "
+                        ".tiff to keep 16 bits", {".jpg": "JPEG", ".jpeg": "JPEG"}.get(suffix, suffix[1:].upper()),
+                        out.name)
             a = np.round(a / 257.0).astype(np.uint8)  # these formats hold 8 bits only
         params = [cv2.IMWRITE_JPEG_QUALITY, int(jpeg_quality)] if suffix in (".jpg", ".jpeg") else []
         if suffix == ".webp":

@@ -127,3 +127,15 @@ def test_cli_keeps_orientation_exif_and_icc(tmp_path):
     with Image.open(out) as im:
         assert im.size == (200, 120) and im.getexif().get(0x0112) == 1
         assert im.info.get("icc_profile") == icc
+
+
+def test_16bit_to_jpeg_is_warned(tmp_path, caplog):
+    import logging
+
+    from odnn_sep.image.io import read_image, write_image
+
+    img = (np.arange(32 * 48 * 3, dtype=np.uint16).reshape(32, 48, 3) * 20)
+    with caplog.at_level(logging.WARNING):
+        write_image(tmp_path / "o.jpg", img)
+    assert "16-bit image is written at 8 bits" in caplog.text
+    assert read_image(tmp_path / "o.jpg").dtype == np.uint8
