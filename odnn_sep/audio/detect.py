@@ -22,6 +22,10 @@ DRIFT_TOL_HZ = 0.1      # fundamental wander the detection band allows for (per 
 MAX_HARMONICS = 40
 FLOOR_GAP_HZ = 1.0      # gap between a line band and the floor region
 FLOOR_WIDTH_HZ = 8.0    # width of the floor region on each side
+# Spectra coarser than this (inputs under about 8 s) place the fundamental by its strongest line's
+# interpolated peak (``refine_fundamental``); the vote over every harmonic stands on finer ones.
+COARSE_DF_HZ = 0.25
+STRONG_LINE = 10.0      # peak power over the local floor of a line that can place the fundamental alone
 
 
 @dataclass
@@ -292,8 +296,46 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
         a, b, c = score[i - 1: i + 2]
         den = a - 2 * b + c
         off = 0.5 * (a - c) / den if den < 0 else 0.0
-        return float(grid[i] + off * (grid[1] - grid[0]))
-    return float(grid[i])
+        f0 = float(grid[i] + off * (grid[1] - grid[0]))
+    else:
+        f0 = float(grid[i])
+    if spec.df > COARSE_DF_HZ:
+        # few bins per hertz: the interpolated spectrum peaks at a bin, up to half a bin (0.4 Hz at
+        # 2.5 s) from the line, and the noise of 40 harmonics' bins outvotes one clear line; the
+        # strongest line's own peak, interpolated on its three bins, places it to a small part of a bin
+        f_line = _strongest_line(spec, pooled, nominal, ks, rel_search)
+        if f_line is not None:
+            return f_line
+    return f0
+
+
+def _strongest_line(spec: Spectrum, pooled: np.ndarray, nominal: float, ks, rel_search: float) -> float | None:
+    """The fundamental given by the strongest harmonic's peak (quadratic interpolation of the log
+    power on the peak bin and its neighbours, exact to a few hundredths of a bin for a Hann window),
+    or None when no harmonic stands ``STRONG_LINE`` times over its floor."""
+    best = None
+    for k in ks:
+        lo, hi = k * nominal * (1 - rel_search), k * nominal * (1 + rel_search)
+        sel = np.flatnonzero((spec.freqs >= lo - spec.df) & (spec.freqs <= hi + spec.df))
+        if len(sel) == 0:
+            continue
+        j = int(sel[np.argmax(pooled[sel])])
+        if j == 0 or j >= len(pooled) - 1:
+            continue
+        st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), k * nominal,
+                        band_halfwidth(spec, k) + k * nominal * rel_search)
+        fl = float(st["floor"][0])
+        ratio = float(pooled[j]) / fl if np.isfinite(fl) and fl > 0 else 0.0
+        if ratio >= STRONG_LINE and (best is None or ratio > best[0]):
+            best = (ratio, k, j)
+    if best is None:
+        return None
+    _, k, j = best
+    a, b, c = np.log(np.maximum(pooled[j - 1: j + 2], 1e-300))
+    den = a - 2 * b + c
+    off = float(np.clip(0.5 * (a - c) / den, -0.5, 0.5)) if den < 0 else 0.0
+    f = (spec.freqs[j] + off * spec.df) / k
+    return float(f) if abs(f - nominal) <= nominal * rel_search else None
 
 
 def candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> list[int]:
