@@ -147,7 +147,7 @@ def run(args) -> int:
             lines = ", ".join(res.line_names)
             f0 = f"{res.mains_hz:.4f} Hz" if res.mains_hz else "-"
             level = res.info.get("level_followed_s")
-            level = f"; its level changes and was followed at {level:g} s" if level else ""
+            level = f"; its level was followed at {level:g} s" if level else ""
             jumps = res.info.get("level_steps_s") or []
             if jumps:
                 level += f", stepping at {_first_times(jumps, 2)} s"
