@@ -303,16 +303,18 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
         # few bins per hertz: the interpolated spectrum peaks at a bin, up to half a bin (0.4 Hz at
         # 2.5 s) from the line, and the noise of 40 harmonics' bins outvotes one clear line; the
         # strongest line's own peak, interpolated on its three bins, places it to a small part of a bin
-        f_line = _strongest_line(spec, pooled, nominal, ks, rel_search)
+        f_line = _strongest_line(spec_pooled, nominal, ks, rel_search)
         if f_line is not None:
             return f_line
     return f0
 
 
-def _strongest_line(spec: Spectrum, pooled: np.ndarray, nominal: float, ks, rel_search: float) -> float | None:
-    """The fundamental given by the strongest harmonic's peak (quadratic interpolation of the log
-    power on the peak bin and its neighbours, exact to a few hundredths of a bin for a Hann window),
-    or None when no harmonic stands ``STRONG_LINE`` times over its floor."""
+def _strongest_line(spec: Spectrum, nominal: float, ks, rel_search: float) -> float | None:
+    """The fundamental given by the strongest harmonic's peak in the channels-pooled ``spec``
+    (quadratic interpolation of the log power on the peak bin and its neighbours, exact to a few
+    hundredths of a bin for a Hann window), or None when no harmonic stands ``STRONG_LINE`` times
+    over its floor."""
+    pooled = spec.psd[:, 0]
     best = None
     for k in ks:
         lo, hi = k * nominal * (1 - rel_search), k * nominal * (1 + rel_search)
@@ -322,8 +324,7 @@ def _strongest_line(spec: Spectrum, pooled: np.ndarray, nominal: float, ks, rel_
         j = int(sel[np.argmax(pooled[sel])])
         if j == 0 or j >= len(pooled) - 1:
             continue
-        st = line_level(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), k * nominal,
-                        band_halfwidth(spec, k) + k * nominal * rel_search)
+        st = line_level(spec, k * nominal, band_halfwidth(spec, k) + k * nominal * rel_search)
         fl = float(st["floor"][0])
         ratio = float(pooled[j]) / fl if np.isfinite(fl) and fl > 0 else 0.0
         if ratio >= STRONG_LINE and (best is None or ratio > best[0]):

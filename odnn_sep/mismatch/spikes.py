@@ -17,10 +17,12 @@ AR prewhitening of red noise, the spectra of the periodic candidates, the held-o
 spike's sample is given its neighbours' median residual on top of the fitted model, which is
 what a Hampel filter gives; the record keeps its length and spacing.
 
-What is flagged: samples whose departure from the local median exceeds ``Z_SPIKE`` robust
-standard deviations, in runs of at most ``MAX_RUN`` samples (a longer run is a transient, which
-may be physics), and only while they are at most ``MAX_SHARE`` of the record (more outliers
-than that is heavy-tailed noise or a wrong model, not spikes: nothing is repaired then).
+What is flagged: samples that depart from both sides' medians (a field: its nearest points')
+by more than ``Z_SPIKE`` robust standard deviations, measured against the spread of the
+``LOCAL_SPREAD`` samples around them where that is larger, in runs of at most ``MAX_RUN`` samples
+(a longer run is a transient, which may be physics), and only while they are at most
+``MAX_SHARE`` of the record (more outliers than that is heavy-tailed noise or a wrong model, not
+spikes: nothing is repaired then).
 """
 from __future__ import annotations
 
