@@ -309,10 +309,51 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
     return f0
 
 
-def _strongest_line(spec: Spectrum, nominal: float, ks, rel_search: float) -> float | None:
+def strongest_line_fundamental(spec: Spectrum, nominal: float, ks, *, min_ratio: float = STRONG_LINE,
+                               rel_search: float = 0.01) -> float | None:
+    """The fundamental placed by the strongest of harmonics ``ks`` alone (its interpolated peak in
+    the channels-pooled spectrum), or None when none stands ``min_ratio`` times over its floor.
+
+    :func:`refine_fundamental`'s vote counts every harmonic; where the spectrum has a shape of its
+    own (an EEG's 1/f slope and an anti-alias or notch filter's dips), harmonics without a line
+    vote for bumps of that shape and can outvote the one clear line: a 50.00 Hz EEG line was placed
+    at 49.63 Hz by a bump beside a dip at 100 Hz.
+
+    Parameters
+    ----------
+    spec : Spectrum
+        The spectrum.
+    nominal : float
+        Nominal fundamental (Hz).
+    ks : sequence of int
+        Harmonics that may place it.
+    min_ratio : float
+        Least peak power over the local floor.
+    rel_search : float
+        Relative search range around ``nominal``.
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 500; t = np.arange(60 * sr) / sr
+    >>> y = 0.05 * np.cos(2 * np.pi * 50.0 * t) + np.random.default_rng(0).standard_normal(t.size)
+    >>> round(strongest_line_fundamental(excerpt_spectrum(ArraySource(y, sr)), 50.0, [1, 2]), 2)
+    50.0
+    """
+    pooled = spec.psd.sum(axis=1)
+    return _strongest_line(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), nominal, ks,
+                           rel_search, min_ratio=min_ratio)
+
+
+def _strongest_line(spec: Spectrum, nominal: float, ks, rel_search: float,
+                    min_ratio: float = STRONG_LINE) -> float | None:
     """The fundamental given by the strongest harmonic's peak in the channels-pooled ``spec``
     (quadratic interpolation of the log power on the peak bin and its neighbours, exact to a few
-    hundredths of a bin for a Hann window), or None when no harmonic stands ``STRONG_LINE`` times
+    hundredths of a bin for a Hann window), or None when no harmonic stands ``min_ratio`` times
     over its floor."""
     pooled = spec.psd[:, 0]
     best = None
@@ -327,7 +368,7 @@ def _strongest_line(spec: Spectrum, nominal: float, ks, rel_search: float) -> fl
         st = line_level(spec, k * nominal, band_halfwidth(spec, k) + k * nominal * rel_search)
         fl = float(st["floor"][0])
         ratio = float(pooled[j]) / fl if np.isfinite(fl) and fl > 0 else 0.0
-        if ratio >= STRONG_LINE and (best is None or ratio > best[0]):
+        if ratio >= min_ratio and (best is None or ratio > best[0]):
             best = (ratio, k, j)
     if best is None:
         return None

@@ -277,6 +277,13 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
     f_med = trk.median_f0(det.mains_hz)
     line_f = [k * f_med for k in ks] + lines.fixed_freqs
     sr, N, C = source.sr, source.frames, source.channels
+    isolated = isolated_lines(_peak_amplitudes(found.spec_before, ks, f_med))
+    for k, db in isolated:
+        others = ",".join(str(j) for j in ks if j != k)
+        log.warning("line h%d (%.1f Hz) stands %.0f dB above every other line of the hum, with no harmonic beside "
+                    "it: a steady tone at a multiple of the mains frequency cannot be told from hum, and it was "
+                    "removed; if it is content (a test tone, a note), keep it with --harmonics %s",
+                    k, k * f_med, db, others or "(none)")
     return DenoiseResult(
         y=None, hum=None, sr=sr, mains_hz=f_med, nominal_hz=det.nominal_hz, harmonics=ks, tones=lines.tones,
         extra_combs=[{"fundamental_hz": c.fundamental_hz, "harmonics": c.harmonics} for c in lines.combs],
@@ -287,7 +294,7 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
         candidates=det.candidates + [c for comb in lines.combs for c in comb.candidates],
         block_valid=valid, amplitude_overall=overall,
         info={"solver": opts.solver, "block_s": found.plan.block_s, "channels": C, "frames": N,
-              "duration_s": N / sr, "level_followed_s": found.envelope.width_s if found.envelope else None,
+              "duration_s": N / sr, "isolated_lines": [k for k, _ in isolated], "level_followed_s": found.envelope.width_s if found.envelope else None,
               # where that level steps (a load switched, a device turned on or off: envelope.level_steps)
               "level_steps_s": list(found.envelope.steps_s) if found.envelope else [],
               # steps of the hum's phase kept whole (a splice, a source switched over: phasejumps.py)
@@ -295,3 +302,53 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
                               for a, d in getattr(getattr(trk, "phase", None), "jumps", None) or []]},
         spectra={"freqs": found.spec_before.freqs, "before": found.spec_before.psd, "after": spec_after.psd},
     )
+
+
+def _peak_amplitudes(spec, ks, f0) -> dict:
+    """Harmonic -> the square root of its peak PSD (channels pooled) within its band: proportional
+    to a steady line's amplitude, whatever the input's length (the whole-input fit needs 3 blocks)."""
+    out = {}
+    for k in ks:
+        sel = np.abs(spec.freqs - k * f0) <= _detect.band_halfwidth(spec, k)
+        if sel.any():
+            out[k] = np.sqrt(np.array([spec.psd[sel].sum(axis=1).max()]))
+    return out
+
+
+ISOLATED_ABOVE_K = 5    # lines above this harmonic may be content that happens to sit on the comb
+ISOLATED_DB = 12.0      # ... when they stand this far above every other line
+
+
+def isolated_lines(h_amp: dict) -> list[tuple[int, float]]:
+    """Harmonics above ``ISOLATED_ABOVE_K`` that stand ``ISOLATED_DB`` or more above every other
+    line of the comb and have no other harmonic within two of them: ``[(k, dB above the next
+    strongest line)]``. Mains hum is strongest low down or spread over many harmonics (a dimmer,
+    a rectifier); one loud line far up with nothing beside it is more often a test tone or a held
+    note at a multiple of 50/60 Hz, which a steady hum cannot be told from (both are locked).
+
+    Parameters
+    ----------
+    h_amp : dict
+        Harmonic -> amplitude per channel (or any measure proportional to it).
+
+    Returns
+    -------
+    list of (int, float)
+
+    Examples
+    --------
+    >>> isolated_lines({1: np.array([0.05]), 20: np.array([0.3])})
+    [(20, 15.6)]
+    >>> isolated_lines({1: np.array([0.05]), 2: np.array([0.3])})        # low down: hum
+    []
+    """
+    amp = {int(k): float(np.max(np.abs(v))) for k, v in h_amp.items()}
+    out = []
+    for k, a in amp.items():
+        rest = [b for j, b in amp.items() if j != k]
+        if k <= ISOLATED_ABOVE_K or not rest or any(abs(j - k) <= 2 for j in amp if j != k):
+            continue
+        db = 20 * np.log10(a / max(max(rest), 1e-300))
+        if db >= ISOLATED_DB:
+            out.append((k, round(float(db), 1)))
+    return out

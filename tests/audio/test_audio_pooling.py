@@ -79,3 +79,33 @@ def test_lock_test_records_gap_harmonics_and_keeps_absent_ones_out():
     looks = {c["harmonic"]: c for c in r.candidates if c.get("look") == "phase lock"}
     assert looks[5]["significant"] and looks[5]["lock_index"] > 0.9
     assert not looks[4]["significant"] and looks[4]["lock_index"] < 0.7
+
+
+def _one_channel_hum(hum_amp, seed=5, sr=8000, dur=10.0):
+    """Stereo noise and a 440 Hz tone on both channels; a weak 50 Hz hum on channel 1 only."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(int(dur * sr)) / sr
+    content = 0.05 * rng.standard_normal((t.size, 2)) + 0.1 * np.sin(2 * np.pi * 440 * t)[:, None]
+    hum = np.zeros_like(content)
+    hum[:, 1] = hum_amp * np.sin(2 * np.pi * 50 * t)
+    return content, hum, sr, t
+
+
+def test_weak_hum_on_one_channel_of_a_stereo_input_is_removed_as_on_that_channel_alone():
+    from odnn_sep.audio import denoise
+
+    content, hum, sr, t = _one_channel_hum(0.003)
+    r = denoise(content + hum, sr)
+    line = lambda a: 2 * abs(np.mean(a * np.exp(-2j * np.pi * 50 * t)))  # noqa: E731
+    # the channels pooled halve its level and blur its track: it was left whole
+    assert r.harmonics == [1], r.harmonics
+    assert line(r.y[:, 1] - content[:, 1]) < 0.1 * line(hum[:, 1])
+    # the channel without hum keeps its content (its fitted hum is the noise at the line: -47 dB)
+    assert np.sqrt(np.mean((r.y[:, 0] - content[:, 0]) ** 2)) < 1e-2 * np.std(content[:, 0])
+
+
+def test_stereo_content_without_hum_finds_no_channel_comb():
+    from odnn_sep.audio import denoise
+
+    content, _, sr, _ = _one_channel_hum(0.0)
+    assert denoise(content, sr).harmonics == []
