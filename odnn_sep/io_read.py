@@ -10,21 +10,28 @@ from pathlib import Path
 from odnn_sep.errors import FormatError, InputError
 
 
-def check_header(header, *, path) -> None:
-    """Refuse a CSV whose first row holds only numbers: it is data, not a header, and reading it as
-    one would drop that row and name the columns by its values.
+def check_header(header, *, path, first_row=None) -> None:
+    """Refuse a CSV that is not comma-separated, or whose first row holds only numbers.
+
+    A header that is one cell holding ``;`` or a tab (``t;x``) comes from a file with another
+    separator (a spreadsheet saved in a locale with decimal commas): it is named in one line, with
+    the decimal commas when the first data row has them, instead of the errors of a misread file.
+    A first row of numbers is data, not a header: reading it as one would drop that row and name
+    the columns by its values.
 
     Parameters
     ----------
     header : list of str
-        The first row's cells.
+        The first row's cells (split at commas).
     path : str or Path
         The file (for the message).
+    first_row : list of str, optional
+        The first data row's cells (split at commas), to recognise decimal commas.
 
     Raises
     ------
     FormatError
-        When every cell of the first row is a number.
+        When the file uses another separator, or every cell of the first row is a number.
 
     Examples
     --------
@@ -33,7 +40,17 @@ def check_header(header, *, path) -> None:
     Traceback (most recent call last):
     ...
     odnn_sep.errors.FormatError: 'a.csv' has no header row (its first row, ['0.0', '90.1'], holds only numbers); add a first line naming the columns, e.g. t,y
+    >>> check_header(["t;x"], path="b.csv", first_row=["0", "5;1", "25"])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.FormatError: 'b.csv' seems to use ';' as separator (and ',' as decimal mark); save it as comma-separated with '.' decimals
     """
+    sep = separator_of(header, first_row)
+    if sep is not None:
+        name, decimal = sep
+        also = " (and ',' as decimal mark)" if decimal else ""
+        raise FormatError(f"{str(path)!r} seems to use {name} as separator{also}; save it as comma-separated "
+                          f"with '.' decimals")
     cells = [str(c).strip() for c in header]
     if not cells or not any(cells):
         return
@@ -44,6 +61,48 @@ def check_header(header, *, path) -> None:
             return
     raise FormatError(f"{str(path)!r} has no header row (its first row, {cells[:4]}, holds only numbers); add a "
                       f"first line naming the columns, e.g. t,y")
+
+
+def separator_of(header, first_row=None):
+    """The separator of a CSV that is not comma-separated, read off its header split at commas.
+
+    Parameters
+    ----------
+    header : list of str
+        The first row's cells, split at commas.
+    first_row : list of str, optional
+        The first data row's cells, split at commas.
+
+    Returns
+    -------
+    (str, bool) or None
+        The separator in words (``"';'"`` or ``"tabs"``) and whether the data use decimal commas;
+        None for a comma-separated header (or a single column without ``;`` or tabs).
+
+    Examples
+    --------
+    >>> separator_of(["t", "x"]) is None, separator_of(["t;x"], ["0.5;1.5"]), separator_of(["t" + chr(9) + "x"])
+    (True, ("';'", False), ('tabs', False))
+    >>> separator_of(["t;x"], ["0", "000000;1", "001257"])
+    ("';'", True)
+    """
+    cells = [str(c) for c in header]
+    if len(cells) != 1:
+        return None
+    cell = cells[0].strip().lstrip("\ufeff")
+    for sep, name in ((";", "';'"), ("\t", "tabs")):
+        if sep in cell:
+            raw = ",".join(str(c) for c in first_row or []).strip()
+            return name, any("," in v and _is_number(v.strip().replace(",", ".")) for v in raw.split(sep))
+    return None
+
+
+def _is_number(text) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def pick_column(header, column, *, path) -> int:

@@ -89,12 +89,16 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     try:
         with open(p, newline="", encoding="utf-8") as fh:
             header = [h.strip() for h in fh.readline().strip().split(",")]
+            first = fh.readline().strip().split(",")
+        # another separator or decimal commas: named before the numbers are misread
+        check_header(header, path=p, first_row=first)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
             data = np.genfromtxt(p, delimiter=",", skip_header=1, dtype=float, invalid_raise=True)
+    except FormatError:
+        raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise FormatError(f"could not read {str(p)!r} as CSV: {str(exc).strip().splitlines()[-1]}") from None
-    check_header(header, path=p)
     data = np.atleast_2d(data)
     if data.size == 0 or data.shape[1] < 2 or data.shape[0] < 2:
         raise FormatError(f"{str(p)!r} needs a header row, at least two data rows and at least two columns "

@@ -79,7 +79,7 @@ def read_csv(path, column=None, *, aux=False):
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = rows[0]
     from odnn_sep.io_read import check_header
-    check_header(header, path=path)
+    check_header(header, path=path, first_row=rows[1])
     j = _pick_column(header, column, path)
     t, y = [], []
     for k, r in enumerate(rows[1:], start=2):

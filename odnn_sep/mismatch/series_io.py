@@ -51,7 +51,7 @@ def read_series_csv(path, series, column=None):
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = [h.strip() for h in rows[0]]
     from odnn_sep.io_read import check_header
-    check_header(header, path=path)
+    check_header(header, path=path, first_row=rows[1])
     if series not in header:
         raise InputError(f"--series {series!r} is not a column of {str(path)!r}; {suggest_name(series, header)}"
                          f"columns: {', '.join(header)}")
