@@ -75,6 +75,58 @@ def _on_sigterm(signum, frame):
     raise Terminated()
 
 
+class LateSignals:
+    """SIGINT and SIGTERM once a run's outputs are in place: noted, no longer raised.
+
+    Before that point an interrupt takes every output back (exit 130 or 143). After it, the
+    outputs are complete and stay, so the exit status must not say otherwise: the signal is
+    only noted, :meth:`release` says so in one line and the run exits with its own status.
+    A process that exits after the run (the console script) ignores both signals from then
+    on, through the interpreter's shutdown, where Python would reset its handlers and let a late
+    Ctrl-C end the process with 130 and no message.
+
+    Examples
+    --------
+    >>> import signal
+    >>> late = LateSignals()
+    >>> late.hold()
+    >>> late._note(signal.SIGINT, None)    # what a Ctrl-C after the outputs were committed calls
+    >>> late.signum == signal.SIGINT
+    True
+    >>> late.release()
+    'interrupted after the outputs were written; they are complete'
+    >>> signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    True
+    """
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+    def __init__(self):
+        self.signum = None
+        self.previous: dict = {}
+
+    def _note(self, signum, frame):
+        self.signum = signum
+
+    def hold(self) -> None:
+        """From now on SIGINT and SIGTERM are only noted (main thread only; elsewhere nothing changes)."""
+        if threading.current_thread() is not threading.main_thread():
+            return
+        for s in self.SIGNALS:
+            self.previous.setdefault(s, signal.getsignal(s))
+            signal.signal(s, self._note)
+
+    def release(self, *, ignore: bool = False):
+        """Put the previous handlers back (``ignore``: ignore both signals instead); the line to print or None."""
+        for s, h in self.previous.items():
+            signal.signal(s, signal.SIG_IGN if ignore else (h if h is not None else signal.SIG_DFL))
+        self.previous.clear()
+        if self.signum is None:
+            return None
+        what = "terminated" if self.signum == signal.SIGTERM else "interrupted"
+        return f"{what} after the outputs were written; they are complete"
+
+
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The ``odnn-sep`` argument parser with every subcommand, or with ``command`` only.
 
@@ -232,6 +284,7 @@ def main(argv: list[str] | None = None) -> int:
     """
     # OpenCV's C++ logger would print its own warnings for every unreadable image; our errors say it
     os.environ.setdefault("OPENCV_LOG_LEVEL", "OFF")
+    from_argv = argv is None
     argv = sys.argv[1:] if argv is None else list(argv)
     # Everything after a bare "--" is handed to the command a batch runs (argparse's own "--"
     # handling does not reach sub-parsers reliably).
@@ -249,22 +302,31 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
-    return _run(args)
+    # called as the program (console script, python -m): after the run, the process only exits
+    return _run(args, process_exit=from_argv)
 
 
-def _run(args) -> int:
+def _run(args, *, process_exit=False) -> int:
     from odnn_sep.io_utils import describe_os_error, output_transaction
     from odnn_sep.report.schema import run_context
 
     installed = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _on_sigterm) if installed else None
+    late = LateSignals()
     try:
         from odnn_sep.validate import validate
 
         validate(args)
         _check_paths(args)
         with run_context(args.command, vars(args)), output_transaction():
-            return int(args.func(args) or 0)
+            code = int(args.func(args) or 0)
+            # every output is in place (only the temporary folders are left to remove): from here a
+            # signal cannot take them back, so it must not turn the exit status into 130
+            late.hold()
+        note = late.release(ignore=process_exit)
+        if note:
+            print(note.capitalize() + ".", file=sys.stderr)
+        return code
     except OdnnSepError as exc:
         if args.debug:
             raise
@@ -292,7 +354,13 @@ def _run(args) -> int:
               "Interrupted; nothing of this run was kept.", file=sys.stderr)
         return 143 if terminated else 130
     finally:
-        if installed:
+        late.release()
+        if installed and process_exit:
+            # the run is over and its exit status decided: a signal during the interpreter's
+            # shutdown must not replace it
+            for s in LateSignals.SIGNALS:
+                signal.signal(s, signal.SIG_IGN)
+        elif installed:
             signal.signal(signal.SIGTERM, previous if previous is not None else signal.SIG_DFL)
 
 
