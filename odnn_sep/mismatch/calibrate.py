@@ -240,7 +240,7 @@ class Calibration:
         iv = f.intervals()
         return {
             "model": f.model.name,
-            "parameters": {k: {"value": f.params[k], "stderr": f.stderr.get(k),
+            "parameters": {k: {"value": f.params[k], "stderr": f.reported_stderr(k),
                                "interval95": list(iv[k]) if k in iv else None} for k in f.free},
             "fixed": {k: f.params[k] for k in f.model.fixed if k in f.params},
             "disturbance": {"class": "slow band (constant, drift and slow cosine modes)" if self.G is not None

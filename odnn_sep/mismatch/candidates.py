@@ -69,7 +69,7 @@ class Candidate:
         """JSON-ready record: effect, score, parameters, intervals, held-out test, note, equivalents."""
         iv = self.intervals
         return {"effect": self.effect, "score": self.score, "parameters": self.effect_params,
-                "stderr": {k: self.fit.stderr.get(k) for k in self.effect_params},
+                "stderr": {k: self.fit.reported_stderr(k) for k in self.effect_params},
                 "interval95": {k: (list(v) if v is not None else None) for k, v in iv.items()},
                 "residual_rms": self.fit.rms, "bic": self.fit.bic, "step": self.step,
                 "heldout_improvement": self.cv_improvement, "heldout_gain": self.heldout_gain,

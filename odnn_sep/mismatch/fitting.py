@@ -105,17 +105,59 @@ class Fit:
         """
         return float(np.sqrt(np.mean(self.residual ** 2)))
 
+    def determined(self, name) -> bool:
+        """Whether the spread of parameter ``name`` was determined by the data.
+
+        A standard error that is not finite, or whose 95 % half-width is zero or within float
+        resolution of the value, on a record with a non-zero residual, comes from a flat or singular
+        Jacobian (a difference step under the integration error, or one that changes nothing), not
+        from the data: such a parameter gets no interval (never "± 0").
+
+        Parameters
+        ----------
+        name : str
+            A free parameter.
+
+        Returns
+        -------
+        bool
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from odnn_sep.mismatch.model import make_model
+        >>> t = np.linspace(0, 1, 60)
+        >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
+        >>> f.determined("g")
+        True
+        >>> f.stderr["g"] = 0.0
+        >>> f.determined("g"), "g" in f.intervals(), f.reported_stderr("g")
+        (False, False, None)
+        """
+        s = self.stderr.get(name)
+        if s is None or not np.isfinite(s):
+            return False
+        v = float(self.params[name])
+        scale = float(np.max(np.abs(self.prediction))) if np.size(self.prediction) else 0.0
+        noise_free = self.rms <= 1e-12 * max(scale, 1e-300)
+        return noise_free or t_over_normal(self.interval_dof) * s > 64 * np.spacing(abs(v))
+
+    def reported_stderr(self, name):
+        """The standard error of ``name`` for reports: None when not :meth:`determined` (see its example)."""
+        return self.stderr.get(name) if self.determined(name) else None
+
     def intervals(self) -> dict:
         """95 % intervals: Wald intervals on the robust standard errors, kept inside the bounds.
 
         Where a Wald interval would cross a physical bound (a rate > 0), the interval of the log
         (logit for two bounds) of the parameter is used (:func:`odnn_sep.core.bounded_interval.bounded_interval`);
         an estimate within one standard error of its bound gets the Wald interval cut at the bound.
+        A parameter whose spread is not :meth:`determined` has no interval.
 
         Returns
         -------
         dict
-            ``{name: (lo, hi)}`` per free parameter.
+            ``{name: (lo, hi)}`` per free parameter with a determined spread.
 
         Examples
         --------
@@ -131,6 +173,8 @@ class Fit:
         widen = t_over_normal(self.interval_dof)
         out = {}
         for k in names:
+            if not self.determined(k):
+                continue
             # Wald inside the bounds; a log / logit interval where the Wald one would cross a bound
             lo, hi = self.model.bounds.get(k, (-np.inf, np.inf))
             a, b = bounded_interval(self.params[k], widen * self.stderr[k], lo, hi)

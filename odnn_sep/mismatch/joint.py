@@ -319,9 +319,13 @@ def joint_text(est):
     Per series:
       mug0: h = 0.02 [0.019, 0.021]
     """
+    def iv(lo, hi, label=""):
+        # a spread the fit could not determine has no interval (nan): never printed as one
+        return "[interval not determined]" if not (np.isfinite(lo) and np.isfinite(hi)) else f"[{label}{lo:.4g}, {hi:.4g}]"
+
     lines = ["Joint fit: shared parameters"]
-    lines += [f"  {k} = {v:.4g}  [95%: {lo:.4g}, {hi:.4g}]" for k, (v, lo, hi) in est["shared"].items()]
+    lines += [f"  {k} = {v:.4g}  {iv(lo, hi, '95%: ')}" for k, (v, lo, hi) in est["shared"].items()]
     lines.append("Per series:")
     for name, ps in est["series"].items():
-        lines.append(f"  {name}: " + "; ".join(f"{k} = {v:.4g} [{lo:.4g}, {hi:.4g}]" for k, (v, lo, hi) in ps.items()))
+        lines.append(f"  {name}: " + "; ".join(f"{k} = {v:.4g} {iv(lo, hi)}" for k, (v, lo, hi) in ps.items()))
     return "\n".join(lines)

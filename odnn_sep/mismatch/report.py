@@ -1,13 +1,15 @@
 """Report of a mismatch analysis: the JSON the issue names, a text summary, and the figure."""
 from __future__ import annotations
 
+import numpy as np
+
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
 
 
 def _params_table(fit):
     iv = fit.intervals()
-    return {k: {"value": fit.params[k], "stderr": fit.stderr.get(k),
+    return {k: {"value": fit.params[k], "stderr": fit.reported_stderr(k),
                 "interval95": list(iv[k]) if k in iv else None} for k in fit.free}
 
 
@@ -20,7 +22,7 @@ def _effect_entry(c, final, base):
     iv = final.intervals()
     p = {k: final.params[k] for k in c.effect_params}
     return {"effect": c.effect, "description": EFFECTS[c.effect].description, "parameters": p,
-            "stderr": {k: final.stderr.get(k) for k in p},
+            "stderr": {k: final.reported_stderr(k) for k in p},
             "intervals": {k: list(iv[k]) if k in iv else None for k in p},
             "score": c.score, "heldout_improvement": c.cv_improvement, "heldout_gain": c.heldout_gain,
             "heldout_p_value": c.cv_p_value, "step": c.step,
@@ -102,17 +104,104 @@ def result_dict(res) -> dict:
     }
 
 
+# the final residual's rms over the noise level above which, with nothing named, the verdict says the
+# model does not fit instead of "nothing missing": on the benchmark's null records (coloured noise
+# included, where first differences underestimate the marginal level) it stays under about 2
+MISFIT_RATIO = 3.0
+MISFIT_P = 1e-6
+
+
+def misfit(res, ratio=MISFIT_RATIO, p_max=MISFIT_P):
+    """How far the final residual is above the noise, when it is so far that the model does not fit.
+
+    The test is the level check the report's ``where`` already uses: the residual energy over
+    ``noise_sigma**2`` is chi-square with about as many degrees of freedom as samples when only
+    noise is left. A fit that leaves ``ratio`` times the noise level (energy ``ratio**2`` times),
+    with a p-value under ``p_max``, does not describe the data: a calibration that did not
+    converge (time in ms, starting values far off) or something outside the effect library.
+
+    Parameters
+    ----------
+    res : MismatchResult
+        What :func:`~odnn_sep.mismatch.explain.explain` returned (``noise_sigma``, ``final_fit``).
+    ratio : float, optional
+        Smallest rms over the noise level counted as a misfit.
+    p_max : float, optional
+        Largest chi-square p-value counted as a misfit.
+
+    Returns
+    -------
+    dict or None
+        ``rms_over_noise`` and ``p_value`` of the final residual, or None when it is within
+        ``ratio`` of the noise (or the noise level is unknown).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace as NS
+    >>> r = np.random.default_rng(0).normal(0, 1, 400)
+    >>> misfit(NS(noise_sigma=1.0, final_fit=NS(residual=r), calibration=None)) is None
+    True
+    >>> m = misfit(NS(noise_sigma=1.0, final_fit=NS(residual=9 * r), calibration=None))
+    >>> round(m["rms_over_noise"]), m["p_value"]
+    (9, 0.0)
+    """
+    sigma = getattr(res, "noise_sigma", None)
+    final = getattr(res, "final_fit", None) or res.calibration.fit
+    r = np.asarray(final.residual, float).ravel()
+    r = r[np.isfinite(r)]
+    if not sigma or not np.isfinite(sigma) or sigma <= 0 or len(r) == 0:
+        return None
+    energy = float(np.sum(r ** 2) / sigma ** 2)
+    over = float(np.sqrt(energy / len(r)))
+    if over < ratio:
+        return None
+    from scipy import stats
+
+    p = float(stats.chi2.sf(energy, len(r)))
+    return {"rms_over_noise": over, "p_value": p} if p < p_max else None
+
+
+def misfit_sentence(m):
+    """The verdict's sentence for a model that does not fit (``m`` from :func:`misfit`).
+
+    Parameters
+    ----------
+    m : dict
+        ``rms_over_noise`` of the final residual.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> misfit_sentence({"rms_over_noise": 9.28, "p_value": 0.0})[:72]
+    'the model does not fit the data: the residual is 9.28x the noise level, '
+    """
+    return (f"the model does not fit the data: the residual is {m['rms_over_noise']:.3g}x the noise level, "
+            f"and no effect in the library explains it. The calibration may not have converged: check "
+            f"the time unit (the presets expect seconds) and the starting values (--param NAME=VALUE); "
+            f"or the data hold something outside the effect library")
+
+
 def _verdict(res, effects):
-    """The verdict: the first named effect (or "nothing missing"), every named effect and the rest."""
-    if not effects:
-        verdict = {"effect": None,
+    """The verdict: the first named effect (or "nothing missing", or "does not fit"), every named effect and the rest."""
+    bad = None if effects else misfit(res)
+    if bad is not None:
+        verdict = {"effect": None, "status": "model_does_not_fit", "description": misfit_sentence(bad),
+                   "parameters": {}}
+    elif not effects:
+        verdict = {"effect": None, "status": "nothing_missing",
                    "description": "nothing missing that the data can show: no effect improved the fit "
                                   "beyond the noise and disturbance (BIC and held-out test)",
                    "parameters": {}}
     else:
         verdict = dict(effects[0])
+        verdict["status"] = "effects_named"
         # effects the data cannot tell apart from the first one (BIC gap within the equivalence margin)
         verdict["ambiguous_with"] = list(res.named[0].equivalent)
+    verdict["misfit"] = bad
     verdict["effects"] = effects
     verdict["not_established"] = not_established(res)
     verdict["disturbances"] = list(res.disturbances)
@@ -205,9 +294,19 @@ def _verdict_lines(v):
         if e["equivalence"]:
             lines.append(f"     {e['equivalence']}")
         for k, x in e["parameters"].items():
-            lo, hi = e["intervals"].get(k) or (None, None)
-            lines.append(f"       {k} = {_fmt(x)}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
+            lines.append(f"       {k} = {_fmt(x)}  {_interval_text(e['intervals'].get(k))}")
     return lines
+
+
+NOT_DETERMINED = "interval not determined (flat or singular fit)"
+
+
+def _interval_text(iv, stderr=None, with_stderr=False):
+    """``± s  [95%: lo, hi]`` (or ``[95%: lo, hi]``), or :data:`NOT_DETERMINED` when there is no interval."""
+    if iv is None:
+        return NOT_DETERMINED
+    lo, hi = iv
+    return (f"± {_fmt(stderr)}  " if with_stderr else "") + f"[95%: {_fmt(lo)}, {_fmt(hi)}]"
 
 
 def _context_lines(v, failed):
@@ -287,8 +386,8 @@ def summary_text(res) -> str:
     lines = _verdict_lines(v) + _context_lines(v, d["failed_fits"])
     lines.append("Calibration (without the effect):")
     for k, p in d["calibration"]["parameters"].items():
-        lo, hi = p["interval95"] or (None, None)
-        lines.append(f"  {k} = {_fmt(p['value'])} ± {_fmt(p['stderr'])}  [95%: {_fmt(lo)}, {_fmt(hi)}]")
+        spread = _interval_text(p["interval95"], p["stderr"], True)
+        lines.append(f"  {k} = {_fmt(p['value'])}{'  ' if p['interval95'] is None else ' '}{spread}")
     return "\n".join(lines + _where_lines(d["where"]) + _fit_lines(d))
 
 
@@ -390,7 +489,8 @@ def _plot_series(plt, res, added, unit):
         ax[0].plot(t, base.disturbance + np.mean(y), lw=0.8, color="C2", label="disturbance (shifted)")
         ax[0].legend(loc="best", fontsize=8)
     ax[2].set_xlabel("time (s)")
-    title = "verdict: " + (", ".join(res.effects) if res.effects else "nothing missing")
+    title = "verdict: " + (", ".join(res.effects) if res.effects else
+                           "the model does not fit" if misfit(res) else "nothing missing")
     if res.disturbances:
         title += "; disturbances: " + ", ".join(d["effect"] for d in res.disturbances)
     ax[0].set_title(title)
