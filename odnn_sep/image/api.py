@@ -20,6 +20,9 @@ MAX_TEXT_CHARS = 200
 # development case (an Atkinson 800 mark found with DejaVu at 0.208) the opacity was underestimated
 # and the letters stayed readable while every residual measure called the mark removed.
 LOW_CONFIDENCE_SCORE = 0.3
+# Mask mode: a removal that leaves this share of the mark's step along its edges, of either sign (a
+# negative share: the letters removed too far, in the opposite colour), is not a removal.
+STEP_LEFT = 0.15
 
 
 @dataclasses.dataclass
@@ -140,9 +143,12 @@ def _estimate(y, text, font, mask, mask_invert, min_score, angle_range, max_mark
     return y, M, alpha, color, info, prior
 
 
-def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state):
+def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step=False):
     """(restored image, lost pixels (H, W), residual-mark report) of the blend inverted in the mark's box
-    only (the rest is copied unchanged)."""
+    only (the rest is copied unchanged). ``step``: also the signed step left along the mark's edges
+    (``residual.step_left``; mask mode, whose shape and opacity come from the data alone): a mark
+    removed too far, or not far enough, by more than ``STEP_LEFT`` of its step and ``VISIBLE_LEVELS``
+    is visible."""
     from odnn_sep.image.estimate import invert
     from odnn_sep.image.io import paste
 
@@ -156,7 +162,18 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state):
     o, lo = invert(y[b[1]:b[3], b[0]:b[2]], M[b[1]:b[3], b[0]:b[2]], alpha, color, levels=planes.levels,
                    inpaint=inpaint_lost)
     lost[b[1]:b[3], b[0]:b[2]] = lo
-    return paste(planes, o, b), lost, _residual(o, y[b[1]:b[3], b[0]:b[2]], M, prior, b, random_state)
+    inp = y[b[1]:b[3], b[0]:b[2]]
+    res = _residual(o, inp, M, prior, b, random_state)
+    if step:
+        from odnn_sep.image.residual import VISIBLE_LEVELS, step_left
+
+        share, levels = step_left(o, np.asarray(inp, dtype=np.float64), M[b[1]:b[3], b[0]:b[2]],
+                                  random_state=random_state)
+        res["step_left"] = round(share, 3)
+        res["step_levels"] = round(levels, 2)
+        if abs(share) >= STEP_LEFT and levels >= VISIBLE_LEVELS:
+            res["visible"] = True
+    return paste(planes, o, b), lost, res
 
 
 def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None = None,
@@ -173,8 +190,9 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     text : the watermark's text; it is rendered and found in the image (position, size, angle, repeats)
     font : font file path or name (e.g. ``"DejaVuSans-Bold"``); default: try the common fonts found
     mask : (H, W) array, nonzero over the watermark's area; without ``text`` the mark's shape is
-        estimated inside it, with ``text`` the search is restricted to it. A greyscale mask with many
-        intermediate values is a soft prior on the coverage; see ``maskprep``
+        estimated inside it (the coverage M is unknown in [0, 1] there: a rough box is fine; nothing
+        found raises ``InputError``), with ``text`` the search is restricted to it. A greyscale mask
+        with many intermediate values counts over its support; see ``maskprep`` and ``maskmode``
     mask_invert : the mask is black on white (True), white on black (False); None: read as inverted
         when it marks most of the image (with a warning)
     reference : a logo image (array, with or without alpha channel) to find (position, scale 0.25-4x,
@@ -218,7 +236,7 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
                                                 max_marks, random_state)
     report.update(info)
     restored, lost, report["residual_mark"] = _restore(planes, y, M, alpha, color, prior, inpaint_lost,
-                                                       random_state)
+                                                       random_state, step=not text and not info.get("opaque"))
     report.update({"alpha": round(float(alpha), 5), **color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})

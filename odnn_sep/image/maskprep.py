@@ -1,10 +1,10 @@
-"""A user's mask read as what it means: one plane in [0, 1], its polarity, hard region or soft prior.
+"""A user's mask read as what it means: one plane in [0, 1], its polarity, hard region or soft mask.
 
 Masks come as grey, RGB or RGBA images, white-on-black or black-on-white, binary with anti-aliased
 edges or truly soft. A mask whose marked part covers most of the image is almost surely inverted
 (black marks the watermark): it is inverted with a warning, unless the caller says which polarity
-it has. A mask with many intermediate values (not only an anti-aliased edge) is a soft prior on the
-coverage M rather than a hard region.
+it has. A mask with many intermediate values (not only an anti-aliased edge) is soft: its support
+(values above ``SOFT_SUPPORT``) is the region, where mask mode reads the coverage M from the data.
 """
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ SOFT_SUPPORT = 0.02
 @dataclasses.dataclass
 class PreparedMask:
     """``prior``: (H, W) float in [0, 1] (1 = watermark); ``region``: its support (bool);
-    ``soft``: a prior on M rather than a hard region; ``inverted``: the input was inverted;
+    ``soft``: a soft mask, whose support is the region; ``inverted``: the input was inverted;
     ``note``: what was decided, for the report (empty if nothing).
 
     Examples

@@ -107,6 +107,60 @@ def contrast_levels(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     return float(255.0 * np.sqrt(np.mean(np.sum(d * d, axis=1) / d.shape[1])))
 
 
+def step_left(out: np.ndarray, inp: np.ndarray, M: np.ndarray, *, random_state=0) -> tuple[float, float]:
+    """(signed share, 8-bit levels) of the step along the edges of ``M`` that the output keeps.
+
+    Over the edge patches of ``M`` the image is fitted as a plane per patch plus one step ``b M``
+    shared by all patches (``b`` of any sign, per channel). The share is the output's step projected on
+    the input's, over the input's: about 0 after a removal, 1 for a mark left as it was, negative for
+    a mark removed too far (an opacity fitted too high leaves the letters in the opposite colour, which
+    a blend fit, with its opacity in [0, 1], cannot see). The levels are the output step's RMS size.
+
+    Parameters
+    ----------
+    out, inp : np.ndarray
+        (h, w, C) float output and input crops in [0, 1].
+    M : np.ndarray
+        (h, w) coverage of the mark.
+    random_state : int or Generator, default 0
+        Seed of the patch subset.
+
+    Returns
+    -------
+    tuple of (float, float)
+        (0, 0) when ``M`` has no edges or the input no step.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.residual import step_left
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1; M[8:12, 10:40] = 1
+    >>> I = np.full((32, 48, 3), 0.4); y = (1 - 0.5 * M[..., None]) * I + 0.5 * M[..., None]
+    >>> over = (1 + 0.2 * M[..., None]) * I - 0.2 * M[..., None]       # removed with too high an opacity
+    >>> [round(v, 2) for v in step_left(y, y, M)], [round(v, 2) for v in step_left(over, y, M)]
+    ([1.0, 76.5], [-0.4, 30.6])
+    """
+    from odnn_sep.image.estimate import patch_grid, take_patches
+    from odnn_sep.image.profile import DataProfile, design
+
+    out = out[:, :, None] if out.ndim == 2 else out
+    inp = inp[:, :, None] if inp.ndim == 2 else inp
+    py, px, ps = patch_grid(np.asarray(M, dtype=np.float64), 8, 400, np.random.default_rng(random_state))
+    if len(py) < 4:
+        return 0.0, 0.0
+    Mp = take_patches(M, py, px, ps)[:, :, 0]
+    Phi = design(ps, 1)
+    steps = []
+    for img in (out, inp):
+        sxx, sxy, _ = DataProfile(take_patches(img, py, px, ps), Mp, Phi).stats(0.0)
+        steps.append(np.sum(sxy, axis=0) / max(float(np.sum(sxx)), 1e-300))
+    b_out, b_in = steps
+    n_in = float(np.sum(b_in * b_in))
+    if n_in <= 0:
+        return 0.0, 0.0
+    return float(np.sum(b_out * b_in) / n_in), float(255.0 * np.sqrt(np.mean(b_out * b_out)))
+
+
 def _gradient(ch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Sobel gradient (x, y) of one (h, w) channel, in single precision."""
     import cv2

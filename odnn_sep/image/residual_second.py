@@ -82,6 +82,9 @@ def second_shapes(M: np.ndarray) -> dict[str, np.ndarray]:
         for ux, uy in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)):
             dx, dy = ux * d, uy * d
             moved = np.zeros_like(on)
+            if abs(dy) >= h or abs(dx) >= w:   # a crop smaller than the shift: nothing moves into it
+                shapes[f"shift{dx},{dy}"] = moved.astype(float)
+                continue
             moved[max(0, dy):h + min(0, dy), max(0, dx):w + min(0, dx)] = \
                 on[max(0, -dy):h - max(0, dy), max(0, -dx):w - max(0, dx)]
             shapes[f"shift{dx},{dy}"] = np.clip(moved.astype(float) - on, 0.0, 1.0)
