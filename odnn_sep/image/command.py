@@ -147,7 +147,8 @@ def run(args) -> int:
         print(f"mark still visible after removal: {_residual_text(residual)}; "
               + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
                  "writes it)")
-              + "; try --font with the mark's font file, or --mask over the mark", file=sys.stderr)
+              + ("; try a mask that follows the mark's strokes more closely" if report.get("mode") == "mask"
+                 else "; try --font with the mark's font file, or --mask over the mark"), file=sys.stderr)
         return EXIT_MARK_VISIBLE
     if not args.quiet:
         where = f"font {_font_text(report['font'])} {report['font_size_px']:.1f} px, angle " \

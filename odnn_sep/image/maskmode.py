@@ -145,11 +145,14 @@ MASK_MIN_EXPLAINED = 0.28
 # to 1.1; most chance fits that pass are then called still visible by the residual check (no output).
 MASK_MIN_SCORE = 0.5
 MASK_FOUND_EXPLAINED = 0.5
-# A mask whose estimated strokes fill this share of it is a stroke mask (text mode's threshold applies).
+# A mask whose estimated strokes fill this share of it (of its part above 0.5 for a soft mask) is a
+# stroke mask: text mode's threshold applies.
 STROKE_SHARE = 0.5
 # A mark found inside a rough box covers at least this share of it (a text mark in a box of a few
 # pixels' margin covers 10-40 %; a few photo details that one colour explains, less).
 MIN_MARK_SHARE = 0.05
+# Parts of a mark whose opacity departs from the common one by more than this share are photo detail.
+LEVEL_TOLERANCE = 0.3
 # A start from the candidate pixels replaces the one from the whole region when its score is higher by this.
 PREFER_REGION = 0.1
 
@@ -227,6 +230,32 @@ def clean_coverage(m: np.ndarray, alpha: float) -> tuple[np.ndarray, np.ndarray]
     return M, core
 
 
+def _one_opacity(M: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """``M`` without the connected parts whose per-pixel ``a M`` (``m``) sits off the common level.
+
+    A mark has one opacity: every letter is pulled towards its colour by the same factor. Photo
+    detail that the candidate set took in (a highlight, a dark fold) is pulled by its own. Parts of
+    ``M > 0.5`` whose median ``m`` departs from the pixel-weighted median over all parts by more than
+    ``LEVEL_TOLERANCE`` of it are dropped (with their edge pixels)."""
+    import cv2
+
+    S = (M > 0.5).astype(np.uint8)
+    n, lab = cv2.connectedComponents(S, connectivity=8)
+    if n <= 2:
+        return M
+    levels = np.array([np.median(m[lab == k]) for k in range(1, n)])
+    sizes = np.bincount(lab.ravel(), minlength=n)[1:]
+    order = np.argsort(levels)
+    cum = np.cumsum(sizes[order])
+    common = float(levels[order][np.searchsorted(cum, 0.5 * cum[-1])])
+    bad = 1 + np.nonzero(np.abs(levels - common) > LEVEL_TOLERANCE * common)[0]
+    if not bad.size:
+        return M
+    drop = cv2.dilate(np.isin(lab, bad).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool) & ~(
+        np.isin(lab, np.setdiff1d(np.arange(1, n), bad)))
+    return np.where(drop, 0.0, M)
+
+
 def _interior_level(m: np.ndarray) -> float | None:
     """Opacity as the median per-pixel ``a M`` over the stroke interiors, or None with too few."""
     import cv2
@@ -279,6 +308,7 @@ def _hypothesis(crop, R, start, random_state, color=None):
         m2 = np.clip(np.sum((crop - B) * v, axis=2) / np.maximum(np.sum(v * v, axis=2), 1e-6), 0.0, 1.0)
         near = cv2.dilate((M > 0).astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool) & R
         M2, _ = clean_coverage(np.where(near, m2, 0.0), alpha)
+        M2 = _one_opacity(M2, m2)
         if (M2 > 0.5).sum() < 10:
             break
         m, a, M = m2, alpha, M2
@@ -356,7 +386,7 @@ def mask_mode(y, prepared, random_state=0):
             "mask_inverted": prepared.inverted}
     if prepared.note:
         info["mask_note"] = prepared.note
-    best = region_h = None
+    best = None
     hyps = []
     if crop.shape[0] >= 8 and crop.shape[1] >= 8:
         C = crop.shape[2]
@@ -366,14 +396,14 @@ def mask_mode(y, prepared, random_state=0):
             starts += [(cand, np.full(C, v)), (cand, None)]
         for k, (start, col) in enumerate(starts):
             h = _hypothesis(crop, Rc, start, random_state, col)
-            region_h = h if k == 0 else region_h
             hyps += [h] if h is not None else []
             # the whole region first (a stroke mask): another start must do clearly better
             if h is not None and (best is None or h["score"] > best["score"] + (PREFER_REGION if k else 0.0)):
                 best = h
     info["match_score"] = round(best["score"], 4) if best is not None else 0.0
     # a stroke mask leaves the shape little freedom: text mode's threshold; a rough box needs more
-    stroke_like = best is not None and best is region_h and best["n_on"] >= STROKE_SHARE * int(Rc.sum())
+    hard = (prepared.prior[y0:y1, x0:x1] > 0.5) if prepared.soft else Rc
+    stroke_like = best is not None and best["n_on"] >= STROKE_SHARE * int(hard.sum())
     need = THRESHOLD if stroke_like else MASK_MIN_SCORE
     found = best is not None and best["score"] >= need and \
         best["explained"] >= (MASK_MIN_EXPLAINED if stroke_like else MASK_FOUND_EXPLAINED) and \
