@@ -402,5 +402,5 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
             "threshold": threshold, "visible": bool(visible), "second_colour": second}
 
 
-__all__ = ["measure", "edge_excess", "edges_left_over", "aligned_energy", "aligned_share", "ALIGNED_LEFT", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS", "EDGE_LEFT_STRONG",
+__all__ = ["measure", "step_left", "edge_excess", "edges_left_over", "aligned_energy", "aligned_share", "ALIGNED_LEFT", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS", "EDGE_LEFT_STRONG",
            "EDGE_SIGNAL", "STRONG_LEVELS"]
