@@ -6,7 +6,10 @@ below, under the error of a numerically integrated model (relative 1e-9 to 1e-7)
 then integration noise, its standard error comes out 100x too small and the optimiser cannot move
 the parameter. Here the step is ``h * max(|x|, floor)``, the rule SciPy applies when no relative
 step is given, so a parameter near zero is stepped on its own scale (``floor``, 1 by default:
-parameters in the units of the presets, where 1e-5 is a small change).
+parameters in the units of the presets, where 1e-5 is a small change). A parameter that is small
+but not near zero in its own units (time in ms makes a stiffness of 4 into 4e-6) would be moved far
+out of its linear range by that step: where the step moves the output by more than a given share
+of its size, the parameter is stepped relative to itself instead (``max_response``).
 """
 from __future__ import annotations
 
@@ -44,7 +47,8 @@ def step_sizes(x, rel_step, lo, hi, floor=1.0) -> np.ndarray:
 
 
 def forward_jacobian(fun: Callable[[np.ndarray], np.ndarray], rel_step: float, lo, hi, *,
-                     floor: float = 1.0) -> tuple[Callable, Callable]:
+                     floor: float = 1.0, scale: float | None = None,
+                     max_response: float | None = None) -> tuple[Callable, Callable]:
     """``(fun_cached, jac)`` for :func:`scipy.optimize.least_squares` with :func:`step_sizes` steps.
 
     ``least_squares`` evaluates ``fun(x)`` and then asks for ``jac(x)`` at the same point; the
@@ -60,6 +64,13 @@ def forward_jacobian(fun: Callable[[np.ndarray], np.ndarray], rel_step: float, l
         Bounds.
     floor : float, optional
         See :func:`step_sizes`.
+    scale : float, optional
+        Size of the function's output (the data's spread), for ``max_response``.
+    max_response : float, optional
+        A parameter below ``floor`` whose step changes the output by more than ``max_response *
+        scale`` is stepped by ``rel_step * |x|`` instead: the absolute step is then far outside its
+        linear range (a parameter that is tiny in its units, such as a stiffness of 4e-6 when time
+        is in milliseconds). Other steps are left as they are.
 
     Returns
     -------
@@ -72,6 +83,18 @@ def forward_jacobian(fun: Callable[[np.ndarray], np.ndarray], rel_step: float, l
     >>> _ = f(np.array([2.0, 1e-9]))
     >>> np.round(jac(np.array([2.0, 1e-9])), 4).tolist()
     [[4.0, 0.0], [0.0, 1.0]]
+
+    A decay rate of 1e-6 per unit of time over 2e6 units: the step of 1e-5 would move the curve by
+    most of its range, a step of 1e-11 gives the derivative ``-t exp(-k t)``:
+
+    >>> t = np.array([1e6, 2e6])
+    >>> decay = lambda v: np.exp(-v[0] * t)
+    >>> _, jac = forward_jacobian(decay, 1e-5, [0.0], [np.inf], scale=1.0, max_response=0.01)
+    >>> (jac(np.array([1e-6]))[:, 0] / (-t * np.exp(-1e-6 * t))).round(4).tolist()
+    [1.0, 1.0]
+    >>> _, jac = forward_jacobian(decay, 1e-5, [0.0], [np.inf])     # the fixed step: far off
+    >>> (jac(np.array([1e-6]))[:, 0] / (-t * np.exp(-1e-6 * t))).round(2).tolist()
+    [0.1, 0.05]
     """
     last: dict = {}
 
@@ -88,7 +111,19 @@ def forward_jacobian(fun: Callable[[np.ndarray], np.ndarray], rel_step: float, l
         for j in range(len(x)):
             xj = x.copy()
             xj[j] += h[j]
-            J[:, j] = (np.asarray(fun(xj), float) - f0) / h[j]
+            d = np.asarray(fun(xj), float) - f0
+            resp = float(np.max(np.abs(d)) / scale) if scale else 0.0
+            if max_response is not None and not resp <= max_response and 0 < abs(x[j]) < floor:
+                # the absolute step is large for this parameter's own size (time in ms makes a
+                # stiffness 1e-6): the model moved by more than max_response of the data's spread,
+                # far outside its linear range; step relative to the parameter instead
+                hj = step_sizes(x[j:j + 1], rel_step, lo[j:j + 1] if np.ndim(lo) else lo,
+                                hi[j:j + 1] if np.ndim(hi) else hi, floor=0.0)[0]
+                xj[j] = x[j] + hj
+                d2 = np.asarray(fun(xj), float) - f0
+                if np.all(np.isfinite(d2)):
+                    h[j], d = hj, d2
+            J[:, j] = d / h[j]
         return J
 
     return cached, jac

@@ -182,6 +182,13 @@ class Fit:
         return out
 
 
+# A difference step that moves the model by more than this share of the data's spread is far outside the
+# linear range; for a parameter below 1 (stepped by 1e-5 absolute) it means the parameter is tiny in its
+# units (time in ms or us) and it is stepped relative to its own size instead. On the golden cases every
+# step of a parameter below 1 moves the model by less than 0.01 of that spread (99.9 % by less than 0.004),
+# so none changes; with time in s the oscillator's steps move it by 1e-5 to 2e-4.
+MAX_RESPONSE = 0.01
+
 # Rank rule of the disturbance columns: a QR direction counts when |R_jj| > 1e-10 max(1, max |R_jj|).
 _BASIS_RULE = {"method": "qr", "rtol": 1e-10, "min_scale": 1.0}
 
@@ -270,7 +277,8 @@ def _optimise(model, t, y, idx, P, p0, max_nfev):
         # ODE solutions carry ~1e-9 relative error: a step of 1e-5 of the parameter, and 1e-5
         # absolute for a parameter below 1 (not 1e-5 of ~0, SciPy's rule for a given diff_step),
         # keeps the finite-difference Jacobian well above that floor
-        fun, jac = forward_jacobian(resid, 1e-5, lo, hi)
+        fun, jac = forward_jacobian(resid, 1e-5, lo, hi, scale=float(np.std(yy)) or 1.0,
+                                    max_response=MAX_RESPONSE)
         res = varpro(fun, [x0], (lo, hi), x_scale="jac", max_nfev=max_nfev,
                      method="trf", xtol=1e-10, ftol=1e-10, gtol=1e-10, jac=jac).result
     return unpack(res.x), res.jac, bool(res.status > 0)
