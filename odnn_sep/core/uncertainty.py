@@ -309,6 +309,12 @@ def sandwich_standard_errors(J: ArrayLike, resid: ArrayLike, dof: int, *, block:
     r = np.asarray(resid, float)
     n = len(r)
     dof = max(int(dof), 1)
+    # equilibrate the columns first: parameters of very different sizes (a stiffness of 4e-12 beside an
+    # amplitude of 1 when time is in microseconds) give J'J a condition number beyond 1e16, and the
+    # pseudo-inverse would then drop the small directions and report their errors as 0
+    d = np.linalg.norm(J, axis=0)
+    d = np.where(np.isfinite(d) & (d > 0), d, 1.0)
+    J = J / d
     JtJ_inv = np.linalg.pinv(J.T @ J)
     classical = np.diag(JtJ_inv) * float(r @ r) / dof
     L = block_length(r) if block is None else int(max(1, min(block, n)))
@@ -323,7 +329,7 @@ def sandwich_standard_errors(J: ArrayLike, resid: ArrayLike, dof: int, *, block:
     from odnn_sep.core.whitening import ar_sandwich_stderr
 
     stderr = np.maximum.reduce([classical, np.sqrt(np.maximum(sandwich, 0.0)), ar_sandwich_stderr(J, r)])
-    return SandwichErrors(stderr, classical, L, nb)
+    return SandwichErrors(stderr / d, classical / d, L, nb)
 
 
 __all__ += ["SandwichErrors", "block_length", "long_run_rho", "sandwich_standard_errors"]

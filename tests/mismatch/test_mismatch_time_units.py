@@ -1,9 +1,10 @@
-"""The same record with time in s or ms calibrates to the same physics, in the units of its time."""
+"""The same record with time in s, ms or us calibrates to the same physics, in the units of its time."""
 import warnings
 
 import numpy as np
 import pytest
 
+from odnn_sep.core.uncertainty import sandwich_standard_errors
 from odnn_sep.mismatch.calibrate import calibrate
 from odnn_sep.mismatch.model import make_model
 
@@ -26,8 +27,8 @@ def seconds():
 POWER = {"k": -2, "c": -1, "x0": 0, "v0": -1}
 
 
-@pytest.mark.parametrize("scale", [1e3])
-def test_time_in_ms_calibrates_like_seconds(seconds, scale):
+@pytest.mark.parametrize("scale", [1e3, 1e6])
+def test_time_in_ms_or_us_calibrates_like_seconds(seconds, scale):
     f = _calibrated(scale)
     assert f.rms == pytest.approx(seconds.rms, rel=1e-6)
     for k, p in POWER.items():
@@ -35,3 +36,12 @@ def test_time_in_ms_calibrates_like_seconds(seconds, scale):
         assert f.determined(k), k
         assert f.stderr[k] == pytest.approx(seconds.stderr[k] * scale ** p, rel=0.05), k
 
+
+def test_standard_errors_do_not_depend_on_the_parameters_units():
+    rng = np.random.default_rng(1)
+    J = rng.normal(size=(200, 3))
+    r = rng.normal(size=200)
+    base = sandwich_standard_errors(J, r, 197, block=10).stderr
+    units = np.array([1e-12, 1.0, 1e9])     # J'J's condition number goes to 1e42
+    scaled = sandwich_standard_errors(J * units, r, 197, block=10).stderr
+    np.testing.assert_allclose(scaled * units, base, rtol=1e-9)
