@@ -220,7 +220,18 @@ def as_float_array(name: str, a, *, ndim: tuple[int, ...] = (1,)) -> np.ndarray:
     Traceback (most recent call last):
     ...
     odnn_sep.errors.InputError: t must be 1-D; got an array of shape (1, 2)
+    >>> as_float_array("y", np.array([1 + 2j]))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: y is complex (complex128); pass the real-valued samples (np.real(...) where the imaginary part is zero)
     """
+    kind = getattr(getattr(a, "dtype", None), "kind", None)
+    if kind == "c":
+        # float64 conversion would drop the imaginary part with only a NumPy warning
+        raise InputError(f"{name} is complex ({a.dtype}); pass the real-valued samples (np.real(...) where "
+                         f"the imaginary part is zero)")
+    if kind == "b":
+        raise InputError(f"{name} is boolean; pass numeric values")
     try:
         arr = np.array(a, dtype=np.float64)  # always a copy: callers' arrays are never mutated
     except (TypeError, ValueError) as exc:

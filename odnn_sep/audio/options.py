@@ -172,6 +172,8 @@ def parse_harmonics(harmonics):
     ...
     odnn_sep.errors.InputError: harmonics must be 'auto', a positive integer or a list of them (1,3,5); got 0
     """
+    if isinstance(harmonics, (bool, np.bool_)):
+        raise InputError(f"harmonics must be 'auto', a positive integer or a list of them (1,3,5); got {harmonics!r}")
     if isinstance(harmonics, str) and harmonics.strip().lower() == "auto":
         return "auto"
     if isinstance(harmonics, str) and "," in harmonics:  # the CLI's "1,3,5"

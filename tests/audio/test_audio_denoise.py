@@ -218,3 +218,15 @@ def test_beside_line_cut_tells_a_notch_from_a_clean_removal():
     assert abs(beside_line_cut_db(x, noise, sr, [60.0], [60.0])[0]) < 0.1
     b, a = signal.iirnotch(60.0, 30.0, fs=sr)      # -3 dB width 2 Hz: digs into the content beside the line
     assert beside_line_cut_db(x, signal.filtfilt(b, a, x), sr, [60.0], [60.0])[0] < -10.0
+
+
+@pytest.mark.parametrize("bad, what", [(np.ones(8000, complex), "complex"), (np.ones(8000, bool), "boolean")])
+def test_complex_and_boolean_samples_are_refused(bad, what):
+    # float64 conversion would drop an imaginary part with only a NumPy warning
+    with pytest.raises(InputError, match=what):
+        denoise(bad, 8000)
+
+
+def test_harmonics_true_is_refused():
+    with pytest.raises(InputError, match="harmonics must be"):
+        denoise(np.zeros(8000), 8000, harmonics=True)
