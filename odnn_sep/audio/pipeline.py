@@ -147,6 +147,10 @@ def _analyse(source, opts: DenoiseOptions):
         # (from a second handle on the file) while the track and amplitudes are made
         fine = bg.spectrum(source, keep_hz) if further else None
         plan, trk, h_amp, main_amps, env = _plan_and_track(source, opts, det, comb, bg)
+        if ks and _off_nominal(trk, comb.nominal_hz, N / sr):
+            comb, ks, further = None, [], False
+            det.harmonics = []
+            plan, trk, h_amp, main_amps, env = _plan_and_track(source, opts, det, None, bg)
         if not ks and not det.tones:
             log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
                         "persist); the output equals the input",
@@ -158,6 +162,29 @@ def _analyse(source, opts: DenoiseOptions):
     tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
     lines = LineSet(harmonics=ks, tones=tones, combs=combs)
     return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env), bar
+
+
+OFF_NOMINAL = 0.0125   # a track that never comes nearer its nominal than this share is not mains hum
+
+
+def _off_nominal(trk, nominal: float, duration_s: float) -> bool:
+    """True when the tracked fundamental stays more than ``OFF_NOMINAL`` of ``nominal`` away from
+    it throughout (with a log line saying so). Step 1 refines the fundamental within 1 % of
+    50/60 Hz (a grid's deviation and a sound card's clock offset); the track may then follow a
+    line outside that range, and a steady 61 Hz tone was removed as "hum at 60.9989 Hz". A drift
+    that passes through the nominal range (a ramp of 50 mHz/s over a minute) is kept."""
+    # blocks centred inside the input (one past the end holds no data: the reference there)
+    inside = trk.confident & (trk.t <= duration_s)
+    f = trk.f0[inside]
+    if not len(f):
+        return False
+    off = float(np.min(np.abs(f - nominal))) / nominal
+    if off > OFF_NOMINAL:
+        log.warning("the line tracked at %.2f-%.2f Hz never comes within %.3g %% of %g Hz (it is %.1f %% off): "
+                    "not mains hum, left in; pass --tone to remove it", float(f.min()), float(f.max()),
+                    100 * OFF_NOMINAL, nominal, 100 * off)
+        return True
+    return False
 
 
 def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
