@@ -274,7 +274,11 @@ def verdict_text(res):
         ps = ", ".join(f"{k}={res.final_fit.params[k]:.4g}"
                        + (f" [{iv[k][0]:.3g}, {iv[k][1]:.3g}]" if k in iv else "") for k in c.effect_params)
         parts.append(f"{c.effect} ({ps})")
-    out = "; ".join(parts) if parts else "nothing missing"
+    from odnn_sep.mismatch.report import misfit
+
+    bad = None if parts else misfit(res)
+    out = "; ".join(parts) if parts else (
+        f"the model does not fit (residual {bad['rms_over_noise']:.1f}x the noise)" if bad else "nothing missing")
     if res.disturbances:
         out += "; disturbances: " + "; ".join(d["description"].split(";")[0] + f" ({d['effect']})"
                                               for d in res.disturbances)
