@@ -12,6 +12,14 @@ inside its strokes (only the one-pixel edges are read per pixel), the blend fit 
 (locally smooth photo) gives ``alpha`` and the colour, and the detection statistic of ``detect``
 decides which estimate stands and whether anything was found: a box whose content no blend of one
 colour and one opacity explains is "not found" (``InputError``), not inpainted.
+
+Filled translucent shapes (a banner, a badge, a logo's silhouette) are wider than a stroke: the
+candidate search does not see them as dips, and inside an exact mask no pixel is unpulled. They are a
+further hypothesis: the mask itself or shrunk by 1-3 px (exact and dilated masks), or the part of the
+region pulled towards white, black or one colour by one factor, as one solid piece with its holes
+filled (a rough box); ``M = 1`` inside, read per pixel on its edge only. The blend fit on its edge gives
+opacity and colour, and the detection statistic on 12 px edge patches (``edge_score``) decides whether
+it is there and whether it or the strokes stand.
 """
 from __future__ import annotations
 
@@ -155,6 +163,27 @@ MIN_MARK_SHARE = 0.05
 LEVEL_TOLERANCE = 0.3
 # A start from the candidate pixels replaces the one from the whole region when its score is higher by this.
 PREFER_REGION = 0.1
+# Filled shapes: parts of the shape smaller than this share of its largest part are dropped.
+FILL_PART = 0.2
+# Holes in a filled shape smaller than this share of it are the photo's texture and are filled.
+FILL_HOLE = 0.02
+# Filled shapes are scored on a crop this much larger than the mask: their edge patches are wide.
+FILL_PAD = 24
+# Side of the edge patches that score a filled shape (``edge_score``).
+FILL_PATCH = 12
+# A filled shape is found when its edge score reaches this and it covers this share of the mask.
+FILL_MIN_SCORE = 0.6
+FILL_MIN_SHARE = 0.2
+# A filled shape is at least this wide (px, ``estimate.stroke_width``) and covers at least this share of
+# its convex hull (text in 28-49 px bold and serif fonts: 2-8 px, 0.25-0.57; filled badges, banners and
+# a logo silhouette: 9.6-50 px, 0.6-1.0).
+FILL_MIN_WIDTH = 9.0
+# Colours of the stroke estimates a filled shape in a box is also looked for with (at most this many).
+FILL_COLOURS = 3
+FILL_MIN_SOLIDITY = 0.5
+# A filled shape this solid (a rectangle, an ellipse) cannot be text: it replaces the strokes when it
+# scores higher; a less solid one (a silhouette, or bold text in its own mask) by PREFER_REGION more.
+FILL_SOLID = 0.8
 
 
 def _candidates(y: np.ndarray, region: np.ndarray, color) -> np.ndarray:
@@ -321,6 +350,214 @@ def _hypothesis(crop, R, start, random_state, color=None):
             "blend_explained": float(det.get("explained", 0.0))}
 
 
+def _pull(y: np.ndarray, B: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Per-pixel ``a M`` of ``y`` over photo ``B`` towards colour ``c``: the share of the way from B to c."""
+    v = np.asarray(c, dtype=np.float64)[None, None, :] - B
+    return np.clip(np.sum((y - B) * v, axis=2) / np.maximum(np.sum(v * v, axis=2), 1e-6), 0.0, 1.0)
+
+
+def _blob(m: np.ndarray, region: np.ndarray, level: float | None = None) -> tuple[np.ndarray, float]:
+    """(filled shape, its level) of a per-pixel ``a M`` map: where the median-smoothed ``m`` is above half
+    the level (Otsu's upper class when not given), its large connected parts with their small holes
+    (under ``FILL_HOLE`` of the shape) filled."""
+    import cv2
+    from scipy.ndimage import binary_fill_holes
+
+    ms = cv2.medianBlur(m.astype(np.float32), 5)
+    v = ms[region]
+    if level is None:
+        if v.size < 20 or float(v.max()) <= 0.02:
+            return np.zeros_like(region), 0.0
+        u8 = np.round(np.clip(v / v.max(), 0, 1) * 255).astype(np.uint8).reshape(-1, 1)
+        t, _ = cv2.threshold(u8, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+        hi = v[v > float(t) / 255 * float(v.max())]
+        level = float(np.median(hi)) if hi.size else 0.0
+    S = ((ms > 0.5 * level) & region).astype(np.uint8)
+    S = cv2.morphologyEx(S, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+    n, lab, stats, _ = cv2.connectedComponentsWithStats(S, connectivity=8)
+    if n <= 1:
+        return np.zeros_like(region), float(level)
+    area = stats[1:, cv2.CC_STAT_AREA]
+    keep = 1 + np.nonzero((area >= FILL_PART * area.max()) & (area >= 20))[0]
+    S = np.isin(lab, keep)
+    # holes the photo's texture left are filled; a letter's counter or a ring's middle stays open
+    holes = binary_fill_holes(S) & ~S
+    n, lab, stats, _ = cv2.connectedComponentsWithStats(holes.astype(np.uint8), connectivity=4)
+    small = 1 + np.nonzero(stats[1:, cv2.CC_STAT_AREA] < FILL_HOLE * S.sum())[0]
+    return (S | np.isin(lab, small)) & region, float(level)
+
+
+def _solidity(S: np.ndarray) -> float:
+    """Share of its convex hull that a shape covers, 0 for a shape narrower than ``FILL_MIN_WIDTH``
+    (``estimate.stroke_width``): a filled shape (a banner, a badge, a silhouette) has at least
+    ``FILL_MIN_SOLIDITY``, text in 28-49 px bold and serif fonts 0.25-0.57 (strokes of 2-8 px)."""
+    import cv2
+
+    from odnn_sep.image.estimate import stroke_width
+
+    if S.sum() < 20 or stroke_width(S.astype(np.float64)) < FILL_MIN_WIDTH:
+        return 0.0
+    hull = cv2.convexHull(cv2.findNonZero(S.astype(np.uint8)))
+    return min(1.0, float(S.sum()) / max(float(cv2.contourArea(hull)), 1.0))
+
+
+def _filled_coverage(S: np.ndarray, m: np.ndarray, alpha: float) -> np.ndarray:
+    """Coverage of a filled shape ``S``: 1 inside, ``m / alpha`` on its one-pixel edges inside and out."""
+    import cv2
+
+    k = np.ones((3, 3), np.uint8)
+    core = cv2.erode(S.astype(np.uint8), k).astype(bool)
+    band = cv2.dilate(S.astype(np.uint8), k).astype(bool) & ~core
+    return np.where(core, 1.0, np.where(band, np.clip(m / max(alpha, 1e-6), 0.0, 1.0), 0.0))
+
+
+def edge_score(y: np.ndarray, M: np.ndarray, *, patch: int = FILL_PATCH, random_state=0) -> float:
+    """The detection statistic of ``detect.detection_score`` on edge patches of a fixed side ``patch``.
+
+    ``detection_score`` scales its patches to the strokes (up to 32 px); the edge of a filled shape is
+    one long step, and in 32 px patches of a textured photo the photo's own detail drowns it. With
+    small patches along the edge, the opacity and colour fitted on one half of the edge predict the
+    other half patch by patch, as for strokes.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float crop in [0, 1].
+    M : np.ndarray
+        (h, w) coverage.
+    patch : int, default FILL_PATCH
+        Patch side in px.
+    random_state : int or Generator, default 0
+        Draws the patch subset when there are many.
+
+    Returns
+    -------
+    float
+        Mean clipped log-ratio over the edge patches (0 for no evidence or fewer than four patches).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.maskmode import edge_score
+    >>> rng = np.random.default_rng(0)
+    >>> I = 0.5 + 0.02 * rng.standard_normal((60, 90, 1))
+    >>> M = np.zeros((60, 90)); M[15:45, 20:70] = 1
+    >>> y = (1 - 0.3 * M[..., None]) * I + 0.3 * M[..., None]
+    >>> edge_score(y, M) > 1.0, edge_score(I, M) < 0.1
+    (True, True)
+    """
+    from odnn_sep.core.linalg import orthonormal_basis
+    from odnn_sep.image.detect import CLIP, FULL_WEIGHT_PATCHES, principal_halves
+    from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, take_patches
+    from odnn_sep.image.profile import DataProfile, PhotoProfile, design, plane_rss
+
+    y = np.asarray(y, dtype=np.float64)
+    if y.ndim == 2:
+        y = y[:, :, None]
+    M = np.asarray(M, dtype=np.float64)
+    py, px, ps = patch_grid(M, patch, 600, np.random.default_rng(random_state))
+    Yp, Mp = take_patches(y, py, px, ps), take_patches(M, py, px, ps)[:, :, 0]
+    Yp, Mp, py, px = drop_clipped(Yp, Mp, py, px)
+    yy, xx = np.nonzero(M > 0.5)
+    if len(Mp) < 4 or len(yy) < 2:
+        return 0.0
+    Phi = design(ps, 1)
+    rss0 = plane_rss(Yp, orthonormal_basis(Phi, method="qr", rtol=None))
+    low = principal_halves(xx, yy, py, px, ps)
+    if low is None:
+        return 0.0
+    rss1 = np.empty_like(rss0)
+    for fit_on in (low, ~low):
+        prof = PhotoProfile(Yp[fit_on], Mp[fit_on], Phi)
+        w = 1.0 / (rss0[fit_on] + 1e-3 * np.median(rss0) + 1e-12)
+        prof.w = w / w.mean()
+        a = float(minimise_profile(prof, 0.995, 9, 1e-3).x)
+        beta = prof.parts(a)[0]
+        rss1[~fit_on] = DataProfile(Yp[~fit_on], Mp[~fit_on], Phi).parts(a, beta)[1]
+    votes = np.clip(np.log((rss0 + 1e-12) / (rss1 + 1e-12)), -CLIP, CLIP)
+    shrink = min(1.0, float(np.sqrt(len(votes) / FULL_WEIGHT_PATCHES)))
+    return max(0.0, float(np.mean(votes)) * shrink)
+
+
+def _fit_filled(crop, S, c, a, random_state):
+    """(M, alpha, colour, explained, photo) of the filled shape ``S`` with the blend fit on its edges, the
+    edge pixels read against the photo interpolated from around the shape; None when it fails."""
+    import cv2
+
+    from odnn_sep.errors import NotIdentifiableError
+    from odnn_sep.image.estimate import fit_blend
+
+    hole = cv2.dilate(S.astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool)
+    B = inpaint_telea(crop, hole, 5)
+    M = S.astype(np.float64) if c is None else _filled_coverage(S, _pull(crop, B, c), a)
+    for _ in range(2):
+        try:
+            fit = fit_blend(crop, M, random_state=random_state)
+        except NotIdentifiableError:
+            return None
+        if not 0.02 < fit.alpha <= 1.0:
+            return None
+        M2 = _filled_coverage(S, _pull(crop, B, fit.color), fit.alpha)
+        if c is not None and abs(fit.alpha - a) < 0.01:
+            break
+        M, a, c = M2, fit.alpha, fit.color
+    return M, float(fit.alpha), np.asarray(fit.color), float(fit.explained), B
+
+
+def _filled_hypotheses(crop, R, random_state, colors=()):
+    """Filled translucent shapes (a banner, a badge, a logo's silhouette) inside region ``R``: the
+    region itself and the region shrunk by 1-3 px (an exact or a dilated mask), and the part of ``R``
+    whose pixels are pulled towards white, black or one colour (estimated from the lines from the photo
+    through the pixels, or one of ``colors``: those fitted to the stroke estimates) by one factor, as
+    one piece with its small holes filled, and once more with all of them filled (a rough box). Each shape's coverage is 1 inside and read per pixel on its edge;
+    opacity and colour come from the blend fit, the score from ``edge_score``. List of dicts as
+    ``_hypothesis`` gives."""
+    import cv2
+    from scipy.ndimage import binary_fill_holes
+
+    k3 = np.ones((3, 3), np.uint8)
+    shapes = []
+    S = R.astype(np.uint8)
+    for _ in range(4):
+        if S.sum() >= 20:
+            shapes.append((S.astype(bool), None, None))
+        S = cv2.erode(S, k3)
+    hole = cv2.dilate(R.astype(np.uint8), k3).astype(bool)
+    B = inpaint_telea(crop, hole, 5)
+    tried: list = []
+    for col in [np.full(crop.shape[2], 1.0), np.full(crop.shape[2], 0.0), None] + list(colors):
+        c = np.asarray(col, dtype=np.float64) if col is not None else _colour(crop - B, B, R, None)
+        if any(float(np.abs(c - t).max()) < 0.1 for t in tried):
+            continue
+        tried.append(c)
+        S, a = _blob(np.where(R, _pull(crop, B, c), 0.0), R)
+        if S.sum() < 20 or a <= 0.02 or S.sum() > 0.9 * R.sum():
+            continue
+        # read the shape once more against the photo interpolated from around it (not from around R)
+        Bs = inpaint_telea(crop, cv2.dilate(S.astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool), 5)
+        S2, _ = _blob(np.where(R, _pull(crop, Bs, c), 0.0), R, a)
+        S = S2 if S2.sum() >= 20 else S
+        shapes.append((S, c, a))
+        # its larger holes may be a letter's counter or texture the pull missed: both are tried
+        full = binary_fill_holes(S) & R
+        if full.sum() > S.sum():
+            shapes.append((full, c, a))
+    out = []
+    for S, c, a in shapes:
+        solid = _solidity(S)
+        if solid < FILL_MIN_SOLIDITY:
+            continue
+        f = _fit_filled(crop, S, c, a, random_state)
+        if f is None:
+            continue
+        M, alpha, color, explained, _ = f
+        score = edge_score(crop, M, random_state=random_state)
+        out.append({"M": M, "alpha": alpha, "color": color, "score": float(score), "opaque_score": 0.0,
+                    "n_on": int((M > 0.5).sum()), "explained": explained, "blend_explained": explained,
+                    "solidity": solid})
+    return out
+
+
 def mask_mode(y, prepared, random_state=0):
     """(M (H, W) float32, alpha, colour, report fields) of the mark inside a prepared mask.
 
@@ -329,7 +566,9 @@ def mask_mode(y, prepared, random_state=0):
     M = 1: the strokes, the opacity and the colour are estimated from the data (pixels pulled
     towards one colour by one factor), starting once from the whole region (a stroke mask) and once
     from the pixels that stand out from the photo around them (a rough box); the estimate the
-    detection statistic (``detect.detection_score``) supports better is kept. An opaque mark (or one
+    detection statistic (``detect.detection_score``) supports better is kept. A filled translucent
+    shape (a banner, a badge: solid and wider than a stroke) is a further hypothesis, scored by
+    ``edge_score``; it stands when it reaches ``FILL_MIN_SCORE`` and scores above the strokes. An opaque mark (or one
     the one-colour blend does not explain) comes back as ``M = 1`` over the region with
     ``alpha = 1``: the blend inversion then inpaints all of it, and the report says so.
 
@@ -388,6 +627,7 @@ def mask_mode(y, prepared, random_state=0):
         info["mask_note"] = prepared.note
     best = None
     hyps = []
+    filled: list = []
     if crop.shape[0] >= 8 and crop.shape[1] >= 8:
         C = crop.shape[2]
         starts = [(Rc, None)]
@@ -400,7 +640,13 @@ def mask_mode(y, prepared, random_state=0):
             # the whole region first (a stroke mask): another start must do clearly better
             if h is not None and (best is None or h["score"] > best["score"] + (PREFER_REGION if k else 0.0)):
                 best = h
-    info["match_score"] = round(best["score"], 4) if best is not None else 0.0
+        # a filled shape (a banner, a badge): scored on a wider crop, its edge patches are wide
+        bx0, by0 = max(0, xs.min() - FILL_PAD), max(0, ys.min() - FILL_PAD)
+        bx1, by1 = min(W, xs.max() + FILL_PAD + 1), min(H, ys.max() + FILL_PAD + 1)
+        big = np.asarray(y[by0:by1, bx0:bx1], dtype=np.float64)
+        colors = [h["color"] for h in hyps if h["alpha"] < OPAQUE_ALPHA][:FILL_COLOURS]
+        filled = [h for h in _filled_hypotheses(big, region[by0:by1, bx0:bx1], random_state, colors)
+                  if h["alpha"] < OPAQUE_ALPHA]
     # a stroke mask leaves the shape little freedom: text mode's threshold; a rough box needs more
     hard = (prepared.prior[y0:y1, x0:x1] > 0.5) if prepared.soft else Rc
     stroke_like = best is not None and best["n_on"] >= STROKE_SHARE * int(hard.sum())
@@ -408,6 +654,20 @@ def mask_mode(y, prepared, random_state=0):
     found = best is not None and best["score"] >= need and \
         best["explained"] >= (MASK_MIN_EXPLAINED if stroke_like else MASK_FOUND_EXPLAINED) and \
         best["n_on"] >= MIN_MARK_SHARE * int(Rc.sum())
+    filled = [h for h in filled if h["score"] >= FILL_MIN_SCORE and h["n_on"] >= FILL_MIN_SHARE * int(hard.sum())]
+    if filled:
+        top = max(filled, key=lambda h: h["score"])
+        # the filled shape against the strokes on the same statistic: the one whose edges the blend
+        # predicts better stands (a shape that could be bold text must do clearly better)
+        rival = 0.0
+        if found and best["alpha"] < OPAQUE_ALPHA:
+            Mb = np.zeros(big.shape[:2])
+            Mb[y0 - by0:y1 - by0, x0 - bx0:x1 - bx0] = best["M"]
+            rival = edge_score(big, Mb, random_state=random_state)
+        if top["score"] > rival + (0.0 if top["solidity"] >= FILL_SOLID else PREFER_REGION):
+            best = dict(top, M=top["M"][y0 - by0:y1 - by0, x0 - bx0:x1 - bx0])
+            found, need = True, FILL_MIN_SCORE
+    info["match_score"] = round(best["score"], 4) if best is not None else 0.0
     opaque = [h for h in hyps if h["alpha"] >= OPAQUE_ALPHA and h["explained"] >= MASK_FOUND_EXPLAINED
               and h["opaque_score"] >= MASK_MIN_SCORE]
     if found and best["alpha"] < OPAQUE_ALPHA:
