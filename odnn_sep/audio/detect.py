@@ -340,7 +340,7 @@ def strongest_line_fundamental(spec: Spectrum, nominal: float, ks, *, min_ratio:
     --------
     >>> from odnn_sep.audio.io import ArraySource
     >>> sr = 500; t = np.arange(60 * sr) / sr
-    >>> y = 0.05 * np.cos(2 * np.pi * 50.0 * t) + np.random.default_rng(0).standard_normal(t.size)
+    >>> y = 0.3 * np.cos(2 * np.pi * 50.0 * t) + np.random.default_rng(0).standard_normal(t.size)
     >>> round(strongest_line_fundamental(excerpt_spectrum(ArraySource(y, sr)), 50.0, [1, 2]), 2)
     50.0
     """

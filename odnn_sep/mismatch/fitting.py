@@ -128,10 +128,10 @@ class Fit:
         >>> from odnn_sep.mismatch.model import make_model
         >>> t = np.linspace(0, 1, 60)
         >>> f = fit(make_model("freefall"), t, 5.0 - 4.9 * t ** 2 + 0.01 * np.random.default_rng(0).normal(size=60))
-        >>> f.determined("g")
+        >>> bool(f.determined("g"))
         True
         >>> f.stderr["g"] = 0.0
-        >>> f.determined("g"), "g" in f.intervals(), f.reported_stderr("g")
+        >>> bool(f.determined("g")), "g" in f.intervals(), f.reported_stderr("g")
         (False, False, None)
         """
         s = self.stderr.get(name)
