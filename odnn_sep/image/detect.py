@@ -104,6 +104,43 @@ def detection_score(y: np.ndarray, M: np.ndarray, *, random_state=0) -> float:
     patch = int(np.clip(round(2.5 * stroke_width(M) + 4), 8, 32))
     # at most ~150k pixels: large marks have large patches, and plenty of them (never below 100)
     n_max = int(np.clip(150_000 // patch**2, FULL_WEIGHT_PATCHES, 600))
+    return patch_score(y, M, patch, n_max, random_state=random_state)
+
+
+def patch_score(y: np.ndarray, M: np.ndarray, patch: int, n_max: int, *, random_state=0) -> float:
+    """The held-out statistic of :func:`detection_score` on ``patch`` px edge patches (at most
+    ``n_max`` of them): each half of the mark's patches predicts the other's blend, and the score is
+    the mean clipped log-ratio of the photo-only to that held-out residual, discounted below
+    ``FULL_WEIGHT_PATCHES`` patches.
+
+    Parameters
+    ----------
+    y : (h, w, C) float array in [0, 1]
+    M : (h, w) coverage
+    patch : int
+        Patch side (px).
+    n_max : int
+        Most patches drawn.
+    random_state : int
+        Seed of the patch subset.
+
+    Returns
+    -------
+    float in [0, CLIP]
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> I = 0.5 + 0.02 * rng.standard_normal((60, 90, 1))
+    >>> M = np.zeros((60, 90)); M[15:45, 20:70] = 1
+    >>> y = (1 - 0.3 * M[..., None]) * I + 0.3 * M[..., None]
+    >>> patch_score(y, M, 12, 600) > 1.0, patch_score(I, M, 12, 600) < 0.1
+    (True, True)
+    """
+    y = np.asarray(y, dtype=np.float64)
+    if y.ndim == 2:
+        y = y[:, :, None]
+    M = np.asarray(M, dtype=np.float64)
     py, px, ps = patch_grid(M, patch, n_max, np.random.default_rng(random_state))
     Yp, Mp = take_patches(y, py, px, ps), take_patches(M, py, px, ps)[:, :, 0]
     Yp, Mp, py, px = drop_clipped(Yp, Mp, py, px)

@@ -446,37 +446,10 @@ def edge_score(y: np.ndarray, M: np.ndarray, *, patch: int = FILL_PATCH, random_
     >>> edge_score(y, M) > 1.0, edge_score(I, M) < 0.1
     (True, True)
     """
-    from odnn_sep.core.linalg import orthonormal_basis
-    from odnn_sep.image.detect import CLIP, FULL_WEIGHT_PATCHES, principal_halves
-    from odnn_sep.image.estimate import drop_clipped, minimise_profile, patch_grid, take_patches
-    from odnn_sep.image.profile import DataProfile, PhotoProfile, design, plane_rss
+    from odnn_sep.image.detect import patch_score
 
-    y = np.asarray(y, dtype=np.float64)
-    if y.ndim == 2:
-        y = y[:, :, None]
-    M = np.asarray(M, dtype=np.float64)
-    py, px, ps = patch_grid(M, patch, 600, np.random.default_rng(random_state))
-    Yp, Mp = take_patches(y, py, px, ps), take_patches(M, py, px, ps)[:, :, 0]
-    Yp, Mp, py, px = drop_clipped(Yp, Mp, py, px)
-    yy, xx = np.nonzero(M > 0.5)
-    if len(Mp) < 4 or len(yy) < 2:
-        return 0.0
-    Phi = design(ps, 1)
-    rss0 = plane_rss(Yp, orthonormal_basis(Phi, method="qr", rtol=None))
-    low = principal_halves(xx, yy, py, px, ps)
-    if low is None:
-        return 0.0
-    rss1 = np.empty_like(rss0)
-    for fit_on in (low, ~low):
-        prof = PhotoProfile(Yp[fit_on], Mp[fit_on], Phi)
-        w = 1.0 / (rss0[fit_on] + 1e-3 * np.median(rss0) + 1e-12)
-        prof.w = w / w.mean()
-        a = float(minimise_profile(prof, 0.995, 9, 1e-3).x)
-        beta = prof.parts(a)[0]
-        rss1[~fit_on] = DataProfile(Yp[~fit_on], Mp[~fit_on], Phi).parts(a, beta)[1]
-    votes = np.clip(np.log((rss0 + 1e-12) / (rss1 + 1e-12)), -CLIP, CLIP)
-    shrink = min(1.0, float(np.sqrt(len(votes) / FULL_WEIGHT_PATCHES)))
-    return max(0.0, float(np.mean(votes)) * shrink)
+    # detection_score's statistic on fixed small patches (at most 600 of them)
+    return patch_score(y, M, patch, 600, random_state=random_state)
 
 
 def _fit_filled(crop, S, c, a, random_state):
