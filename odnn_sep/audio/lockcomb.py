@@ -114,6 +114,11 @@ class _Family:
     def cols(self, lines) -> list[int]:
         return [self.cand.index(k) for k in lines]
 
+    def presence(self, lines, psi):
+        """lock.presence of the basebands of ``lines`` tracked by ``psi`` (one line at a time)."""
+        return _lock.presence((self.D[:, :, c] * _finetrack.phase_turn(psi, k)[:, None]
+                               for k, c in zip(lines, self.cols(lines), strict=True)), self.sr)
+
     def phase(self, lines):
         """Block-track phase and its refinement (cycles at chunk centres) from harmonics ``lines``."""
         cols = self.cols(lines)
@@ -493,12 +498,10 @@ def _locked_where_on(fam: _Family, ks, i: int, psi_k) -> list[int]:
     test."""
     k = ks[i]
     others = [j for j in range(len(ks)) if j != i]
-    cols = fam.cols(ks)
-    g = _lock.presence((fam.D[:, :, cols[j]] * _finetrack.phase_turn(psi_k, ks[j])[:, None] for j in others),
-                       fam.sr)
+    g = fam.presence([ks[j] for j in others], psi_k)
     if g is None:
         return []
-    p_g = _lock.weighted_locked(fam.D[:, :, [cols[i]]], fam.sr, [k], psi_k, presence=g)[k][0]
+    p_g = _lock.weighted_locked(fam.D[:, :, fam.cols([k])], fam.sr, [k], psi_k, presence=g)[k][0]
     return [k] if p_g < fam.alpha else []
 
 
@@ -569,9 +572,7 @@ def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:
     the other tests, and under speech it failed them. The presence comes from the locked lines
     only, never from the tested one, so the test stays calibrated (same Bonferroni count, -50 dB
     of the strongest locked line); a steady hum is not tested again."""
-    sr = fam.sr
-    g = _lock.presence((fam.D[:, :, c] * _finetrack.phase_turn(psi, k)[:, None]
-                        for k, c in zip(ks, fam.cols(ks), strict=True)), sr)
+    g = fam.presence(ks, psi)
     if g is None:
         return []
     rest = [k for k in fam.cand if k not in ks and k <= WEIGHTED_REACH * max(ks)]
