@@ -188,12 +188,13 @@ def time_12mp(seed: int):
     y, M = add_text_watermark(big, "(c) Studio 2024", font="DejaVuSans-Bold", size=160, angle=20.0,
                               center=(2100.0, 1400.0), alpha=0.5, color=(255, 255, 255))
     from odnn_sep.errors import InputError
-    from odnn_sep.image import features, render
+    from odnn_sep.image import features, locate, render
 
     out = {"load": os.getloadavg()[0]}  # the machine is shared: the time depends on what else runs
     for label, font in (("given", "DejaVuSans-Bold"), ("auto", None)):
         # as a fresh command-line run finds them: no rendered glyphs or templates cached by earlier runs
-        for cached in (features.bp_template, features.edge_template, render._render_cached, render._load):
+        for cached in (features.bp_template, features.edge_template, render._render_cached, render._load,
+                       render._resolve, locate._ink_cached):
             cached.cache_clear()
         t0, c0 = time.perf_counter(), time.process_time()
         try:

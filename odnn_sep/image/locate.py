@@ -11,6 +11,7 @@ blend model's residual (see ``register``).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import logging
 import os
 from pathlib import Path
@@ -70,6 +71,13 @@ class Match:
 
 
 def _ink(text: str, font) -> tuple[float, float]:
+    """(width, height) of the ink box of ``text`` at ``REF_SIZE`` px."""
+    return _ink_cached(text, str(font))
+
+
+@functools.lru_cache(maxsize=256)
+def _ink_cached(text: str, font: str) -> tuple[float, float]:
+    # cached: the finer grids ask for it once per font at every place (about a thousand times a search)
     m = render_text(text, font, REF_SIZE)
     return m.shape[1] - 4.0, m.shape[0] - 4.0
 
