@@ -416,7 +416,7 @@ def candidate_harmonics(f0: float, sr: int, harmonics, max_hz: float | None) -> 
 
 
 def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones=(),
-               alpha: float = 1e-3, max_hz: float | None = None) -> Detection:
+               alpha: float = 1e-3, max_hz: float | None = None, f0: float | None = None) -> Detection:
     """Decide the fundamental and the harmonics to remove (see the module docstring).
 
     Parameters
@@ -427,6 +427,9 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
         Sample rate (Hz).
     mains, harmonics, tones, alpha, max_hz
         As validated by :class:`~odnn_sep.audio.options.DenoiseOptions`.
+    f0 : float, optional
+        Test the lines of this fundamental as it is (not refined) in the family of the numeric
+        ``mains``, which stays the nominal.
 
     Returns
     -------
@@ -448,8 +451,7 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
         ks = candidate_harmonics(nom, sr, "auto" if harmonics == "auto" else harmonics, max_hz)
         if not ks:
             continue
-        f0 = refine_fundamental(spec, nom, ks)
-        fams[nom] = (f0, ks)
+        fams[nom] = (refine_fundamental(spec, nom, ks) if f0 is None else float(f0), ks)
         n_tests += len(ks)
     n_tests = max(n_tests, 1)
     candidates, best, best_ev = [], None, 0.0

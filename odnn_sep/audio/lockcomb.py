@@ -278,6 +278,9 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
             extra = [k for k in _detect.candidate_harmonics(d2.mains_hz, source.sr, "auto", max_hz)
                      if k not in d2.harmonics]
             fams.append(settle(source, spec, d2, extra, alpha=alpha, n_tests=n_first + len(extra), test=True))
+    if test:
+        fams += _strongest_line_families(source, spec, fams, tones=tones, alpha=alpha, max_hz=max_hz,
+                                         n_first=n_first)
     fams = [f for f in fams if f.harmonics]
     if not fams and test and det.harmonics:
         retry = _low_harmonics_retry(source, spec, det, alpha=alpha, max_hz=max_hz, n_first=n_first)
@@ -287,13 +290,57 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
         fams = [one] if one is not None else []
     if not fams:
         return None
-    best = max(fams, key=lambda f: f.evidence)
+    # of the combs that passed the lock tests, the one that holds the most power along its track:
+    # hum is the strongest steady periodic thing in a recording, and the lines of a steady beat or
+    # a regular vibrato that happen to lock on another grid are weak (a p-value counts how sure a
+    # line is, not how much of the input it holds: seven weak lines of a drum loop on the 60 Hz
+    # grid outvoted a 50 Hz hum louder than the music)
+    best = max(fams, key=coherent_power)
     if test:
         _extend_high(source, spec, best, alpha=alpha, max_hz=max_hz, n_first=n_first)
         _add_pattern_lines(source, spec, best, alpha=alpha)
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
              [round(f.evidence, 1) for f in fams])
     return best
+
+
+def coherent_power(comb: Comb) -> float:
+    """Power of the comb's locked lines along its track (squared modulus of each line's mean
+    tracked baseband, chunk-sum units, summed): what removing the comb takes out.
+
+    Examples
+    --------
+    >>> c = Comb(nominal_hz=50.0, f_ref=50.0, harmonics=[1, 3], psi=None, D=None, weights=None,
+    ...          lock={1: (1e-9, 0.9, 2.0), 2: (0.5, 0.1, 0.1), 3: (1e-6, 0.8, 1.0)})
+    >>> coherent_power(c)
+    5.0
+    """
+    return float(sum(comb.lock[k][2] ** 2 for k in comb.harmonics if k in comb.lock))
+
+
+def _strongest_line_families(source, spec, fams, *, tones, alpha: float, max_hz, n_first: int) -> list[Comb]:
+    """The families placed by their strongest line where that disagrees with the vote of every
+    harmonic (``detect.refine_fundamental``). The vote's log scale lets many weak lines outvote a
+    few strong ones: the sidebands of a regular vibrato or the lines of a drum loop, which fall on
+    a grid of their own, placed a 60 Hz hum with a loud third harmonic at 60.5 Hz. Each such
+    placement is settled as a family of its own, and the locked power decides (:func:`choose`)."""
+    out = []
+    for fam in list(fams):
+        ks = _detect.candidate_harmonics(fam.nominal_hz, source.sr, "auto", max_hz)
+        f_line = _detect.strongest_line_fundamental(spec, fam.nominal_hz, ks)
+        # placements closer than the drift the detection allows for (or half a bin) are the same
+        # family; a detection band is wider than that and would hide a 0.5 Hz disagreement
+        if f_line is None or abs(f_line - fam.f_ref) <= max(_detect.DRIFT_TOL_HZ, 0.5 * spec.df):
+            continue
+        d3 = _detect.detect_hum(spec, source.sr, mains=fam.nominal_hz, harmonics="auto", tones=tones, alpha=alpha,
+                                max_hz=max_hz, f0=f_line)
+        if not d3.harmonics:
+            continue
+        extra = [k for k in _detect.candidate_harmonics(f_line, source.sr, "auto", max_hz) if k not in d3.harmonics]
+        log.info("strongest line places the %g Hz family at %.4f Hz (vote: %.4f Hz): tested too",
+                 fam.nominal_hz, f_line, fam.f_ref)
+        out.append(settle(source, spec, d3, extra, alpha=alpha, n_tests=n_first + len(extra), test=True))
+    return out
 
 
 def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int) -> None:
