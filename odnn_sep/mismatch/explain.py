@@ -202,8 +202,13 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     >>> res.effect, round(res.verdict.fit.params["q_drag"], 2)
     ('quadratic_drag', 0.02)
     """
+    options = {k: v for k, v in locals().items() if k not in ("model", "t", "y")}
+    from odnn_sep.mismatch.timescale_result import explain_in_caller_units
+    rescaled = explain_in_caller_units(model, t, y, options)
+    if rescaled is not None:   # time far from seconds-like: analysed on t / 1000^k, reported in t's units
+        return rescaled
     from odnn_sep.mismatch.hum_engine import explain_on_audio_engine
-    on_bands = explain_on_audio_engine(model, t, y, dict(locals()))   # long hum audio: the lines' basebands
+    on_bands = explain_on_audio_engine(model, t, y, options)   # long hum audio: the lines' basebands
     if on_bands is not None:
         return on_bands
     m, t, y, aux, rate_note = _prepare(model, t, y, params, inputs, aux)

@@ -1,0 +1,117 @@
+"""explain() on the internal time axis (:mod:`odnn_sep.mismatch.timescale`), its result in the caller's units.
+
+Every fit of the result (calibration, candidates, their rivals, the final fit) gets its model,
+parameters and standard errors back in the caller's units; intervals follow (they are computed from
+those, and the log / logit intervals of bounded parameters scale with them). What is computed from
+the time axis (where the residual exceeds the noise, the plain sentences, the warnings) is computed
+again on the caller's times.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from odnn_sep.mismatch import timescale as ts
+
+
+def explain_in_caller_units(model, t, y, options):
+    """explain() on ``t / scale`` when the span calls for it, mapped back; None when analysed as given.
+
+    Parameters
+    ----------
+    model : str or Model
+        What explain() was given.
+    t, y : array_like
+        The caller's record.
+    options : dict
+        explain()'s keyword options.
+
+    Returns
+    -------
+    MismatchResult or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch import explain
+    >>> t = np.linspace(0, 0.6, 120); rng = np.random.default_rng(0)
+    >>> y = 2.0 - 4.905 * t ** 2 + 0.001 * rng.normal(size=120)
+    >>> s, ns = explain("freefall", t, y), explain("freefall", t * 1e9, y)    # time in ns
+    >>> round(s.final_fit.params["g"], 3), round(ns.final_fit.params["g"] * 1e18, 3), ns.effects
+    (9.81, 9.81, [])
+    """
+    from odnn_sep.mismatch.model import Model
+    from odnn_sep.mismatch.presets import PRESETS
+    scale = ts.time_scale(model, t)
+    if scale == 1.0:
+        return None
+    from odnn_sep.mismatch.explain import explain
+    user = isinstance(model, Model) and model.preset is None
+    family = model.family if isinstance(model, Model) else PRESETS[str(model)].family
+    units = ts.TimeUnits(scale, family, own=set(model.start) if user else set())
+    opts = dict(options)
+    if opts.get("params"):
+        opts["params"] = units.inward(opts["params"])
+    opts["disturbance"] = ts.inward_disturbance(opts.get("disturbance"), scale)
+    opts["inputs"] = ts.inward_inputs(opts.get("inputs"), scale)
+    t = np.asarray(t, float)
+    res = explain(ts.internal_model(model, units), t / scale, y, **opts)
+    return _caller_result(res, t, units, options.get("alpha", 0.05))
+
+
+def _caller_result(res, t, units, alpha):
+    from odnn_sep.mismatch.inputs import physical_warnings
+    from odnn_sep.mismatch.locate import locate
+    res.t = t
+    res.model = ts.caller_model(res.model, units)
+    res.calibration = replace(res.calibration, fit=_fit(res.calibration.fit, units),
+                              identifiability=_identifiability(res.calibration.identifiability, units))
+    res.final_fit = _fit(res.final_fit, units)
+    res.candidates = [_candidate(c, units) for c in res.candidates]
+    res.named = [_candidate(c, units) for c in res.named]
+    res.disturbances = [_disturbance(d, res.final_fit, units, res.unit) for d in res.disturbances]
+    res.declared = [ts.outward_hz_text(s, units.scale) for s in res.declared]
+    res.where = locate(t, res.calibration.fit.residual, sigma=res.noise_sigma, alpha=alpha)
+    res.warnings = physical_warnings(res.final_fit.params)
+    res.notes.append(f"time analysed as t / {units.scale:g} (the span of t, {np.ptp(t):.4g}, is far from "
+                     f"seconds-like); every parameter and interval is reported in the units of t")
+    return res
+
+
+def _fit(f, units):
+    """A fit in the caller's units (residuals, predictions and information criteria do not depend on them)."""
+    if f is None:
+        return None
+    return replace(f, model=ts.caller_model(f.model, units), params=units.outward(f.params),
+                   stderr=units.stderr_out(f.stderr))
+
+
+def _candidate(c, units, seen=None):
+    seen = {} if seen is None else seen
+    if id(c) in seen:
+        return seen[id(c)]
+    out = replace(c, fit=_fit(c.fit, units))
+    seen[id(c)] = out
+    out.rival_candidates = [_candidate(r, units, seen) for r in c.rival_candidates]
+    return out
+
+
+def _identifiability(d, units):
+    if not d or "gauss_newton_step" not in d:
+        return d
+    return {**d, "gauss_newton_step": units.outward(d["gauss_newton_step"])}
+
+
+def _disturbance(d, final, units, unit):
+    """A found disturbance's entry with its parameters, intervals, times and sentence in the caller's units."""
+    from odnn_sep.mismatch.disturbances import describe, linear_model
+    d = dict(d)
+    if d["effect"] == "spikes":
+        d["at"] = [a * units.scale for a in d.get("at", [])]
+        return d
+    d["parameters"] = units.outward(d["parameters"])
+    d["interval95"] = {k: (None if v is None else [x / units.factor(k) for x in v]) for k, v in d["interval95"].items()}
+    d["description"] = describe(d["effect"], final.params, model_family=final.model.family,
+                                linear=linear_model(final.model), unit=unit)
+    return d
