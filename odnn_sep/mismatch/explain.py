@@ -42,7 +42,7 @@ from odnn_sep.mismatch.fitting import cross_validate, cv_folds
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
 from odnn_sep.mismatch.selection import SelectionSetup, forward_backward
-from odnn_sep.mismatch.spikes import find_spikes
+from odnn_sep.mismatch.spikes_series import record_spikes, spikes_entries
 
 log = logging.getLogger(__name__)
 
@@ -214,7 +214,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     m, t, y, aux, rate_note = _prepare(model, t, y, params, inputs, aux)
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
     G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
-    spikes = find_spikes(t, cal.fit.residual) if despike else None
+    # a joint model's series are each repaired on their own (spikes_series.py)
+    spikes = record_spikes(m, t, cal.fit.residual) if despike else None
     if spikes is not None:
         # the record as analysed from here on: every fit, test and interval sees the repaired samples
         y = spikes.repaired(y)
@@ -247,7 +248,7 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     res.disturbances = [_disturbance_entry(c, out.fit, unit) for c in out.accepted
                         if c.effect in DISTURBANCE_EFFECTS]
     if spikes is not None:
-        res.disturbances.append(_spikes_entry(spikes, t, unit))
+        res.disturbances.extend(spikes_entries(spikes, m, t, unit))
     from odnn_sep.mismatch.inputs import physical_warnings
     res.warnings = physical_warnings(out.fit.params)
     return res
@@ -357,12 +358,3 @@ def _disturbance_entry(c, final, unit):
             "score": c.score, "heldout_gain": c.heldout_gain, "note": c.note,
             "description": describe(c.effect, final.params, model_family=final.model.family,
                                     linear=linear_model(final.model), unit=unit)}
-
-
-def _spikes_entry(spikes, t, unit):
-    """The repaired spikes as a found disturbance: count, where (the first 20) and a plain sentence."""
-    where = np.asarray(t)[spikes.index[:20]]
-    return {"effect": "spikes", "parameters": {"count": spikes.count}, "interval95": {},
-            "score": None, "heldout_gain": None, "note": None,
-            "at": where.tolist(), "excess": [float(e) for e in spikes.excess[:20]],
-            "description": spikes.description(unit)}

@@ -53,7 +53,7 @@ def run_joint(args, params) -> int:
     effects = None if args.effects is None else [e.strip() for e in args.effects.split(",") if e.strip()]
     res = explain_joint(args.model, series, params=numeric, shared=shared, effects=effects,
                         disturbance=args.disturbance, folds=args.folds, unit=unit,
-                        progress=not args.quiet and sys.stderr.isatty())
+                        progress=not args.quiet and sys.stderr.isatty(), despike=not args.keep_spikes)
     _write_outputs(args, res, joint_estimates(res), series)
     return 0
 
