@@ -11,6 +11,8 @@ Each case is small and has a known truth (except the EEG file, scored by its lin
   score: the 50 Hz amplitude left on channel 1 relative to the hum's, the change of channel 0;
 - ``tone_on_comb``: a 1 kHz tone (0.3) beside 50 Hz hum (0.05), both steady: the data cannot tell
   the tone from a 20th harmonic; score: what is left of the tone and whether a warning names it;
+- ``short_excerpts``: 0.7-1.95 s excerpts of the hum population's evaluation cases (seeds 0+) and
+  of its hum-free recordings; score: the median and worst gain, and hum found where there is none;
 - ``eeg``: ``../shared/data/meegkit_eeg_line_noise/eeg_raw.npy``, per-channel mode: the 50 Hz line
   level over its flanks (Welch, 0.25 Hz) per channel before and after.
 """
@@ -75,6 +77,36 @@ def tone_on_comb(sr: int = 8000, dur: float = 10.0):
             f" | warned as isolated {r.info.get('isolated_lines', 'no such report field')}")
 
 
+def short_excerpts(seed0: int = 0, n: int = 24, offsets=(1.1, 5.3, 9.7)):
+    """0.7-1.95 s excerpts of the population's cases (``_audio_cases``, seeds ``seed0``..; the
+    development seeds are 1000+) and of its hum-free recordings: gain, and hum found where none is."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import _audio_cases as cases
+
+    from odnn_sep.audio import denoise
+
+    gains = []
+    for i in range(n):
+        y, sr, tr = cases.make_case(cases.case_spec(i, seed0))
+        rng = np.random.default_rng(seed0 + i)
+        a = int(rng.uniform(0, len(y) / sr - 2) * sr)
+        b = a + int(rng.uniform(0.7, 1.95) * sr)
+        h, x = tr["hum"][a:b], tr["host"][a:b]
+        r = denoise(x + h, sr)
+        gains.append(10 * np.log10(np.sum(h ** 2) / max(np.sum((r.y - x) ** 2), 1e-300)))
+    false, tested = 0, 0
+    for _, y, sr in cases.clean_hosts(False):
+        for dur in (0.7, 1.0, 1.5, 1.9):
+            for off in offsets:
+                seg = y[int(off * sr): int((off + dur) * sr)]
+                if len(seg) == int(dur * sr):
+                    tested += 1
+                    false += bool(denoise(seg, sr).line_names)
+    g = np.array(gains)
+    return (f"short_excerpts seeds {seed0}+ | hum gain median {np.median(g):.1f} dB, worst {g.min():.1f} dB, "
+            f"{int(np.sum(g > 0.5))} of {len(g)} with hum removed | hum found in {false} of {tested} hum-free excerpts")
+
+
 def eeg():
     from scipy import signal
 
@@ -99,7 +131,7 @@ def main() -> int:
 
     logging.disable(logging.WARNING)
     for case in (lambda: half_on(6, 12), lambda: half_on(0, 6), lambda: half_on(3, 9), one_channel,
-                 tone_on_comb, eeg):
+                 tone_on_comb, short_excerpts, eeg):
         print(case(), flush=True)
     return 0
 

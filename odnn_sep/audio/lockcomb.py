@@ -27,6 +27,10 @@ TRACK_HOP_S = 4.0     # blocks of the starting (coarse) track: 8 s
 NUMERICAL_REL = 3e-3  # new lines weaker than this (-50 dB re the strongest locked line) are not added
 SETTLE_ROUNDS = 3     # track / lock-test rounds until the set of locked lines settles
 LOWEST_K = 5          # a hum comb has a locked line among harmonics 1..LOWEST_K
+# Inputs shorter than this cannot tell a held note 1/duration Hz from a harmonic, and a held organ
+# chord locks like hum over 1 s: there the comb needs a locked line among harmonics 1..LOWEST_K_SHORT
+SHORT_INPUT_S = 2.0
+LOWEST_K_SHORT = 3
 WEIGHTED_HIGH = 2     # spectrum lines up to this times LOWEST_K get the weighted test too (Bonferroni)
 WEIGHTED_REACH = 2    # the weighted lock test looks at harmonics up to this times the highest locked one
 HIGH_REACH = 4        # a comb locked to within this many harmonics of the candidates' top is extended
@@ -198,11 +202,12 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
         ks = sorted(ks + _new_lines(fam, seen, ks, psi))
         ks = sorted(ks + _intermittent_lines(fam, ks, psi))
         _weighted_rest(fam, ks, psi)
-    if test and ks and min(ks) > LOWEST_K:
+    lowest = LOWEST_K if N >= SHORT_INPUT_S * sr else LOWEST_K_SHORT
+    if test and ks and min(ks) > lowest:
         # mains hum lives at the fundamental and the first harmonics (a weak fundamental is
         # normal, a comb with nothing locked below the 6th harmonic is not): locked lines only
         # high up are partials of held notes that happen to keep their phase
-        log.info("lines %s locked but none of harmonics 1-%d: not taken for hum", ks, LOWEST_K)
+        log.info("lines %s locked but none of harmonics 1-%d: not taken for hum", ks, lowest)
         ks = []
     cols = fam.cols(ks)
     info = fam.info

@@ -169,7 +169,6 @@ OFF_NOMINAL = 0.0125   # a track that never comes nearer its nominal than this s
 # the lock test as well as hum would (the test cannot tell frequencies closer than 1/duration): there
 # the fundamental must sit within 0.5 % of the nominal (a grid's deviation and a clock offset are
 # far smaller; 3 of 256 hum-free excerpts of 0.7-1.9 s were otherwise taken for hum at 49.5 Hz)
-SHORT_INPUT_S = 2.0
 SHORT_OFF_NOMINAL = 0.005
 
 
@@ -185,7 +184,7 @@ def _off_nominal(trk, nominal: float, duration_s: float) -> bool:
     if not len(f):
         return False
     off = float(np.min(np.abs(f - nominal))) / nominal
-    limit = SHORT_OFF_NOMINAL if duration_s < SHORT_INPUT_S else OFF_NOMINAL
+    limit = SHORT_OFF_NOMINAL if duration_s < _lockcomb.SHORT_INPUT_S else OFF_NOMINAL
     if off > limit:
         log.warning("the line tracked at %.2f-%.2f Hz never comes within %.3g %% of %g Hz (it is %.1f %% off): "
                     "not mains hum, left in; pass --tone to remove it", float(f.min()), float(f.max()),
