@@ -145,6 +145,9 @@ class Pyramid:
     >>> R, E, f = pyr.bandpass(1.0)
     >>> R.shape, f
     ((3, 48, 64), 1.0)
+    >>> S, f = pyr.spectra(1.0)
+    >>> S.shape, f
+    ((48, 64), 1.0)
     """
 
     def __init__(self, img: np.ndarray, base_max: int = 768):
@@ -197,6 +200,18 @@ class Pyramid:
                 self.cache[("bp", k)] = bandpass_map(self._image(k))
             R, E = self.cache[("bp", k)]
         return R, E, self._image(k).shape[1] / self.W
+
+    def spectra(self, d: float):
+        """(``spectra.LevelSpectra`` of the band-pass maps, factor) at full-resolution scale factor ~d:
+        the coarse grid matches many templates against each level."""
+        from odnn_sep.image.spectra import LevelSpectra
+
+        R, E, f = self.bandpass(d)
+        k = self._k(d)
+        with self._lock:
+            if ("spectra", k) not in self.cache:
+                self.cache[("spectra", k)] = LevelSpectra(R, E)
+            return self.cache[("spectra", k)], f
 
 
 @functools.lru_cache(maxsize=4096)
