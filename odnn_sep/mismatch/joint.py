@@ -229,6 +229,10 @@ def explain_joint(name, series, *, params=None, shared=None, **options):
     >>> res.effects, round(res.final_fit.params["T_ambient"], 1)
     ([], 21.0)
     """
+    from odnn_sep.mismatch.timescale_result import explain_joint_in_caller_units
+    rescaled = explain_joint_in_caller_units(name, series, params, shared, options)
+    if rescaled is not None:   # times far from seconds-like: each series on t / 1000^k, reported in t's units
+        return rescaled
     from odnn_sep.mismatch.effects import EFFECTS, applicable
     from odnn_sep.mismatch.explain import explain
     m, t, y = joint_model(name, series, params=params, shared=shared)

@@ -17,8 +17,9 @@ untouched); only the generic effects' parameters are mapped.
 
 The preset defaults (``g = 9.81``, ``k = 1``) are starting values in seconds-like units and are used
 on the internal axis as they are; starting values given by the caller are in the caller's units and
-are converted. Not rescaled: hum records (mains frequencies are in Hz of seconds), 2-D fields, and
-joint series (their stacked axis is built by :mod:`odnn_sep.mismatch.joint`).
+are converted. Not rescaled: hum records (mains frequencies are in Hz of seconds) and 2-D fields.
+Joint series are rescaled by their longest series' span before they are stacked
+(:func:`~odnn_sep.mismatch.timescale_result.explain_joint_in_caller_units`).
 """
 from __future__ import annotations
 
@@ -133,12 +134,13 @@ class TimeUnits:
     {'k': 4e-06, 'q_drag': 0.05, 'omega_pk': 0.003}
     """
 
-    def __init__(self, scale, family, own=frozenset()):
+    def __init__(self, scale, family, own=frozenset(), aliases=None):
         self.scale, self.family, self.own = float(scale), family, frozenset(own)
+        self.aliases = dict(aliases or {})    # a joint fit's per-series name -> the preset's name (h_mug1 -> h)
 
     def factor(self, name) -> float:
         """Internal value / caller's value of parameter ``name``."""
-        return self.scale ** -time_power(self.family, name, self.own)
+        return self.scale ** -time_power(self.family, self.aliases.get(name, name), self.own)
 
     def _map(self, values, inverse):
         out = {}
@@ -192,6 +194,13 @@ def internal_model(model, units: TimeUnits):
 def caller_model(model, units: TimeUnits):
     """The internal model (with its effects) back in the caller's units."""
     builder = getattr(model.builder, "caller_builder", model.builder)
+    if hasattr(model.preset, "series_times"):
+        # a joint model's preset holds the internal series times: evaluate it on the internal axis
+        inner, scale = model.builder, units.scale
+
+        def builder(effects):
+            predict = inner(effects)
+            return lambda t, p: predict(np.asarray(t, float) / scale, units.inward(p))
     return replace(model, builder=builder, start=units.outward(model.start), bounds=units.bounds_out(model.bounds))
 
 

@@ -60,7 +60,54 @@ def explain_in_caller_units(model, t, y, options):
     return _caller_result(res, t, units, options.get("alpha", 0.05))
 
 
-def _caller_result(res, t, units, alpha):
+def explain_joint_in_caller_units(name, series, params, shared, options):
+    """explain_joint() of series whose times are far from seconds-like, mapped back; None when analysed as given.
+
+    Every series is divided by the scale its longest span calls for (:func:`~odnn_sep.mismatch.timescale.time_scale`)
+    before the series are stacked, so the stacked axis and the per-series parameters are internal together.
+
+    Parameters
+    ----------
+    name : str
+        Preset.
+    series : dict
+        ``{series name: (t, y)}`` in the caller's time unit.
+    params, shared, options
+        As given to :func:`~odnn_sep.mismatch.joint.explain_joint`.
+
+    Returns
+    -------
+    MismatchResult or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 100, 40) * 1e9; rng = np.random.default_rng(0)     # ns
+    >>> s = {f"mug{i}": (t, 21 + 70 * np.exp(-h * t) + 0.05 * rng.normal(size=40)) for i, h in enumerate((2e-11, 4e-11))}
+    >>> res = explain_joint_in_caller_units("cooling", s, None, None, {})
+    >>> res.effects, round(res.final_fit.params["h_mug1"] * 1e9, 3)
+    ([], 0.04)
+    """
+    try:
+        longest = max((np.asarray(t, float) for t, _ in series.values()), key=lambda a: float(np.ptp(a)))
+    except (TypeError, ValueError):
+        return None      # explain_joint() says what is wrong with the series
+    scale = ts.time_scale(name, longest)
+    if scale == 1.0:
+        return None
+    from odnn_sep.mismatch.joint import explain_joint
+    from odnn_sep.mismatch.presets import PRESETS
+    units = ts.TimeUnits(scale, PRESETS[str(name)].family)
+    opts = dict(options)
+    opts["disturbance"] = ts.inward_disturbance(opts.get("disturbance", "auto"), scale)
+    inner = {n: (np.asarray(t, float) / scale, y) for n, (t, y) in series.items()}
+    res = explain_joint(name, inner, params=units.inward(params) if params else params, shared=shared, **opts)
+    jp = res.joint
+    units.aliases = {f"{k}_{lab}": k for k in jp.own for lab in jp.labels}
+    return _caller_result(res, np.asarray(res.t, float) * scale, units, opts.get("alpha", 0.05), float(np.ptp(longest)))
+
+
+def _caller_result(res, t, units, alpha, span=None):
     from odnn_sep.mismatch.inputs import physical_warnings
     from odnn_sep.mismatch.locate import locate
     res.t = t
@@ -74,7 +121,8 @@ def _caller_result(res, t, units, alpha):
     res.declared = [ts.outward_hz_text(s, units.scale) for s in res.declared]
     res.where = locate(t, res.calibration.fit.residual, sigma=res.noise_sigma, alpha=alpha)
     res.warnings = physical_warnings(res.final_fit.params)
-    res.notes.append(f"time analysed as t / {units.scale:g} (the span of t, {np.ptp(t):.4g}, is far from "
+    span = float(np.ptp(t)) if span is None else span
+    res.notes.append(f"time analysed as t / {units.scale:g} (the span of t, {span:.4g}, is far from "
                      f"seconds-like); every parameter and interval is reported in the units of t")
     return res
 

@@ -136,3 +136,23 @@ def test_oscillator_in_ns_calibrates_like_seconds():
     ref = _run("oscillator", t, y, 1.0)
     assert ref.as_dict()["verdict"]["status"] == "nothing_missing"
     _same(_run("oscillator", t, y, 1e9), ref, "oscillator", 1e9, 1e-6)
+
+
+@pytest.mark.parametrize("scale", [1e9, 1 / 3600])
+def test_joint_series_in_any_time_unit(scale):
+    from odnn_sep.mismatch.joint import explain_joint, joint_estimates
+    rng = np.random.default_rng(1)
+    series = {}
+    for i, h in enumerate((0.010, 0.015, 0.020)):
+        t = np.linspace(0, 300, 30) + 3.0 * i
+        m = make_model("cooling", {"h": h, "T_ambient": 21.5, "T0": 90.0 - 4 * i}).with_effect("radiation", {"r_rad": 0.006})
+        series[f"mug{i + 1}"] = (t, m.predict(t) + 0.05 * rng.normal(size=30))
+    ref = explain_joint("cooling", series, effects=["radiation", "two_body_heat"])
+    res = explain_joint("cooling", {k: (t * scale, y) for k, (t, y) in series.items()},
+                        effects=["radiation", "two_body_heat"])
+    assert res.effects == ref.effects == ["radiation"]
+    e, e0 = joint_estimates(res), joint_estimates(ref)
+    np.testing.assert_allclose(e["shared"]["T_ambient"], e0["shared"]["T_ambient"], rtol=1e-6)
+    np.testing.assert_allclose(np.array(e["shared"]["r_rad"]) * scale, e0["shared"]["r_rad"], rtol=1e-5)
+    for name in series:
+        np.testing.assert_allclose(np.array(e["series"][name]["h"]) * scale, e0["series"][name]["h"], rtol=1e-5)
