@@ -1,6 +1,6 @@
 """The same records with time in s, ms, us, ns and hours: verdicts, parameters and intervals compared.
 
-For each system of ``bench_mismatch.py`` (its effect at the strength below, and its null twin) one
+For each time-series system of ``bench_mismatch.py`` (its effect at the strength in ``STRENGTH``, and its null twin) one
 noisy record is analysed with its time column in each unit. The table gives the verdict per unit and
 the largest difference from the record in seconds, after converting back to seconds, of a parameter
 and of an interval end, in standard errors of the record in seconds.
