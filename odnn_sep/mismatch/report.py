@@ -181,7 +181,7 @@ def misfit_sentence(m):
     """
     return (f"the model does not fit the data: the residual is {m['rms_over_noise']:.3g}x the noise level, "
             f"and no effect in the library explains it. The calibration may not have converged: check "
-            f"the time unit (the presets expect seconds) and the starting values (--param NAME=VALUE); "
+            f"the starting values (--param NAME=VALUE, in the time unit of the data; hum records in seconds); "
             f"or the data hold something outside the effect library")
 
 
