@@ -156,3 +156,23 @@ def test_joint_series_in_any_time_unit(scale):
     np.testing.assert_allclose(np.array(e["shared"]["r_rad"]) * scale, e0["shared"]["r_rad"], rtol=1e-5)
     for name in series:
         np.testing.assert_allclose(np.array(e["series"][name]["h"]) * scale, e0["series"][name]["h"], rtol=1e-5)
+
+
+def test_cli_report_in_the_time_columns_unit(tmp_path, capsys):
+    import json
+
+    from odnn_sep.cli import main
+    t = np.linspace(0, 200, 300)       # a cooling curve with a 0.11 Hz pickup, the time column in ms
+    y = 22 + 73 * np.exp(-0.02 * t) + 0.4 * np.cos(2 * np.pi * 0.11 * t) + 0.1 * np.random.default_rng(5).normal(size=300)
+    path = tmp_path / "cooling_ms.csv"
+    path.write_text("time_ms,T\n" + "".join(f"{a * 1e3:.3f},{b:.4f}\n" for a, b in zip(t, y, strict=True)))
+    assert main(["mismatch", str(path), "--model", "cooling", "--report", str(tmp_path / "r.json")]) == 0
+    out = capsys.readouterr().out
+    assert "time analysed as t / 1000" in out and "a periodic component at 0.00011 Hz" in out
+    d = json.loads((tmp_path / "r.json").read_text())
+    assert d["verdict"]["status"] == "nothing_missing"
+    h = d["calibration"]["parameters"]["h"]
+    assert h["value"] == pytest.approx(2e-5, rel=0.01) and h["interval95"][0] < h["value"] < h["interval95"][1]
+    band = next(w for w in d["where"] if w["kind"] == "frequency")
+    assert band["peak_hz"] == pytest.approx(0.11e-3, rel=0.01)
+    assert max(w["end"] for w in d["where"] if w["kind"] == "time") <= 2e5 + 1
