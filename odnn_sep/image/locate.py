@@ -165,7 +165,7 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     # mark on a textured photo scores below dozens of chance matches (development photos: coarse
     # rank up to ~40 of the distinct places), while one step of the finer grid ranks it first.
     top = _select(sorted(cands, key=lambda c: -c[0]), w100, coarse_factor * max_hypotheses, per_size_bin)
-    return _finer(pyr, text, fonts, top, w100, max_hypotheses)
+    return _finer(pyr, text, fonts, f0, top, w100, max_hypotheses)
 
 
 def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coarse_height) -> list[tuple]:
@@ -279,23 +279,27 @@ def coarse_chunk(text: str, font, max_w100: float) -> tuple[str, tuple[float, fl
     return chunk, (float(off[0]), float(off[1]))
 
 
-def _finer(pyr, text, fonts, top, w100, max_hypotheses) -> list[Match]:
-    """The finer grids of ``search`` for the coarse places ``top``; distinct hypotheses, best first."""
+def _finer(pyr, text, fonts, f0, top, w100, max_hypotheses) -> list[Match]:
+    """The finer grids of ``search`` for the coarse places ``top`` (found with the font ``f0``, whose
+    text is ``w100`` px wide at ``REF_SIZE``); distinct hypotheses, best first.
+
+    Why long (7 parameters): ``search``'s pyramid, text, fonts and coarse places, passed on."""
     def one_hypothesis(ic):
         i, (_, s0, a0, cx0, cy0) = ic
         # several fonts: a quick look (position only) ranks them and the best two go on (the blend
         # fit that screens the hypotheses afterwards tells similar fonts apart far better); the
-        # second only at the best-scoring coarse places (the most places are chance matches, and
-        # the best places get every font on the finer grids below anyway)
-        picks: list[tuple] = [(fonts[0], s0)]
-        if len(fonts) > 1:
+        # quick look and the second font only at the best-scoring coarse places (the most places
+        # are chance matches; the others go on with the coarse grid's own font, and the best places
+        # get every font on the finer grids below anyway)
+        picks: list[tuple] = [(Path(f0) if len(fonts) > 1 else fonts[0], s0)]
+        if len(fonts) > 1 and i < max_hypotheses:
             quick = []
             for fo in fonts:
                 sf = s0 * w100 / _ink(text, fo)[0]  # match the coarse text width with this font
                 m = _refine(pyr, text, str(fo), sf, a0, cx0, cy0, stages=(QUICK,))
                 if m is not None:
                     quick.append((m.score, fo, sf, m))
-            picks = [(fo, sf, m) for _, fo, sf, m in sorted(quick, key=lambda q: -q[0])[:2 if i < max_hypotheses else 1]]
+            picks = [(fo, sf, m) for _, fo, sf, m in sorted(quick, key=lambda q: -q[0])[:2]]
         # the quick look's template is the medium grid's centre one, in the same window: not matched twice
         return [_refine(pyr, text, str(pick[0]), pick[1], a0, cx0, cy0, stages=(MEDIUM_ANGLE, MEDIUM_SIZE),
                         known=pick[2] if len(pick) > 2 else None) for pick in picks]
