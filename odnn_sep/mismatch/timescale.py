@@ -181,7 +181,8 @@ def internal_model(model, units: TimeUnits):
     if model.preset is not None:
         defaults = getattr(model.preset, "params", {})
         given = {k: v for k, v in model.start.items() if k not in defaults or defaults[k] != v}
-        return replace(model, start={**model.start, **units.inward(given)}, bounds=units.bounds_in(model.bounds))
+        return replace(_input_times(model, 1 / units.scale), start={**model.start, **units.inward(given)},
+                       bounds=units.bounds_in(model.bounds))
     user_builder, scale = model.builder, units.scale
 
     def builder(effects):
@@ -191,8 +192,19 @@ def internal_model(model, units: TimeUnits):
     return replace(model, builder=builder)
 
 
+def _input_times(model, factor):
+    """A driven preset's copy whose measured inputs' time stamps are multiplied by ``factor``."""
+    if not getattr(model.preset, "inputs", None):
+        return model
+    import copy
+    preset = copy.copy(model.preset)
+    preset.inputs = {k: (np.asarray(tu, float) * factor, u) for k, (tu, u) in model.preset.inputs.items()}
+    return replace(model, preset=preset, builder=preset.build)
+
+
 def caller_model(model, units: TimeUnits):
     """The internal model (with its effects) back in the caller's units."""
+    model = _input_times(model, units.scale)
     builder = getattr(model.builder, "caller_builder", model.builder)
     if hasattr(model.preset, "series_times"):
         # a joint model's preset holds the internal series times: evaluate it on the internal axis

@@ -176,3 +176,16 @@ def test_cli_report_in_the_time_columns_unit(tmp_path, capsys):
     band = next(w for w in d["where"] if w["kind"] == "frequency")
     assert band["peak_hz"] == pytest.approx(0.11e-3, rel=0.01)
     assert max(w["end"] for w in d["where"] if w["kind"] == "time") <= 2e5 + 1
+
+
+def test_driven_model_in_ms_and_its_caller_model():
+    # a driven preset built by the caller holds its input's time stamps in the caller's unit
+    t = np.linspace(0, 200, 300)
+    P = (t > 60).astype(float)
+    y = make_model("cooling", {"h": 0.03, "T_ambient": 20.0, "T0": 60.0}, inputs={"P": (t, P)}).with_start(
+        {"kd_P": 0.5}).predict(t) + 0.05 * np.random.default_rng(0).normal(size=300)
+    ref = _run(make_model("cooling", inputs={"P": (t, P)}), t, y, 1.0)
+    res = _run(make_model("cooling", inputs={"P": (t * 1e3, P)}), t, y, 1e3)
+    _same(res, ref, "cooling", 1e3, 1e-6)
+    f = res.final_fit
+    np.testing.assert_allclose(f.model.predict(t * 1e3, f.params), f.prediction, rtol=1e-9)
