@@ -1,10 +1,11 @@
 """Find a rendered text in an image: position, size (px), rotation and repeats.
 
-The search is coarse-to-fine on band-pass correlation (``features.match_bandpass``): every (size,
-angle) on a log/linear grid at a pyramid level where the glyphs are about 10 px tall, the best
-places of each, then one step of a finer (size, angle, position) grid at a level where they are
-about 24 px tall around many of them (without a pinned font: for the two fonts that look best
-there), and a last, finer step for the best of those.
+The search is coarse-to-fine on band-pass correlation (``features.match_bandpass``; the coarse grid
+transforms each level once, ``spectra``): every (size, angle) on a log/linear grid at a pyramid
+level where the glyphs are about 10 px tall, the best places of each, then one step of a finer
+(size, angle, position) grid at a level where they are about 24 px tall around many of them
+(without a pinned font: at the best of them for the two fonts that look best there, elsewhere for
+the coarse grid's font), and a last, finer step for the best of those.
 The caller screens the hypotheses with the blend fit, and the final sub-pixel fit minimises the
 blend model's residual (see ``register``).
 """
