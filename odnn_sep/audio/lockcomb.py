@@ -16,6 +16,7 @@ import numpy as np
 from odnn_sep.audio import combpattern as _combpattern
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
+from odnn_sep.audio import hostgrid as _hostgrid
 from odnn_sep.audio import lock as _lock
 from odnn_sep.audio import phasejumps as _phasejumps
 from odnn_sep.audio import phaseplace as _phaseplace
@@ -202,6 +203,8 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
         ks = sorted(ks + _new_lines(fam, seen, ks, psi))
         ks = sorted(ks + _intermittent_lines(fam, ks, psi))
         _weighted_rest(fam, ks, psi)
+    if test and ks:
+        ks = _off_host_grid(spec, fam.f_ref, ks, psi, sr)
     lowest = LOWEST_K if N >= SHORT_INPUT_S * sr else LOWEST_K_SHORT
     if test and ks and min(ks) > lowest:
         # mains hum lives at the fundamental and the first harmonics (a weak fundamental is
@@ -304,9 +307,54 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     if test:
         _extend_high(source, spec, best, alpha=alpha, max_hz=max_hz, n_first=n_first)
         _add_pattern_lines(source, spec, best, alpha=alpha)
+        _keep_columns(best, _off_host_grid(spec, best.f_ref, best.harmonics, best.psi, source.sr))
+        if not best.harmonics:
+            return None
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
              [round(f.evidence, 1) for f in fams])
     return best
+
+
+def _off_host_grid(spec, f_ref: float, ks, psi, sr: int) -> list[int]:
+    """``ks`` without the lines of a periodic host (``hostgrid.grid_lines``), with a log line;
+    ``psi`` the tracked phase (cycles at the chunk centres), whose range of frequencies widens
+    each line's own band."""
+    grid = _hostgrid.grid_lines(spec, f_ref, ks, spread_hz=_spread_hz(psi, sr))
+    if grid:
+        log.info("lines %s have lines of their own kind at equal distances on both sides (a drum loop or a "
+                 "sequenced pattern placed to the sample): not taken for hum", grid)
+    return [k for k in ks if k not in grid]
+
+
+def _spread_hz(psi, sr: int) -> float:
+    """Range (Hz) of the fundamental given by ``psi`` over 4 s steps (1st to 99th percentile; the
+    steps are long so that the track's noise does not widen it).
+
+    Examples
+    --------
+    >>> sr = 8000; J = 2000                              # 20 s of 10 ms chunks
+    >>> t = (np.arange(J) + 0.5) * 80 / sr
+    >>> round(_spread_hz(0.5 * 0.02 * t ** 2, sr), 2)     # a ramp of 20 mHz/s
+    0.31
+    """
+    if psi is None:
+        return 0.0
+    m = max(1, int(round(4 * sr / _track.chunk_length(sr))))    # chunks in 4 s
+    if len(psi) <= m:
+        return 0.0
+    f = (psi[m:] - psi[:-m]) * sr / (m * _track.chunk_length(sr))
+    lo, hi = np.percentile(f, [1, 99])
+    return float(hi - lo)
+
+
+def _keep_columns(comb: Comb, ks) -> None:
+    """Keep only harmonics ``ks`` of ``comb`` (its chunk sums and weights with them)."""
+    if list(ks) == list(comb.harmonics):
+        return
+    cols = [comb.harmonics.index(k) for k in ks]
+    comb.D = comb.D[:, :, cols] if cols else None
+    comb.weights = comb.weights[:, cols] if cols else None
+    comb.harmonics = list(ks)
 
 
 def coherent_power(comb: Comb) -> float:
