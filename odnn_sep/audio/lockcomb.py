@@ -316,10 +316,15 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
 
 
 def _off_host_grid(spec, f_ref: float, ks, psi, sr: int) -> list[int]:
-    """``ks`` without the lines of a periodic host (``hostgrid.grid_lines``), with a log line;
-    ``psi`` the tracked phase (cycles at the chunk centres), whose range of frequencies widens
+    """``ks`` without the lines of a periodic host (``hostgrid.grid_lines``) when they are at least
+    half of them, with a log line; ``psi`` the tracked phase (cycles at the chunk centres), whose range of frequencies widens
     each line's own band."""
     grid = _hostgrid.grid_lines(spec, f_ref, ks, spread_hz=_spread_hz(psi, sr))
+    if 2 * len(grid) < len(ks):
+        # a few lines of a hum comb inside a loop's field look like the loop's (a weak fundamental
+        # of a second-dominant hum among a drum loop's lines): the comb is the loop's only when
+        # most of its lines are
+        return list(ks)
     if grid:
         log.info("lines %s have lines of their own kind at equal distances on both sides (a drum loop or a "
                  "sequenced pattern placed to the sample): not taken for hum", grid)
