@@ -225,8 +225,9 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
 
 
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:
-    """The locked comb of the detected family, or of the other nominal family when it has more
-    locked evidence; None when no line is locked. Options as in :func:`~odnn_sep.audio.denoise`
+    """The locked comb that holds the most power along its track among the detected family, the
+    other nominal family and the placements by a strongest line (:func:`coherent_power`); None
+    when no line is locked. Options as in :func:`~odnn_sep.audio.denoise`
     (validated); keyword-only, which is why there are nine (why long).
 
     Parameters
@@ -317,8 +318,8 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
 
 def _off_host_grid(spec, f_ref: float, ks, psi, sr: int) -> list[int]:
     """``ks`` without the lines of a periodic host (``hostgrid.grid_lines``) when they are at least
-    half of them, with a log line; ``psi`` the tracked phase (cycles at the chunk centres), whose range of frequencies widens
-    each line's own band."""
+    half of them, with a log line; ``psi`` the tracked phase (cycles at the chunk centres), whose
+    range of frequencies widens each line's own band."""
     grid = _hostgrid.grid_lines(spec, f_ref, ks, spread_hz=_spread_hz(psi, sr))
     if 2 * len(grid) < len(ks):
         # a few lines of a hum comb inside a loop's field look like the loop's (a weak fundamental
