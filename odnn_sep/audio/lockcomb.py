@@ -1,6 +1,8 @@
 """Which comb is hum: track the fundamental's phase on the candidate harmonics, keep the
 harmonics that are phase-locked to it (lock.py), and track again on those alone until the set
-settles; between the 50 and 60 Hz families, the one with more locked evidence wins.
+settles; of the families that lock (50 Hz, 60 Hz, a placement by the strongest line), the one
+holding the most power along its track wins, and lines that sit on a periodic host's grid of their
+own (hostgrid.py) are left when most of the comb's lines do.
 
 A family whose candidate lines are note partials (a melody repeating F4 = 349.2 Hz beside 350 Hz)
 yields a "track" that no line follows for long: none of them passes the lock test, and the
