@@ -174,7 +174,13 @@ class TimeUnits:
 
 def internal_model(model, units: TimeUnits):
     """The model on the internal axis: a preset with its given starts converted; a user model
-    evaluated at the caller's times (``t * scale``) with its own parameters as they are."""
+    evaluated at the caller's times (``t * scale``) with its own parameters as they are.
+
+    Examples
+    --------
+    >>> internal_model("cooling", TimeUnits(1e3, "cooling"))      # a preset name passes through
+    'cooling'
+    """
     from odnn_sep.mismatch.model import Model
     if not isinstance(model, Model):
         return model
@@ -203,7 +209,15 @@ def _input_times(model, factor):
 
 
 def caller_model(model, units: TimeUnits):
-    """The internal model (with its effects) back in the caller's units."""
+    """The internal model (with its effects) back in the caller's units.
+
+    Examples
+    --------
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = caller_model(make_model("oscillator"), TimeUnits(1e3, "oscillator"))
+    >>> m.start["k"]                                  # a stiffness of 1 per s^2 in 1 per ms^2
+    1e-06
+    """
     model = _input_times(model, units.scale)
     builder = getattr(model.builder, "caller_builder", model.builder)
     if hasattr(model.preset, "series_times"):
@@ -217,7 +231,13 @@ def caller_model(model, units: TimeUnits):
 
 
 def inward_disturbance(spec, scale):
-    """The ``disturbance`` option with its declared frequencies (Hz of the caller's time) made internal."""
+    """The ``disturbance`` option with its declared frequencies (Hz of the caller's time) made internal.
+
+    Examples
+    --------
+    >>> inward_disturbance("periodic:0.002", 1e3)     # 0.002 per ms is 2 per s
+    'auto,periodic:2.0'
+    """
     from odnn_sep.mismatch.disturbances import parse_disturbance
     if spec is None or isinstance(spec, np.ndarray):
         return spec
@@ -226,7 +246,13 @@ def inward_disturbance(spec, scale):
 
 
 def inward_inputs(inputs, scale):
-    """Inputs given with their own time stamps ``(tu, u)`` get the internal axis too."""
+    """Inputs given with their own time stamps ``(tu, u)`` get the internal axis too.
+
+    Examples
+    --------
+    >>> inward_inputs({"u": (np.array([0.0, 1000.0]), np.array([1.0, 2.0]))}, 1e3)["u"][0]
+    array([0., 1.])
+    """
     if not inputs:
         return inputs
     return {k: ((np.asarray(v[0], float) / scale, v[1]) if isinstance(v, tuple) else v) for k, v in inputs.items()}
@@ -236,5 +262,11 @@ _HZ = re.compile(r"(-?\d+(?:\.\d*)?(?:e[-+]?\d+)?) Hz")
 
 
 def outward_hz_text(text, scale):
-    """A sentence's frequencies (written ``<number> Hz``) in Hz of the caller's time unit."""
+    """A sentence's frequencies (written ``<number> Hz``) in Hz of the caller's time unit.
+
+    Examples
+    --------
+    >>> outward_hz_text("a periodic component at 3.7 Hz", 1e3)
+    'a periodic component at 0.0037 Hz'
+    """
     return _HZ.sub(lambda m: f"{float(m.group(1)) / scale:.4g} Hz", text)
