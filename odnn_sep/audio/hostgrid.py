@@ -2,12 +2,13 @@
 
 A pattern that repeats every P seconds exactly is a sum of steady sinusoids at multiples of 1/P
 (a hit every 0.25 s: a line every 4 Hz, and so on every multiple of 50 and 60 Hz). Those lines are
-as steady and as phase-locked as hum, and the lock tests pass them: a clean drum loop was "cleaned"
-of 10 harmonics, changing it by -10 to -31 dB. What a lock test cannot see, the spectrum shows: such a
-line has neighbours of its own kind on both sides at the same distance (the lines of the pattern
-between the harmonics), and a hum harmonic has none. A locked line with a symmetric pair of lines
-beside it and a second pair at twice the distance, each steady over the input and at least a quarter
-of its power, is read as the host's (a hum's own amplitude modulation would need a depth of 100 % to make such sidebands).
+as steady and as phase-locked as hum, and the lock tests pass them: clean drum loops were "cleaned"
+of harmonics 1-6 and more, changing them by -7 to -37 dB. What a lock test cannot see, the spectrum
+shows: such a line has neighbours of its own kind on both sides at the same distance (the lines of
+the pattern between the harmonics), and a hum harmonic has none. A locked line with a symmetric pair
+of lines beside it and a second pair at twice the distance, each steady over the input and at least
+a quarter of its power, is read as the host's (a hum's own amplitude modulation would need a depth
+of 100 % to make such sidebands). lockcomb drops such lines only when most of a comb's lines are.
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import numpy as np
 from odnn_sep.audio.detect import band_halfwidth
 from odnn_sep.audio.spectrum import Spectrum
 
-SIDE_MAX_HZ = 20.0      # farthest neighbour looked at (the pair at twice the distance: steps of 0.1 s and longer)
+SIDE_MAX_HZ = 20.0      # farthest neighbour (the pair at twice the distance): pattern steps of 0.1 s and longer
 SIDE_SHARE = 0.25       # each neighbour at least this share of the line's peak power
 SIDE_OVER_FLOOR = 4.0   # and this far over the floor between the lines (a line, not a bump of noise)
 # and steady: its median over the spectrum's segments at least this share of its mean (a steady
