@@ -207,11 +207,52 @@ def _additive_alternative_score(c, cur, t, y, G):
     return step_score(cur, f.residual, c.fit.n_params, t)
 
 
+# loss terms: the physics they name removes heat, so a negative coefficient is a heat gain that stands
+# in for some other shape of the curve (a slow pickup, a step, a drift), never for that physics
+LOSS_TERMS = {"radiation": "r_rad", "evaporation": "e_evap"}
+
+
+def wrong_sign(c) -> str | None:
+    """Why candidate ``c`` is not physics because its loss coefficient came out negative, else None.
+
+    Parameters
+    ----------
+    c : Candidate
+        A refitted candidate (``c.fit.params``).
+
+    Returns
+    -------
+    str or None
+        The note, or None when the effect is not a loss term or its coefficient is >= 0.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> wrong_sign(NS(effect="radiation", fit=NS(params={"r_rad": -0.001})))[:31]
+    'fitted as a heat gain (r_rad = '
+    >>> wrong_sign(NS(effect="radiation", fit=NS(params={"r_rad": 0.002}))) is None
+    True
+    """
+    key = LOSS_TERMS.get(c.effect)
+    if key is None or c.fit is None:
+        return None
+    v = c.fit.params.get(key)
+    if v is None or not v < 0:
+        return None
+    return (f"fitted as a heat gain ({key} = {v:.3g}): a loss term with the wrong sign stands in for some "
+            f"other shape of the curve, not for {c.effect}")
+
+
 def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
-    """An effect whose additive stand-in fits as well is not eligible as physics (note why)."""
+    """An effect whose additive stand-in fits as well, or a loss term fitted as a gain, is not eligible
+    as physics (note why)."""
     by = {c.effect: c for c in cands}
     out = []
     for c in cands:
+        why = wrong_sign(c)
+        if why is not None:
+            c.note = why
+            continue
         if c.effect == "periodic_pickup" and t is not None and np.ndim(t) == 1 and cur is not None:
             from odnn_sep.mismatch.starts import near_system_line
             if near_system_line(c.fit.params["omega_pk"] / (2 * np.pi), cur, t):
@@ -239,6 +280,60 @@ def _choose(eligible, cur_mse, setup):
         if passes(c, setup.bic_threshold, setup.heldout_threshold):
             return c
     return None
+
+
+def absorb_disturbance_first(chosen, eligible, cur_mse, setup):
+    """A disturbance that fits as well as the chosen physics effect is taken first.
+
+    When an additive disturbance (a drift, a pickup, an offset) scores within the equivalence gap of
+    the physics effect chosen at this step (BIC gap divided by the noise's variance inflation, as for
+    two physics effects), the data cannot tell the two apart at this step. The disturbance is then
+    absorbed first, and the physics effect is tested again at the next step on top of it: it is named
+    only if it still passes both thresholds there.
+
+    Parameters
+    ----------
+    chosen : Candidate
+        The effect chosen at this step (passes both thresholds).
+    eligible : list of Candidate
+        The step's eligible candidates, best score first.
+    cur_mse : ndarray
+        Held-out MSE per block of the current model.
+    setup : SelectionSetup
+        Data, split and thresholds.
+
+    Returns
+    -------
+    Candidate
+        ``chosen``, or the disturbance taken in its place (then ``chosen.note`` says why).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> import numpy as np
+    >>> setup = NS(t=None, bic_threshold=10.0, heldout_threshold=6.0)
+    >>> phys = NS(effect="radiation", score=27.1, fit=NS(residual=np.zeros(3)), note=None)
+    >>> drift = NS(effect="drift", score=26.9, heldout_gain=20.0)
+    >>> absorb_disturbance_first(phys, [phys, drift], None, setup).effect
+    'drift'
+    >>> absorb_disturbance_first(phys, [phys, NS(effect="drift", score=12.0, heldout_gain=20.0)], None, setup).effect
+    'radiation'
+    """
+    if chosen.effect in DISTURBANCE_EFFECTS:
+        return chosen
+    vif = variance_inflation(chosen.fit.residual, setup.t)
+    for d in eligible:
+        if d.effect not in DISTURBANCE_EFFECTS or d.score <= setup.bic_threshold:
+            continue
+        if (chosen.score - d.score) / vif > EQUIVALENCE_GAP:
+            continue
+        if getattr(d, "heldout_gain", None) is None:
+            heldout(d, cur_mse, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
+        if passes(d, setup.bic_threshold, setup.heldout_threshold):
+            chosen.note = (f"no better than the additive {d.effect} (BIC {chosen.score - d.score:+.1f}): the "
+                           f"disturbance is absorbed first and {chosen.effect} tested again on top of it")
+            return d
+    return chosen
 
 
 def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
@@ -290,6 +385,7 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
         chosen = _choose(eligible, cur_mse, setup)
         if chosen is None:
             break
+        chosen = absorb_disturbance_first(chosen, eligible, cur_mse, setup)
         attach_equivalents(chosen, eligible, setup.bic_threshold, setup.t)
         sel.accepted.append(chosen)
         cur, cur_mse = chosen.fit, chosen.heldout_mse
