@@ -164,6 +164,14 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step
     lost[b[1]:b[3], b[0]:b[2]] = lo
     inp = y[b[1]:b[3], b[0]:b[2]]
     res = _residual(o, inp, M, prior, b, random_state)
+    if prior is not None:
+        # text mode: copies of the mark outside the removed box (tiled marks cut by the border)
+        from odnn_sep.image.residual_copies import copies_left
+
+        left = copies_left(y, o, M, b, random_state=random_state)
+        res["copies_left"] = left
+        if left is not None:
+            res["visible"] = True
     if step:
         from odnn_sep.image.residual import VISIBLE_LEVELS, step_left
 

@@ -215,6 +215,10 @@ def _residual_text(residual: dict) -> str:
         beside = (f"; a second colour (outline or shadow, {second['shape']}) left beside the letters at "
                   f"{second['contrast_levels']:.1f} grey levels, which one opacity and colour cannot remove"
                   if second else "")
+        copy = residual.get("copies_left")
+        beside += (f"; another copy of the mark left at x {copy['at'][0]}, y {copy['at'][1]} (cut by the border or "
+                   f"not found; detection score {copy['score']:.3f}, contrast {copy['contrast_levels']:.1f} grey "
+                   f"levels)" if copy else "")
         return (f"{100 * residual['edge_left']:.0f} % of its edge energy left, detection score on the output "
                 f"{residual['score']:.3f} (threshold {residual['threshold']:g}), contrast "
                 f"{residual['contrast_levels']:.1f} grey levels{beside}")

@@ -1,0 +1,59 @@
+"""A tiled mark whose other copies are cut by the border must not be reported removed.
+
+Found by ``recipes/bench_watermark_probe.py`` (development seed 12, case 3: 'Preview only' tiled over
+the moon photo; the one whole copy was removed, the copies cut by the border stayed, exit 0).
+"""
+import numpy as np
+import pytest
+
+
+def _marked(copies):
+    from PIL import Image, ImageDraw, ImageFont
+
+    from odnn_sep.image.render import resolve_font
+
+    f = ImageFont.truetype(str(resolve_font("DejaVuSans-Bold")), 34)
+    H, W = 170, 270
+    L = Image.new("L", (W, H), 0)
+    d = ImageDraw.Draw(L)
+    for xy in copies:
+        d.text(xy, "SAMPLE", font=f, fill=255)
+    M = np.asarray(L, dtype=np.float64) / 255
+    yy, xx = np.mgrid[0:H, 0:W]
+    photo = np.stack([0.35 + 0.2 * xx / W, 0.4 + 0.1 * yy / H, 0.5 - 0.1 * xx / W], -1)
+    photo = photo + 0.01 * np.random.default_rng(0).standard_normal(photo.shape)
+    y = (1 - 0.45 * M[..., None]) * photo + 0.45 * M[..., None]
+    return np.round(np.clip(y, 0, 1) * 255).astype(np.uint8)
+
+
+def test_copy_cut_by_the_border_counts_as_still_visible():
+    from odnn_sep.image import unwatermark
+
+    y = _marked([(50, 95), (195, 15)])      # one whole copy, one cut by the right border
+    r = unwatermark(y, text="SAMPLE", font="DejaVuSans-Bold")
+    rm = r.report["residual_mark"]
+    assert rm["visible"] is True
+    assert rm["copies_left"] is not None and rm["copies_left"]["at"][0] > 150
+
+
+def test_single_copy_removed_has_no_copies_left():
+    from odnn_sep.image import unwatermark
+
+    r = unwatermark(_marked([(50, 95)]), text="SAMPLE", font="DejaVuSans-Bold")
+    rm = r.report["residual_mark"]
+    assert rm["copies_left"] is None and rm["visible"] is False
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_copies_left_on_clean_photo_outside_the_box(seed):
+    """A perfect removal of the only copy, on noise and a smooth ramp: nothing left elsewhere."""
+    from odnn_sep.image.residual_copies import copies_left
+
+    rng = np.random.default_rng(seed)
+    H, W = 140, 220
+    photo = 0.4 + 0.3 * np.mgrid[0:H, 0:W][1][..., None] / W + 0.03 * rng.standard_normal((H, W, 1))
+    M = np.zeros((H, W))
+    M[40:70, 50:55] = 1
+    M[40:45, 45:110] = 1
+    box = (41, 36, 114, 74)
+    assert copies_left(photo, photo[36:74, 41:114], M, box) is None
