@@ -160,7 +160,7 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
     Parameters
     ----------
     effect : str
-        ``periodic_pickup``, ``periodic_pattern``, ``offset`` or ``drift`` (any other name is returned as is).
+        ``periodic_pickup``, ``periodic_pickup_2``, ``periodic_pattern``, ``offset`` or ``drift`` (any other name is returned as is).
     params : dict
         Fitted parameters.
     model_family : str
@@ -182,9 +182,10 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
     'a constant offset of 0.25 degC; a sensor bias and a constant disturbance give the same data'
     """
     u = f" {unit}" if unit else ""
-    if effect == "periodic_pickup":
-        f = params["omega_pk"] / (2 * np.pi)
-        amp = float(np.hypot(params["a_pk"], params["b_pk"]))
+    if effect in ("periodic_pickup", "periodic_pickup_2"):
+        sfx = "2" if effect == "periodic_pickup_2" else ""
+        f = params["omega_pk" + sfx] / (2 * np.pi)
+        amp = float(np.hypot(params["a_pk" + sfx], params["b_pk" + sfx]))
         if model_family in ("oscillator", "pendulum"):
             why = ("for this linear model an external periodic force and a periodic pickup give the same data"
                    if linear else "a periodic force through the dynamics did not fit significantly better "

@@ -72,6 +72,13 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
            {"a_pk": 0.0, "b_pk": 0.0, "omega_pk": 1.0},
            {"a_pk": (-INF, INF), "b_pk": (-INF, INF), "omega_pk": (0.0, INF)},
            _MECH | {"cooling", "freefall", "hum", "user"}, generic=True),
+    # a second additive sinusoid (two pickups at once, a pickup and its mirror): offered by the forward
+    # selection only once periodic_pickup is in the model, so it belongs to no family of its own
+    Effect("periodic_pickup_2", "a second additive periodic component a cos(omega t) + b sin(omega t) in the "
+           "recording",
+           {"a_pk2": 0.0, "b_pk2": 0.0, "omega_pk2": 1.0},
+           {"a_pk2": (-INF, INF), "b_pk2": (-INF, INF), "omega_pk2": (0.0, INF)},
+           frozenset(), generic=True),
     # its 2D counterpart: a stripe across a field (interference, a scanner artefact), wave vector (kx, ky)
     Effect("periodic_pattern", "an additive spatial periodic pattern a cos(kx x + ky y) + b sin(kx x + ky y) "
            "(a stripe across the field)",
@@ -123,7 +130,7 @@ VOCABULARY = tuple(EFFECTS)
 
 # effects the data cannot tell apart from an additive disturbance: found, absorbed and reported as
 # disturbances (verdict.disturbances), never named as missing physics
-DISTURBANCE_EFFECTS = ("periodic_pickup", "periodic_pattern", "offset", "drift")
+DISTURBANCE_EFFECTS = ("periodic_pickup", "periodic_pickup_2", "periodic_pattern", "offset", "drift")
 
 # effects that are alternatives, never added together (two drag laws for one falling body)
 EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),
@@ -243,6 +250,8 @@ def apply_generic(names, predict_fn, *, t0: float):
             out = out + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
         if "periodic_pickup" in names:
             out = out + p["a_pk"] * np.cos(p["omega_pk"] * t) + p["b_pk"] * np.sin(p["omega_pk"] * t)
+        if "periodic_pickup_2" in names:
+            out = out + p["a_pk2"] * np.cos(p["omega_pk2"] * t) + p["b_pk2"] * np.sin(p["omega_pk2"] * t)
         if "periodic_pattern" in names:
             ph = p["kx_pp"] * t[:, 0] + p["ky_pp"] * t[:, 1]
             out = out + p["a_pp"] * np.cos(ph) + p["b_pp"] * np.sin(ph)

@@ -212,6 +212,7 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     if on_bands is not None:
         return on_bands
     m, t, y, aux, rate_note = _prepare(model, t, y, params, inputs, aux)
+    t, y, aux, saturation = _drop_saturated(m, t, y, aux)
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
     G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
     # a joint model's series are each repaired on their own (spikes_series.py)
@@ -249,9 +250,24 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
                         if c.effect in DISTURBANCE_EFFECTS]
     if spikes is not None:
         res.disturbances.extend(spikes_entries(spikes, m, t, unit))
+    if saturation is not None:
+        res.disturbances.append(saturation.entry(unit))
     from odnn_sep.mismatch.inputs import physical_warnings
     res.warnings = physical_warnings(out.fit.params)
     return res
+
+
+def _drop_saturated(m, t, y, aux):
+    """Leave out the samples held at a rail of the sensor (see :mod:`odnn_sep.mismatch.saturation`);
+    time series of one record only (not fields, not joint series)."""
+    from odnn_sep.mismatch.saturation import find_saturation
+    if np.ndim(t) != 1 or hasattr(getattr(m, "preset", None), "series_times"):
+        return t, y, aux, None
+    sat = find_saturation(y)
+    if sat is None:
+        return t, y, aux, None
+    aux = {k: np.asarray(v)[sat.keep] for k, v in aux.items()} if aux else aux
+    return t[sat.keep], y[sat.keep], aux, sat
 
 
 def _prepare(model, t, y, params, inputs, aux):

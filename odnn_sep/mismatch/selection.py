@@ -23,6 +23,8 @@ from odnn_sep.mismatch.rivals import recheck_rivals, step_score
 # the additive stand-in of each effect that a linear model cannot tell from it
 # (a release-time offset of a body falling from rest is a drift plus an offset of its height)
 EQUIVALENT = {"periodic_forcing": "periodic_pickup", "time_delay": "drift"}
+# the frequency parameter of each additive sinusoid
+PICKUP_OMEGA = {"periodic_pickup": "omega_pk", "periodic_pickup_2": "omega_pk2"}
 
 # two physics effects whose BIC scores differ by at most this much, after dividing by the noise's
 # low-frequency variance inflation, are reported as equivalent ("the data cannot tell them apart"):
@@ -253,9 +255,9 @@ def _demote_equivalents(cands, bic_threshold, cur=None, t=None, y=None, G=None):
         if why is not None:
             c.note = why
             continue
-        if c.effect == "periodic_pickup" and t is not None and np.ndim(t) == 1 and cur is not None:
+        if c.effect in PICKUP_OMEGA and t is not None and np.ndim(t) == 1 and cur is not None:
             from odnn_sep.mismatch.starts import near_system_line
-            if near_system_line(c.fit.params["omega_pk"] / (2 * np.pi), cur, t):
+            if near_system_line(c.fit.params[PICKUP_OMEGA[c.effect]] / (2 * np.pi), cur, t):
                 c.note = "at the system's own frequency or a harmonic: not taken as a disturbance"
                 continue
         alt = by.get(EQUIVALENT.get(c.effect, ""))
@@ -286,8 +288,9 @@ def absorb_disturbance_first(chosen, eligible, cur_mse, setup):
     """A disturbance that fits as well as the chosen physics effect is taken first.
 
     When an additive disturbance (a drift, a pickup, an offset) scores within the equivalence gap of
-    the physics effect chosen at this step (BIC gap divided by the noise's variance inflation, as for
-    two physics effects), the data cannot tell the two apart at this step. The disturbance is then
+    the physics effect chosen at this step (the plain BIC gap: a near tie; it is not widened for
+    correlated noise, so a physics effect clearly ahead is never deferred), the data cannot tell the
+    two apart at this step. The disturbance is then
     absorbed first, and the physics effect is tested again at the next step on top of it: it is named
     only if it still passes both thresholds there.
 
@@ -321,11 +324,10 @@ def absorb_disturbance_first(chosen, eligible, cur_mse, setup):
     """
     if chosen.effect in DISTURBANCE_EFFECTS:
         return chosen
-    vif = variance_inflation(chosen.fit.residual, setup.t)
     for d in eligible:
         if d.effect not in DISTURBANCE_EFFECTS or d.score <= setup.bic_threshold:
             continue
-        if (chosen.score - d.score) / vif > EQUIVALENCE_GAP:
+        if chosen.score - d.score > EQUIVALENCE_GAP:
             continue
         if getattr(d, "heldout_gain", None) is None:
             heldout(d, cur_mse, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
@@ -391,6 +393,8 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
         cur, cur_mse = chosen.fit, chosen.heldout_mse
         sel.heldout_rmse = chosen.heldout_rmse
         remaining = [e for e in remaining if e != chosen.effect]
+        if chosen.effect == "periodic_pickup":
+            remaining.append("periodic_pickup_2")   # a second pickup may be there too
     sel.fit = cur
     if len(sel.accepted) >= 2 and any(c.effect not in DISTURBANCE_EFFECTS for c in sel.accepted):
         _backward(sel, base, setup)

@@ -169,6 +169,15 @@ def _pickup_starts(p, r, tt, base, model, t):
     return out
 
 
+def _second_pickup_starts(p, r, tt, base, model, t):
+    out = []
+    for f in _not_harmonics(_peaks(tt, r, n_peaks=4), base, tt)[:2]:
+        w = 2 * np.pi * f
+        a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
+        out.append({**p, "omega_pk2": w, "a_pk2": float(a), "b_pk2": float(b)})
+    return out
+
+
 def _modulation_starts(p, r, tt, base, model, t):
     out = []
     pred = base.prediction
@@ -253,6 +262,7 @@ def _moved_starts(p, r, tt, base, model, t):
 _START_RULES = {
     "periodic_forcing": (_forcing_starts, True),
     "periodic_pickup": (_pickup_starts, True),
+    "periodic_pickup_2": (_second_pickup_starts, True),
     "amplitude_modulation": (_modulation_starts, True),
     "two_body_heat": (_two_body_starts, True),
     "missing_harmonic": (_harmonic_starts, True),

@@ -27,3 +27,48 @@ def test_loss_term_fitted_as_a_gain_is_set_aside_with_its_reason():
     assert "heat gain" in (notes["radiation"] or "") or "absorbed first" in (notes["radiation"] or "")
     assert "radiation" not in res.effects
     assert "nothing missing" in summary_text(res)
+
+
+def test_two_pickups_on_a_free_fall_null_are_both_absorbed():
+    # before: one pickup was absorbed and the other (1.2 Hz, about one cycle in the record) named linear_damping
+    t = np.linspace(0, 0.7, 400)
+    y = (4.6 - 0.5 * 9.81 * t ** 2 + 0.015 * np.random.default_rng(0).normal(size=t.size)
+         + 0.04 * np.cos(2 * np.pi * 1.2 * t + 0.3) + 0.03 * np.cos(2 * np.pi * 21.8 * t + 1.0))
+    res = explain("freefall", t, y)
+    assert res.effects == []
+    found = sorted(d["effect"] for d in res.disturbances)
+    assert found == ["periodic_pickup", "periodic_pickup_2"]
+    hz = sorted(d["parameters"][k] / (2 * np.pi) for d in res.disturbances for k in d["parameters"]
+                if k.startswith("omega_pk"))
+    assert abs(hz[0] - 1.2) < 0.3 and abs(hz[1] - 21.8) < 0.2
+    assert all("a periodic component at" in d["description"] for d in res.disturbances)
+
+
+def test_samples_at_a_sensor_rail_are_left_out_not_named():
+    # before: the flat start of a clipped cooling record was named two_body_heat (and radiation)
+    t = np.linspace(0, 100, 48)
+    clean = -8 + 30 * np.exp(-0.02 * t)
+    y = np.minimum(clean + 0.2 * np.random.default_rng(0).normal(size=t.size), clean[4])
+    res = explain("cooling", t, y, unit="degC")
+    assert res.effects == []
+    (d,) = [d for d in res.disturbances if d["effect"] == "clipping"]
+    assert d["count"] >= 4 and abs(d["parameters"]["upper"] - clean[4]) < 1e-12
+    assert "saturates" in d["description"] and "saturates" in summary_text(res)
+    assert len(res.y) == t.size - d["count"]
+
+
+def test_a_coarse_adc_without_clipping_keeps_every_sample():
+    t = np.linspace(0, 100, 200)
+    y = np.round(-8 + 30 * np.exp(-0.02 * t) + 0.05 * np.random.default_rng(1).normal(size=t.size), 1)
+    res = explain("cooling", t, y)
+    assert len(res.y) == t.size and not [d for d in res.disturbances if d["effect"] == "clipping"]
+
+
+def test_the_lowest_level_of_a_coarse_adc_near_a_flat_tail_is_not_a_rail():
+    # a level visited less often than the one next to it is the tail of the noise, not a pile-up
+    from odnn_sep.mismatch.saturation import find_saturation
+    for seed in range(5):
+        tail = 1.2 + 0.5 * np.random.default_rng(seed).normal(size=100)
+        assert find_saturation(np.round(np.r_[np.linspace(30.0, 1.5, 40), tail])) is None
+    clipped = np.maximum(np.r_[np.linspace(30.0, 1.5, 40), tail], 2.0)
+    assert find_saturation(clipped).rails[0][:2] == ("lower", 2.0)
