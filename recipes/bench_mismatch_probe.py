@@ -288,13 +288,54 @@ def one_case(preset, kind, seed, folder, ode_small, timeout):
     return row
 
 
+def error_probes(folder):
+    """Malformed inputs a user could give; each must end in one clear line (rows: what, rc, lines, message)."""
+    f = Path(folder)
+    t = np.linspace(0, 100, 50)
+    cool = 20 + 50 * np.exp(-0.03 * t)
+    files = {
+        "no data rows": "t,T\n",
+        "a NaN": "t,T\n" + "".join(f"{i},{'nan' if i == 3 else 90 - i}\n" for i in range(30)),
+        "time not increasing": "t,T\n" + "".join(f"{i if i != 2 else 0.5},{90 - i}\n" for i in range(30)),
+        "duplicate time": "t,T\n" + "".join(f"{max(i, 1)},{90 - i}\n" for i in range(30)),
+        "text values": "t,T\n0,abc\n1,def\n",
+        "one row": "t,T\n0,90\n",
+        "';' separator": "t;T\n" + "".join(f"{a};{b}\n" for a, b in zip(t, cool, strict=True)),
+        "constant record": "t,T\n" + "".join(f"{a},20\n" for a in t),
+        "16 points": "t,T\n" + "".join(f"{a},{b}\n" for a, b in zip(t[:16], cool[:16], strict=True)),
+    }
+    runs = [(k, ["--model", "cooling"], v) for k, v in files.items()]
+    good = "t,T\n" + "".join(f"{a},{b}\n" for a, b in zip(t, cool, strict=True))
+    runs += [("unknown model", ["--model", "coolin"], good), ("unknown column", ["--model", "cooling", "--column", "Z"], good),
+             ("--units on an oscillator", ["--model", "oscillator", "--units", "K"], good),
+             ("unknown --disturbance", ["--model", "cooling", "--disturbance", "hvac"], good),
+             ("--folds 1", ["--model", "cooling", "--folds", "1"], good),
+             ("missing --input column", ["--model", "cooling", "--input", "P"], good)]
+    rows = []
+    for i, (what, args, text) in enumerate(runs):
+        path = f / f"err{i}.csv"
+        path.write_text(text)
+        p = subprocess.run(["odnn-sep", "mismatch", str(path), "--quiet", *args], capture_output=True, text=True,
+                           timeout=300)
+        msg = [ln for ln in (p.stderr + p.stdout).splitlines() if ln.strip()]
+        last = msg[-1].replace(str(path), "FILE")[:160] if msg else ""
+        rows.append((what, p.returncode, len(msg), "Traceback" in p.stderr, last))
+    missing = subprocess.run(["odnn-sep", "mismatch", str(f / "nope.csv"), "--model", "cooling"],
+                             capture_output=True, text=True, timeout=300)
+    m = [ln for ln in missing.stderr.splitlines() if ln.strip()]
+    last = m[-1].replace(str(f / "nope.csv"), "FILE")[:160] if m else ""
+    rows.append(("missing file", missing.returncode, len(m), "Traceback" in missing.stderr, last))
+    return rows
+
+
 def crashed(r):
-    return r["rc"] == "timeout" or "Traceback" in r.get("stderr", "") or (r["rc"] != 0 and r["rc"] != 2)
+    """A traceback, a timeout, or an exit code other than 0 (result) and 1-2 (a reported error)."""
+    return r["rc"] == "timeout" or "Traceback" in r.get("stderr", "") or r["rc"] not in (0, 1, 2)
 
 
 def unclear(r):
-    return r["rc"] == 2 and len([ln for ln in r.get("stderr", "").splitlines() if ln.strip()]) > 1 or (
-        r["rc"] not in (0, 2, "timeout") and "Traceback" not in r.get("stderr", ""))
+    """A reported error that takes more than one line."""
+    return r["rc"] in (1, 2) and len([ln for ln in r.get("stderr", "").splitlines() if ln.strip()]) > 1
 
 
 def summarise(rows):
@@ -318,6 +359,24 @@ def summarise(rows):
         pct = (lambda a, b: f"{100 * a / b:.0f}% ({a}/{b})" if b else "-")
         tab.append([name, len(rs), pct(fp, len(nulls)), pct(exact, len(strong)), pct(among, len(strong)),
                     pct(eqv, len(strong)), err, cr, un, f"{np.median(secs):.1f} / {max(secs):.1f}"])
+    per_kind_fp, per_kind_named = [], []
+    for name, rs in groups[:-1]:
+        nulls = [r["null"] for r in rs if r["null"]["rc"] == 0]
+        strong = [r for r in rs if r["ratio"] >= STRONG and r["eff"]["rc"] == 0]
+        if nulls:
+            per_kind_fp.append((100 * sum(bool(r["effects"]) for r in nulls) / len(nulls), name))
+        if strong:
+            per_kind_named.append((100 * sum(r["effect"] in r["eff"]["effects"] or r["effect"] in r["eff"]["equiv"]
+                                             for r in strong) / len(strong), name))
+    if per_kind_fp:
+        worst = max(per_kind_fp)
+        lines.append(f"False physics on nulls over the kinds: median {np.median([v for v, _ in per_kind_fp]):.0f} %, "
+                     f"worst {worst[0]:.0f} % ({worst[1]}); target <= 5 % for every kind.\n")
+    if per_kind_named:
+        worst = min(per_kind_named)
+        lines.append(f"Strong effects (ratio >= {STRONG}) named, alone or among others or as a reported equivalence, "
+                     f"over the kinds: median {np.median([v for v, _ in per_kind_named]):.0f} %, worst "
+                     f"{worst[0]:.0f} % ({worst[1]}).\n")
     lines.append(md_table(["kind", "cases", "false physics on nulls", "strong effect named exactly",
                            "true effect among named (or equivalent)", "equivalence reported",
                            "runs with an error exit", "crashes", "unclear errors", "s per run median / worst"], tab))
@@ -355,6 +414,10 @@ def main(argv=None) -> int:
     ap.add_argument("--timeout", type=float, default=600.0, help="seconds per CLI run")
     ap.add_argument("--rows-jsonl", help="append each finished case here (JSON lines)")
     ap.add_argument("--from-jsonl", help="summarise these rows (comma-separated files) instead of running")
+    ap.add_argument("--before-jsonl", help="rows of the same cases run with the version before (comma-separated): "
+                    "summarised after the tables")
+    ap.add_argument("--command", help="the reproducing command recorded in BENCHMARKS.md (default: this run's)")
+    ap.add_argument("--errors", action="store_true", help="run the malformed-input checks with --from-jsonl too")
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--note", default="", help="text recorded before the tables")
     args = ap.parse_args(argv)
@@ -377,13 +440,25 @@ def main(argv=None) -> int:
                     with open(args.rows_jsonl, "a") as fh:
                         fh.write(json.dumps(row, default=float) + "\n")
     body = summarise(rows)
+    if not args.from_jsonl or args.errors:
+        from _bench_md import md_table
+        with tempfile.TemporaryDirectory() as folder:
+            errs = error_probes(folder)
+        body += ("\nMalformed inputs (each should end in one clear line, no traceback):\n\n" +
+                 md_table(["input", "exit code", "lines of output", "traceback", "last line"],
+                          [[w, rc, n, "yes" if tb else "no", msg.replace("|", "/")] for w, rc, n, tb, msg in errs]))
     print(body)
+    if args.before_jsonl:
+        old = [json.loads(ln) for f in args.before_jsonl.split(",") for ln in Path(f).read_text().splitlines()
+               if ln.strip()]
+        body += "\n**The version before, on the same cases:**\n\n" + summarise(old)
     if not (args.no_write or args.dev):
         from _bench_md import write_section
-        cmd = f"python recipes/bench_mismatch_probe.py --seeds {args.seeds}"
-        cmd += "".join(f" --{k} {getattr(args, k)}" for k in ("presets", "kinds")
-                       if getattr(args, k) != ap.get_default(k))
-        cmd += " --ode-small" if args.ode_small else ""
+        cmd = args.command or f"python recipes/bench_mismatch_probe.py --seeds {args.seeds}"
+        if not args.command:
+            cmd += "".join(f" --{k} {getattr(args, k)}" for k in ("presets", "kinds")
+                           if getattr(args, k) != ap.get_default(k))
+            cmd += " --ode-small" if args.ode_small else ""
         doc = __doc__.split("\n\n")
         write_section(SECTION, "Mismatch finder: probe on records unlike the benchmark's (CLI)", cmd,
                       "\n\n".join(doc[:3]) + "\n\n" + (args.note + "\n\n" if args.note else "") + body)
