@@ -184,6 +184,9 @@ def hum_amplitudes(shape, rng, kmax):
 
 
 # ---------------------------------------------------------------------------------------- cases
+SNR_DB = None     # one input SNR (dB) for every case instead of the drawn -5..+5 (bench_audio.py --snr)
+
+
 def case_spec(i, seed0, quick=False):
     rng = np.random.default_rng(seed0 + i)
     spec = {"i": i, "seed": seed0 + i, "host": HOSTS[i % 3], "drift": DRIFTS[i % 5], "shape": SHAPES[i % 4],
@@ -191,6 +194,8 @@ def case_spec(i, seed0, quick=False):
             "snr_db": float(rng.uniform(-5, 5)), "dur": float(rng.uniform(20, 40))}
     spec["clock"] = float(rng.uniform(2e-4, 1e-3) * rng.choice([-1, 1])) if rng.random() < 1 / 3 else 0.0
     spec["kmax"] = int(rng.integers(5, 13))
+    if SNR_DB is not None:
+        spec["snr_db"] = float(SNR_DB)
     if quick:
         spec.update(sr=8000, dur=10.0)
     return spec

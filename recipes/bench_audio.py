@@ -313,6 +313,9 @@ def main(argv=None):
     ap.add_argument("--rates", default=None,
                     help="four comma-separated sample rates to draw the cases at instead of the population's "
                          "(8, 16, 44.1, 48 kHz); BENCHMARKS.md is not updated")
+    ap.add_argument("--snr", type=float, default=None,
+                    help="one input SNR in dB (-30..40) for every case instead of the drawn -5..+5 dB; "
+                         "BENCHMARKS.md is not updated")
     ap.add_argument("--seed0", type=int, default=None,
                     help="first seed of a further evaluation set (< 1000); BENCHMARKS.md is not updated")
     ap.add_argument("--speed-only", action="store_true",
@@ -340,6 +343,10 @@ def main(argv=None):
             ap.error(f"--rates must be comma-separated sample rates in Hz; got {args.rates!r}")
         if len(pop.cases.RATES) != 4 or not all(4000 <= r <= 192000 for r in pop.cases.RATES):
             ap.error("--rates must be four sample rates in 4000-192000 Hz (the cases cycle through four)")
+    if args.snr is not None:
+        if not -30 <= args.snr <= 40:
+            ap.error(f"--snr must be in -30..40 dB; got {args.snr:g}")
+        pop.cases.SNR_DB = args.snr
     n_cases = 3 if args.quick else args.cases
     if args.no_anchors and not args.dev:
         ap.error("--no-anchors is for development runs (--dev): the evaluation table compares with the anchors")
@@ -373,7 +380,7 @@ def main(argv=None):
     if args.json:
         Path(args.json).write_text(json.dumps({"population": pop_stats, "real": real_rows, "speed": speed,
                                                "long": long}, default=str, indent=1))
-    if args.quick or args.no_write or args.dev or args.rates or args.seed0 is not None:
+    if args.quick or args.no_write or args.dev or args.rates or args.seed0 is not None or args.snr is not None:
         return 0
 
     counts = {"ahead": sum(pop_stats["ahead"]), "false_tonal": sum(pop_stats["false_tonal"]),

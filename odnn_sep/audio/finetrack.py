@@ -143,10 +143,12 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     psi = psi0.copy()
     known: dict[int, int] = dict(cuts or {}) if steps else {}   # steps: decimated index -> first chunk after it
     n_min = shortest_kernel(sr)
+    prec = harmonic_precision(decimated_baseband(D, psi, ks, np.ones(K, bool), nd), ks)
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
             use = ks == ks.min()
+        use = carrying(use, ks, prec)
         v = decimated_baseband(D, psi, ks, use, nd)                                      # (nd, C, Ku)
         # each harmonic's complex amplitude over the whole input: hum keeps one phase against
         # the fundamental, so every slow or fast phase error of the track shows against it
@@ -172,6 +174,77 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
             known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
     return psi
+
+
+MIN_SHARE = 0.05     # the harmonics of a round hold at least this share of the phase's precision
+
+
+def harmonic_precision(v: np.ndarray, ks: np.ndarray) -> np.ndarray:
+    """Each harmonic's share of information about the fundamental's phase over the whole input:
+    ``k^2 |mean|^2 / noise`` summed over channels (the weights of :func:`refine_phase`, with the
+    median scatter for the noise).
+
+    Parameters
+    ----------
+    v : (nd, C, K) complex array
+        Decimated tracked baseband of the lines (:func:`decimated_baseband`).
+    ks : (K,) array
+        Harmonic numbers.
+
+    Returns
+    -------
+    (K,) float array
+
+    Examples
+    --------
+    >>> v = np.ones((20, 1, 2), complex); v[::2, 0, 1] += 0.5; v[1::2, 0, 1] -= 0.5
+    >>> v[::2, 0, 0] += 0.1; v[1::2, 0, 0] -= 0.1
+    >>> harmonic_precision(v, np.array([1.0, 3.0])).round(1).tolist()
+    [100.0, 36.0]
+    """
+    c = v.mean(axis=0)
+    noise = np.maximum(np.median(np.abs(v - c) ** 2, axis=0), 1e-300)
+    return (np.abs(c) ** 2 / noise * ks ** 2).sum(axis=0)
+
+
+def carrying(use: np.ndarray, ks: np.ndarray, prec: np.ndarray) -> np.ndarray:
+    """``use`` extended, harmonic by harmonic upwards, until it holds ``MIN_SHARE`` of ``prec``.
+
+    The first rounds of :func:`refine_phase` use the low harmonics only, so that a track's phase
+    error does not wrap at a high one. Where the fundamental is weak (a rectifier's odd-dominant
+    hum: the fundamental at 0.3 of the third harmonic, under 1 % of the information), that round's
+    correction was the fundamental's noise: a sweep passing 50-60 Hz bent the phase of every
+    harmonic by a sixth of a cycle for two seconds (0 dB of gain there), and the later rounds could
+    not undo it (it wraps at the third harmonic).
+
+    Parameters
+    ----------
+    use : (K,) bool array
+        The harmonics a round would use.
+    ks : (K,) array
+        Harmonic numbers (ascending).
+    prec : (K,) array
+        :func:`harmonic_precision`.
+
+    Returns
+    -------
+    (K,) bool array
+
+    Examples
+    --------
+    >>> ks = np.array([1.0, 3.0, 5.0])
+    >>> carrying(ks <= 2, ks, np.array([0.01, 9.0, 9.0])).tolist()
+    [True, True, False]
+    >>> carrying(ks <= 2, ks, np.array([1.0, 9.0, 9.0])).tolist()
+    [True, False, False]
+    """
+    total = float(prec.sum())
+    out = use.copy()
+    for j in np.argsort(ks):
+        if total <= 0 or float(prec[out].sum()) >= MIN_SHARE * total:
+            break
+        out[j] = True
+    return out
 
 
 LEVEL_ON = 0.25      # hum at this share of its on-level or more counts as fully present
