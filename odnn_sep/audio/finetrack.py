@@ -143,7 +143,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     psi = psi0.copy()
     known: dict[int, int] = dict(cuts or {}) if steps else {}   # steps: decimated index -> first chunk after it
     n_min = shortest_kernel(sr)
-    prec = harmonic_precision(decimated_baseband(D, psi, ks, np.ones(K, bool), nd), ks)
+    prec = harmonic_precision(_sampled_baseband(D, psi, ks, nd), ks)
     for cap in K_CAPS:
         use = np.ones(K, bool) if cap is None else ks <= cap
         if not use.any():
@@ -205,6 +205,23 @@ def harmonic_precision(v: np.ndarray, ks: np.ndarray) -> np.ndarray:
     c = v.mean(axis=0)
     noise = np.maximum(np.median(np.abs(v - c) ** 2, axis=0), 1e-300)
     return (np.abs(c) ** 2 / noise * ks ** 2).sum(axis=0)
+
+
+SHARE_STRETCHES = 12      # stretches of SHARE_STRETCH_S that measure the harmonics' shares of a long input
+SHARE_STRETCH_S = 10.0
+
+
+def _sampled_baseband(D, psi: np.ndarray, ks: np.ndarray, nd: int) -> np.ndarray:
+    """Every harmonic's decimated baseband (:func:`decimated_baseband`) over the whole input, or,
+    beyond ``SHARE_STRETCHES`` x ``SHARE_STRETCH_S``, over that many evenly spaced stretches: the
+    shares of :func:`harmonic_precision` need no more, and the hour's analysis is not made slower."""
+    K = D.shape[2]
+    width = int(round(SHARE_STRETCH_S * 100 / DECIM))      # decimated samples per stretch (10 ms chunks)
+    if nd <= SHARE_STRETCHES * width:
+        return decimated_baseband(D, psi, ks, np.ones(K, bool), nd)
+    starts = np.linspace(0, nd - width, SHARE_STRETCHES).astype(int) * DECIM
+    idx = (starts[:, None] + np.arange(width * DECIM)[None, :]).ravel()
+    return decimated_baseband(D[idx], psi[idx], ks, np.ones(K, bool), len(idx) // DECIM)
 
 
 def carrying(use: np.ndarray, ks: np.ndarray, prec: np.ndarray) -> np.ndarray:
