@@ -370,8 +370,9 @@ def summarise(rows):
                                              for r in strong) / len(strong), name))
     if per_kind_fp:
         worst = max(per_kind_fp)
+        which = worst[1] if worst[0] > 0 else "every kind"
         lines.append(f"False physics on nulls over the kinds: median {np.median([v for v, _ in per_kind_fp]):.0f} %, "
-                     f"worst {worst[0]:.0f} % ({worst[1]}); target <= 5 % for every kind.\n")
+                     f"worst {worst[0]:.0f} % ({which}); target <= 5 % for every kind.\n")
     if per_kind_named:
         worst = min(per_kind_named)
         lines.append(f"Strong effects (ratio >= {STRONG}) named, alone or among others or as a reported equivalence, "
