@@ -8,7 +8,7 @@ oracle (a mark is still there when the output keeps >= 4 grey levels RMS in the 
 format's noise floor, with >= 0.25 of the mark's own structure).
 
     python recipes/bench_watermark_probe.py --seeds 11 12 --marked 12 --clean 3 --json probe.json
-    python recipes/bench_watermark_probe.py --table probe_before.json probe.json --write
+    python recipes/bench_watermark_probe.py --table "before=probe_before.json" "after=probe.json" --write
 """
 from __future__ import annotations
 
@@ -96,15 +96,29 @@ def main():
     ap.add_argument("--marked", type=int, default=12, help="marked cases per seed")
     ap.add_argument("--clean", type=int, default=3, help="clean-photo cases per seed")
     ap.add_argument("--json", type=Path, help="write the rows here")
-    ap.add_argument("--table", type=Path, nargs="*", help="only tabulate these JSON files (label: file stem)")
+    ap.add_argument("--table", nargs="*", help="only tabulate these JSON files, each LABEL=PATH or PATH")
+    ap.add_argument("--notes", type=Path, help="text appended to the section (what the numbers show)")
     ap.add_argument("--write", action="store_true", help="write the BENCHMARKS.md section (with --table)")
     ap.add_argument("--keep", type=Path, help="keep the inputs, outputs and reports in this folder")
     args = ap.parse_args()
     if args.table:
-        pops = [(p.stem, json.loads(p.read_text())) for p in args.table]
-        body = table(pops)
+        pops = []
+        for spec in args.table:
+            lab, _, path = str(spec).rpartition("=")
+            pops.append((lab or Path(path).stem, json.loads(Path(path).read_text())))
+        body = (__doc__.split("\n\n", 1)[1].split("    python")[0].rstrip() + "\n\n" + table(pops)
+                + f"\n\nEvery run of the last population ({pops[-1][0]}):\n\n" + per_case(pops[-1][1]) + "\n")
+        if args.notes:
+            body += "\n" + args.notes.read_text().rstrip() + "\n"
         print(body)
-        print(per_case(pops[-1][1]))
+        if args.write:
+            from _bench_md import write_section
+
+            cmd = ("python recipes/bench_watermark_probe.py --seeds S... --marked 10 --clean 3 --json F.json "
+                   "(once with the code before, once after); then python recipes/bench_watermark_probe.py "
+                   "--table " + " ".join(str(t) for t in args.table) + " --write")
+            write_section("watermark_probe", "Image: text watermark probe (fonts, layouts and photos the other "
+                          "recipes never draw), honest outcome", cmd, body)
         return
     from _watermark_probe import run_population
 

@@ -143,12 +143,13 @@ def _estimate(y, text, font, mask, mask_invert, min_score, angle_range, max_mark
     return y, M, alpha, color, info, prior
 
 
-def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step=False):
+def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step=False, copy_box=None):
     """(restored image, lost pixels (H, W), residual-mark report) of the blend inverted in the mark's box
     only (the rest is copied unchanged). ``step``: also the signed step left along the mark's edges
     (``residual.step_left``; mask mode, whose shape and opacity come from the data alone): a mark
     removed too far, or not far enough, by more than ``STEP_LEFT`` of its step and ``VISIBLE_LEVELS``
-    is visible."""
+    is visible. ``copy_box``: one copy's box (text mode), the template of the copies still looked for
+    in the rest of the output (``residual_copies.copies_left``)."""
     from odnn_sep.image.estimate import invert
     from odnn_sep.image.io import paste
 
@@ -168,7 +169,7 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step
         # text mode: copies of the mark outside the removed box (tiled marks cut by the border)
         from odnn_sep.image.residual_copies import copies_left
 
-        left = copies_left(y, o, M, b, random_state=random_state)
+        left = copies_left(y, o, M, b, copy_box=copy_box, random_state=random_state)
         res["copies_left"] = left
         if left is not None:
             res["visible"] = True
@@ -242,9 +243,11 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
                     + (1 if planes.alpha is not None else 0), "bit_depth": int(planes.dtype.itemsize * 8)}
     y, M, alpha, color, info, prior = _estimate(y, text, font, mask, mask_invert, min_score, angle_range,
                                                 max_marks, random_state)
+    copy_box = info.pop("_copy_box", None)  # one copy's box (text mode), not a report field
     report.update(info)
     restored, lost, report["residual_mark"] = _restore(planes, y, M, alpha, color, prior, inpaint_lost,
-                                                       random_state, step=not text and not info.get("opaque"))
+                                                       random_state, step=not text and not info.get("opaque"),
+                                                       copy_box=copy_box)
     report.update({"alpha": round(float(alpha), 5), **color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})

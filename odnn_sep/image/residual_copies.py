@@ -5,11 +5,11 @@ has copies the search does not place: those cut by the border (``Prev`` at the r
 at the left) do not match the whole rendering. The output keeps them as they were, and a removal
 that calls itself complete is then wrong.
 
-Outside the removed box the output is the input. Its edge map (gradient magnitude, on a copy reduced
-so that the mark is at most ``TEMPLATE_PX`` high) is correlated with the edge map of the removed
-mark's coverage, every placement overlapping the image by at least ``MIN_OVERLAP`` of the template's
-edge energy (copies cut by the border included; the image is padded with zeros, the removed box is
-blanked). The best ``N_PEAKS`` distinct placements are then checked with the detection statistic
+The output's edge map (gradient magnitude, on a copy reduced so that the mark is at most
+``TEMPLATE_PX`` high) is correlated with the edge map of one removed copy's coverage, every placement
+overlapping the image by at least ``MIN_OVERLAP`` of the template's edge energy (copies cut by the
+border included; the image is padded with zeros, the removed copies are blanked). A tiled mark of
+which only some copies were found is caught the same way. The best ``N_PEAKS`` distinct placements are then checked with the detection statistic
 itself (``detect.detection_score``, the same held-out blend test and threshold that find the mark) and
 a contrast of at least ``residual.VISIBLE_LEVELS``: a copy counts as left only when the data there
 hold a blend of the mark's shape, so a photo that happens to have edges like the letters does not.
@@ -53,17 +53,14 @@ def _reduced_grey(y, f: float) -> np.ndarray:
     return r.mean(axis=2) if r.ndim == 3 else r
 
 
-def _candidates(E: np.ndarray, T: np.ndarray, blank: tuple, n: int) -> list[tuple[float, int, int]]:
+def _candidates(E: np.ndarray, T: np.ndarray, blank: np.ndarray, n: int) -> list[tuple[float, int, int]]:
     """(correlation, top, left) of the best ``n`` distinct placements of ``T`` on ``E`` (reduced
-    pixels; negative or beyond the image for copies cut by the border), the ``blank`` box excluded."""
+    pixels; negative or beyond the image for copies cut by the border), ``blank`` pixels excluded."""
     import cv2
 
     th, tw = T.shape
-    ya, yb, xa, xb = blank
-    E = E.copy()
-    E[ya:yb, xa:xb] = 0.0
-    inside = np.ones_like(E)
-    inside[ya:yb, xa:xb] = 0.0
+    E = np.where(blank, 0.0, E).astype(np.float32)
+    inside = (~blank).astype(np.float32)
     pad = (th - 1, th - 1, tw - 1, tw - 1)
     Ep = cv2.copyMakeBorder(E, *pad, cv2.BORDER_CONSTANT, value=0)
     Ip = cv2.copyMakeBorder(inside, *pad, cv2.BORDER_CONSTANT, value=0)
@@ -82,9 +79,16 @@ def _candidates(E: np.ndarray, T: np.ndarray, blank: tuple, n: int) -> list[tupl
     return out
 
 
-def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, threshold: float | None = None,
-                random_state=0) -> dict | None:
-    """The best copy of the mark still in the output outside the removed box, or None.
+def _footprint(M: np.ndarray) -> np.ndarray:
+    """Pixels of the removed copies, grown by 2 px (bool, the shape of ``M``)."""
+    import cv2
+
+    return cv2.dilate((M > 0.05).astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool)
+
+
+def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, copy_box: tuple | None = None,
+                threshold: float | None = None, random_state=0) -> dict | None:
+    """The best copy of the mark still in the output outside the removed copies, or None.
 
     Parameters
     ----------
@@ -95,7 +99,9 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, threshold:
     M : np.ndarray
         (H, W) coverage of the removed mark (every copy removed).
     box : tuple of int
-        (x0, y0, x1, y1) of the removed area.
+        (x0, y0, x1, y1) of the restored area (``out_box``).
+    copy_box : tuple of int, optional
+        (x0, y0, x1, y1) of one copy of the mark; its coverage is the template (default: all of ``M``).
     threshold : float, optional
         Detection threshold (default ``detect.THRESHOLD``).
     random_state : int, default 0
@@ -105,8 +111,8 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, threshold:
     -------
     dict or None
         ``{"at": [x, y], "score": s, "contrast_levels": c}`` of a copy detected in the output (top-left
-        corner of the coverage's box, full-resolution pixels; negative where it runs off the image), or
-        None.
+        corner of the copy's coverage, full-resolution pixels; negative where it runs off the image),
+        or None.
 
     Examples
     --------
@@ -125,29 +131,40 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, threshold:
     >>> copies_left(y2, done, M, box) is None
     True
     """
+    import cv2
+
     from odnn_sep.image.detect import THRESHOLD, detection_score
     from odnn_sep.image.residual import VISIBLE_LEVELS, contrast_levels
 
     threshold = THRESHOLD if threshold is None else threshold
     H, W = y.shape[:2]
-    nz = np.nonzero(M > 0.05)
+    cx0, cy0, cx1, cy1 = copy_box if copy_box is not None else (0, 0, W, H)
+    nz = np.nonzero(M[cy0:cy1, cx0:cx1] > 0.05)
     if not nz[0].size:
         return None
-    a0, b0, a1, b1 = int(nz[0].min()), int(nz[1].min()), int(nz[0].max()) + 1, int(nz[1].max()) + 1
+    a0, b0 = int(nz[0].min()) + cy0, int(nz[1].min()) + cx0
+    a1, b1 = int(nz[0].max()) + 1 + cy0, int(nz[1].max()) + 1 + cx0
     th, tw = a1 - a0, b1 - b0
     f = min(1.0, TEMPLATE_PX / max(1, min(th, tw)), WORK_PX / max(H, W))
-    import cv2
-
     Mc = np.ascontiguousarray(M[a0:a1, b0:b1], dtype=np.float32)
     T = _edges(cv2.resize(Mc, (max(1, round(tw * f)), max(1, round(th * f))), interpolation=cv2.INTER_AREA)
                if f < 1 else Mc)
     if min(T.shape) < 4 or not T.any():
         return None
-    E = _edges(_reduced_grey(y, f))
     x0, y0, x1, y1 = box
-    blank = (max(0, int(y0 * f) - 2), int(np.ceil(y1 * f)) + 2, max(0, int(x0 * f) - 2), int(np.ceil(x1 * f)) + 2)
-    for _corr, top, left in _candidates(E, T, blank, N_PEAKS):
-        dy, dx = round(top / f) - a0, round(left / f) - b0      # full-resolution shift of M
+    g = _reduced_grey(y, f)
+    # the output, reduced: the input with the restored box pasted
+    ry0, ry1, rx0, rx1 = round(y0 * f), round(y1 * f), round(x0 * f), round(x1 * f)
+    if ry1 > ry0 and rx1 > rx0:
+        ob = np.asarray(out_box, dtype=np.float32)
+        ob = ob.mean(axis=2) if ob.ndim == 3 else ob
+        g[ry0:ry1, rx0:rx1] = cv2.resize(ob, (rx1 - rx0, ry1 - ry0), interpolation=cv2.INTER_AREA) if f < 1 else ob
+    foot = _footprint(M)
+    blank = cv2.resize(foot.astype(np.uint8), (g.shape[1], g.shape[0]), interpolation=cv2.INTER_NEAREST) > 0 \
+        if f < 1 else foot
+    blank = cv2.dilate(blank.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+    for _corr, top, left in _candidates(_edges(g), T, blank, N_PEAKS):
+        dy, dx = round(top / f) - a0, round(left / f) - b0      # full-resolution shift of the copy
         sy0, sy1, sx0, sx1 = max(0, a0 + dy - 4), min(H, a1 + dy + 4), max(0, b0 + dx - 4), min(W, b1 + dx + 4)
         if sy1 - sy0 < 8 or sx1 - sx0 < 8:
             continue
@@ -155,13 +172,12 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, threshold:
         ya, xa = max(sy0, a0 + dy), max(sx0, b0 + dx)
         yb, xb = min(sy1, a1 + dy), min(sx1, b1 + dx)
         Ms[ya - sy0:yb - sy0, xa - sx0:xb - sx0] = M[ya - dy:yb - dy, xa - dx:xb - dx]
+        Ms[foot[sy0:sy1, sx0:sx1]] = 0.0                         # no coverage over the removed copies
         crop = np.array(y[sy0:sy1, sx0:sx1], dtype=np.float64)
         crop = crop[:, :, None] if crop.ndim == 2 else crop
-        # the removed box, where it overlaps: the output there, and no coverage
         iy0, iy1, ix0, ix1 = max(sy0, y0), min(sy1, y1), max(sx0, x0), min(sx1, x1)
-        if iy1 > iy0 and ix1 > ix0:
+        if iy1 > iy0 and ix1 > ix0:                              # the output where the box overlaps
             crop[iy0 - sy0:iy1 - sy0, ix0 - sx0:ix1 - sx0] = out_box[iy0 - y0:iy1 - y0, ix0 - x0:ix1 - x0]
-            Ms[iy0 - sy0:iy1 - sy0, ix0 - sx0:ix1 - sx0] = 0.0
         if not (Ms > 0.5).any():
             continue
         s = detection_score(crop, Ms, random_state=random_state)

@@ -391,6 +391,7 @@ def _assemble(y, text, placed, score, min_score, random_state, from_data=True):
         "marks": [{"center": [round(p.center[0], 2), round(p.center[1], 2)], "angle_deg": round(p.angle, 3),
                    "font_size_px": round(p.size, 3), "score": round(float(p.fit.explained), 4)} for p in placed],
     }
+    info["_copy_box"] = tuple(int(v) for v in best.box)  # the template of the copies looked for after removal
     return M, fit.alpha, fit.color, info, prior
 
 

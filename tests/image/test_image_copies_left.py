@@ -57,3 +57,32 @@ def test_copies_left_on_clean_photo_outside_the_box(seed):
     M[40:45, 45:110] = 1
     box = (41, 36, 114, 74)
     assert copies_left(photo, photo[36:74, 41:114], M, box) is None
+
+
+def test_copy_left_between_removed_copies_is_found():
+    """Tiled marks of which only some copies were found: a copy left inside the removed copies' box
+    (development seed 13, cases 2 and 7 of the probe) is looked for with one copy as the template."""
+    from odnn_sep.image.residual_copies import copies_left
+
+    rng = np.random.default_rng(3)
+    H, W = 150, 330
+    photo = 0.45 + 0.02 * rng.standard_normal((H, W, 1))
+    c = np.zeros((30, 70))
+    c[5:25, 10:15] = 1
+    c[5:10, 5:65] = 1
+    c[20:25, 20:60] = 1
+    removed, left = np.zeros((H, W)), np.zeros((H, W))
+    removed[20:50, 20:90] = c
+    removed[100:130, 240:310] = c
+    left[60:90, 130:200] = c                                   # inside the removed copies' box
+    y = (1 - 0.4 * (removed + left)[..., None]) * photo + 0.4 * (removed + left)[..., None]
+    box = (16, 16, 314, 134)
+    out_box = y[16:134, 16:314].copy()
+    done = removed[16:134, 16:314] > 0
+    out_box[done] = photo[16:134, 16:314][done]                 # the two found copies removed
+    found = copies_left(y, out_box, removed, box, copy_box=(16, 16, 94, 54))
+    assert found is not None and abs(found["at"][0] - 135) <= 2 and abs(found["at"][1] - 65) <= 2
+    y2 = (1 - 0.4 * removed[..., None]) * photo + 0.4 * removed[..., None]   # no third copy
+    out2 = y2[16:134, 16:314].copy()
+    out2[done] = photo[16:134, 16:314][done]
+    assert copies_left(y2, out2, removed, box, copy_box=(16, 16, 94, 54)) is None
