@@ -5,7 +5,11 @@ See ``_watermark_probe.py`` for the generator (fonts from Pillow, OpenCV's Hersh
 installed, a Rust toolchain's documentation faces; 1 character to a sentence, tiled and multi-line
 marks, grey, small and upscaled photos, marks cut by the border, opacity 0.1-0.95, JPEG q 70) and for the
 oracle (a mark is still there when the output keeps >= 4 grey levels RMS in the mark's band beyond the
-format's noise floor, with >= 0.25 of the mark's own structure).
+format's noise floor, with >= 0.25 of the mark's own structure). Classes per run of the command: removed
+(exit 0) with the mark gone, **removed while the mark is still there (dishonest)**, still visible (exit 3)
+rightly, still visible while the output is clean (over-cautious), not found (exit 1), and on clean photos a
+false alarm (exit 0 or 3); a crash is any other exit code or a traceback. PSNR "in the band": over the
+true mark's pixels grown by 2 px, against the clean photo (JPEG cases: against the photo before JPEG).
 
     python recipes/bench_watermark_probe.py --seeds 11 12 --marked 12 --clean 3 --json probe.json
     python recipes/bench_watermark_probe.py --table "before=probe_before.json" "after=probe.json" --write
@@ -114,9 +118,10 @@ def main():
         if args.write:
             from _bench_md import write_section
 
-            cmd = ("python recipes/bench_watermark_probe.py --seeds S... --marked 10 --clean 3 --json F.json "
-                   "(once with the code before, once after); then python recipes/bench_watermark_probe.py "
-                   "--table " + " ".join(str(t) for t in args.table) + " --write")
+            cmd = ("python recipes/bench_watermark_probe.py --seeds 11 12 13 --json dev.json; ... --seeds 2026 2027 "
+                   "--json eval.json (each with the code before, PYTHONPATH on a checkout of it, and after); then "
+                   "python recipes/bench_watermark_probe.py --table LABEL=dev.json LABEL=eval.json ... --notes "
+                   "notes.md --write")
             write_section("watermark_probe", "Image: text watermark probe (fonts, layouts and photos the other "
                           "recipes never draw), honest outcome", cmd, body)
         return
