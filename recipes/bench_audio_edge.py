@@ -13,6 +13,11 @@ Each case is small and has a known truth (except the EEG file, scored by its lin
   the tone from a 20th harmonic; score: what is left of the tone and whether a warning names it;
 - ``short_excerpts``: 0.7-1.95 s excerpts of the hum population's evaluation cases (seeds 0+) and
   of its hum-free recordings; score: the median and worst gain, and hum found where there is none;
+- ``harmonic_wander``: speech-like or noise hosts (20-40 s, 8/16/44.1 kHz, 50/60 Hz, SNR -5..+5 dB)
+  with a 1/k hum of 10 harmonics whose phases against the fundamental wander, each on its own
+  (a sinusoid of DEPTH rad and a 15-60 s period), on top of the shared drift; seeds 0-5, DEPTH 0,
+  0.1, 0.3 and 1 rad; score: the median and worst gain of odnn-sep and of MNE spectrum_fit given
+  the true lines, and on how many cases odnn-sep is ahead;
 - ``eeg``: ``../shared/data/meegkit_eeg_line_noise/eeg_raw.npy``, per-channel mode: the 50 Hz line
   level over its flanks (Welch, 0.25 Hz) per channel before and after.
 """
@@ -126,12 +131,48 @@ def eeg():
     return f"eeg per-channel | line over flanks before {level(x)} dB | after {level(y)} dB"
 
 
+def harmonic_wander(depth: float, seeds=range(6)):
+    import _audio_cases as cases
+    from bench_audio import run_mne
+
+    from odnn_sep.audio import denoise
+
+    ours, mne = [], []
+    for seed in seeds:
+        rng = np.random.default_rng(seed)
+        sr = int(rng.choice([8000, 16000, 44100]))
+        n = int(sr * rng.uniform(20, 40))
+        t = np.arange(n) / sr
+        host = [cases.speech_host, cases.noise_host][seed % 2](n, sr, rng)
+        nominal = float(rng.choice([50.0, 60.0]))
+        f = nominal + rng.uniform(-0.03, 0.03) + 0.02 * np.sin(2 * np.pi * t / rng.uniform(10, 60))
+        ph = 2 * np.pi * np.cumsum(f) / sr
+        hum = np.zeros(n)
+        for k in range(1, 11):
+            wander = depth * np.sin(2 * np.pi * t / rng.uniform(15, 60) + rng.uniform(0, 2 * np.pi))
+            hum += np.cos(k * ph + rng.uniform(0, 2 * np.pi) + wander) / k
+        hum *= np.std(host) / np.std(hum) * 10 ** (-rng.uniform(-5, 5) / 20)
+        r = denoise(host + hum, sr)
+        ours.append(-float(_db_value(r.y - host, hum)))
+        mne.append(-float(_db_value(run_mne(host + hum, sr, [k * float(np.mean(f)) for k in range(1, 11)]) - host, hum)))
+    ahead = sum(a > b for a, b in zip(ours, mne))
+    return (f"harmonic_wander {depth:g} rad | odnn-sep median {np.median(ours):.1f} dB, worst {min(ours):.1f} dB"
+            f" | MNE spectrum_fit (true lines) median {np.median(mne):.1f} dB, worst {min(mne):.1f} dB"
+            f" | odnn-sep ahead on {ahead} of {len(ours)}")
+
+
+def _db_value(a, b) -> float:
+    """``10 log10`` of the energy of ``a`` over that of ``b``."""
+    return 10 * np.log10(max(float(np.sum(a ** 2)), 1e-300) / max(float(np.sum(b ** 2)), 1e-300))
+
+
 def main() -> int:
     import logging
 
     logging.disable(logging.WARNING)
     for case in (lambda: half_on(6, 12), lambda: half_on(0, 6), lambda: half_on(3, 9), one_channel,
-                 tone_on_comb, short_excerpts, eeg):
+                 tone_on_comb, short_excerpts,
+                 *[lambda d=d: harmonic_wander(d) for d in (0.0, 0.1, 0.3, 1.0)], eeg):
         print(case(), flush=True)
     return 0
 
