@@ -248,10 +248,10 @@ def apply_generic(names, predict_fn, *, t0: float):
             out = out * (1.0 + p["m_am"] * np.cos(2 * np.pi * p["f_am"] * t + p["phase_am"]))
         if "periodic_forcing" in names:
             out = out + p["F"] * np.cos(p["omega_f"] * t + p["phase_f"])
-        if "periodic_pickup" in names:
-            out = out + p["a_pk"] * np.cos(p["omega_pk"] * t) + p["b_pk"] * np.sin(p["omega_pk"] * t)
-        if "periodic_pickup_2" in names:
-            out = out + p["a_pk2"] * np.cos(p["omega_pk2"] * t) + p["b_pk2"] * np.sin(p["omega_pk2"] * t)
+        for name, sfx in (("periodic_pickup", ""), ("periodic_pickup_2", "2")):
+            if name in names:
+                w = p["omega_pk" + sfx]
+                out = out + p["a_pk" + sfx] * np.cos(w * t) + p["b_pk" + sfx] * np.sin(w * t)
         if "periodic_pattern" in names:
             ph = p["kx_pp"] * t[:, 0] + p["ky_pp"] * t[:, 1]
             out = out + p["a_pp"] * np.cos(ph) + p["b_pp"] * np.sin(ph)

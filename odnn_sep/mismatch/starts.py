@@ -7,6 +7,8 @@ given the nonlinear guess.
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from odnn_sep.core.linalg import solve
@@ -160,21 +162,14 @@ def _forcing_starts(p, r, tt, base, model, t):
     return out
 
 
-def _pickup_starts(p, r, tt, base, model, t):
+def _pickup_starts(p, r, tt, base, model, t, sfx=""):
+    """Starts of an additive sinusoid at the residual's two strongest peaks off the system's lines;
+    ``sfx`` "2" names the second pickup's parameters (``omega_pk2``, ...)."""
     out = []
     for f in _not_harmonics(_peaks(tt, r, n_peaks=4), base, tt)[:2]:
         w = 2 * np.pi * f
         a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
-        out.append({**p, "omega_pk": w, "a_pk": float(a), "b_pk": float(b)})
-    return out
-
-
-def _second_pickup_starts(p, r, tt, base, model, t):
-    out = []
-    for f in _not_harmonics(_peaks(tt, r, n_peaks=4), base, tt)[:2]:
-        w = 2 * np.pi * f
-        a, b = _ls([np.cos(w * tt), np.sin(w * tt)], r)
-        out.append({**p, "omega_pk2": w, "a_pk2": float(a), "b_pk2": float(b)})
+        out.append({**p, "omega_pk" + sfx: w, "a_pk" + sfx: float(a), "b_pk" + sfx: float(b)})
     return out
 
 
@@ -262,7 +257,7 @@ def _moved_starts(p, r, tt, base, model, t):
 _START_RULES = {
     "periodic_forcing": (_forcing_starts, True),
     "periodic_pickup": (_pickup_starts, True),
-    "periodic_pickup_2": (_second_pickup_starts, True),
+    "periodic_pickup_2": (functools.partial(_pickup_starts, sfx="2"), True),
     "amplitude_modulation": (_modulation_starts, True),
     "two_body_heat": (_two_body_starts, True),
     "missing_harmonic": (_harmonic_starts, True),
