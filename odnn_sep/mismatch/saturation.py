@@ -77,12 +77,12 @@ def find_saturation(y) -> Saturation | None:
     n = len(y)
     if n < 10 or not np.all(np.isfinite(y)):
         return None
-    avg = n / len(np.unique(y))
-    keep = np.ones(n, bool)
-    rails = []
     levels, counts = np.unique(y, return_counts=True)
     if len(levels) < 3:
         return None
+    avg = n / len(levels)
+    keep = np.ones(n, bool)
+    rails = []
     for side, i, inward in (("upper", -1, -2), ("lower", 0, 1)):
         v = float(levels[i])
         on = y == v
