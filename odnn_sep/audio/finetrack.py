@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from odnn_sep.audio import ownwander as _own
 from odnn_sep.audio import phasesteps as _steps
 from odnn_sep.audio import track as _track
 
@@ -173,6 +174,37 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         if new:
             known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
+    if K < 2:
+        return psi
+    # the last round's baseband (every harmonic) turned by its own correction: the check for
+    # wandering harmonics costs no new pass over the chunk sums where none wanders
+    last = v * np.exp(-2j * np.pi * err[:, None, None] * ks[use]) if use.all() else None
+    return _own_wander_rounds(D, psi, ks, tc, td, known, n_min, fs_d, last)
+
+
+def _own_wander_rounds(D, psi, ks, tc, td, known: dict, n_min: int, fs_d: float, v=None) -> np.ndarray:
+    """Rounds of the shared phase with each harmonic's own wander counted in its weight
+    (ownwander.py); ``psi`` itself where no harmonic wanders. ``v``: the decimated baseband
+    of every harmonic along ``psi``, where the caller has it."""
+    K = D.shape[2]
+    cuts = sorted(known)
+    kern = _hann(n_min)
+    for _ in range(_own.ROUNDS):
+        if v is None:
+            v = decimated_baseband(D, psi, ks, np.ones(K, bool), len(td))
+        present = hum_present(v, fs_d)
+        V = _own.own_wander(v, ks, kern, present)
+        if not V.any():
+            break
+        w = _own.wander_weights(v, ks, V, n_min, fs_d) * present[:, None, None]
+        c = v.mean(axis=0, keepdims=True)
+        theta = np.angle(v * np.conj(c))
+        num = (w * theta / ks).sum(axis=(1, 2)) / (2 * np.pi)
+        den = w.sum(axis=(1, 2))
+        power = np.abs(c[0]) ** 2
+        err = _steps.piecewise(lambda a, b, p=power: smoothed_correction(a, b, p, ks, n_min, fs_d), num, den, cuts)
+        psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
+        v = None
     return psi
 
 
