@@ -18,6 +18,8 @@ Each case is small and has a known truth (except the EEG file, scored by its lin
   (a sinusoid of DEPTH rad and a 15-60 s period), on top of the shared drift; seeds 0-5, DEPTH 0,
   0.1, 0.3 and 1 rad; score: the median and worst gain of odnn-sep and of MNE spectrum_fit given
   the true lines, and on how many cases odnn-sep is ahead;
+- ``harmonic_am``: the same hosts and comb, each harmonic's amplitude varying on its own by
+  ``1 + DEPTH sin`` (10-40 s periods); seeds 300-305, DEPTH 0, 0.1 and 0.3;
 - ``eeg``: ``../shared/data/meegkit_eeg_line_noise/eeg_raw.npy``, per-channel mode: the 50 Hz line
   level over its flanks (Welch, 0.25 Hz) per channel before and after.
 """
@@ -131,7 +133,9 @@ def eeg():
     return f"eeg per-channel | line over flanks before {level(x)} dB | after {level(y)} dB"
 
 
-def harmonic_wander(depth: float, seeds=range(6)):
+def harmonic_wander(depth: float, seeds=range(6), amplitude: bool = False):
+    """Each harmonic's phase (or, with ``amplitude``, its amplitude, by ``1 + depth x``) varies
+    on its own by a slow sinusoid; see the module text."""
     import _audio_cases as cases
     from bench_audio import run_mne
 
@@ -149,15 +153,20 @@ def harmonic_wander(depth: float, seeds=range(6)):
         ph = 2 * np.pi * np.cumsum(f) / sr
         hum = np.zeros(n)
         for k in range(1, 11):
-            wander = depth * np.sin(2 * np.pi * t / rng.uniform(15, 60) + rng.uniform(0, 2 * np.pi))
-            hum += np.cos(k * ph + rng.uniform(0, 2 * np.pi) + wander) / k
+            if amplitude:
+                am = 1 + depth * np.sin(2 * np.pi * t / rng.uniform(10, 40) + rng.uniform(0, 2 * np.pi))
+                hum += am * np.cos(k * ph + rng.uniform(0, 2 * np.pi)) / k
+            else:
+                wander = depth * np.sin(2 * np.pi * t / rng.uniform(15, 60) + rng.uniform(0, 2 * np.pi))
+                hum += np.cos(k * ph + rng.uniform(0, 2 * np.pi) + wander) / k
         hum *= np.std(host) / np.std(hum) * 10 ** (-rng.uniform(-5, 5) / 20)
         r = denoise(host + hum, sr)
         ours.append(-float(_db_value(r.y - host, hum)))
         mne.append(-float(_db_value(run_mne(host + hum, sr, [k * float(np.mean(f)) for k in range(1, 11)]) - host, hum)))
     ahead = sum(a > b for a, b in zip(ours, mne))
-    return (f"harmonic_wander {depth:g} rad | odnn-sep median {np.median(ours):.1f} dB, worst {min(ours):.1f} dB"
-            f" | MNE spectrum_fit (true lines) median {np.median(mne):.1f} dB, worst {min(mne):.1f} dB"
+    name = "harmonic_am" if amplitude else "harmonic_wander"
+    return (f"{name} {depth:g}{'' if amplitude else ' rad'} seeds {seeds[0]}-{seeds[-1]} | odnn-sep median {np.median(ours):.1f} dB,"
+            f" worst {min(ours):.1f} dB | MNE spectrum_fit (true lines) median {np.median(mne):.1f} dB, worst {min(mne):.1f} dB"
             f" | odnn-sep ahead on {ahead} of {len(ours)}")
 
 
@@ -172,7 +181,8 @@ def main() -> int:
     logging.disable(logging.WARNING)
     for case in (lambda: half_on(6, 12), lambda: half_on(0, 6), lambda: half_on(3, 9), one_channel,
                  tone_on_comb, short_excerpts,
-                 *[lambda d=d: harmonic_wander(d) for d in (0.0, 0.1, 0.3, 1.0)], eeg):
+                 *[lambda d=d: harmonic_wander(d) for d in (0.0, 0.1, 0.3, 1.0)],
+                 *[lambda d=d: harmonic_wander(d, range(300, 306), amplitude=True) for d in (0.0, 0.1, 0.3)], eeg):
         print(case(), flush=True)
     return 0
 
