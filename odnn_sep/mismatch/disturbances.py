@@ -160,7 +160,7 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
     Parameters
     ----------
     effect : str
-        ``periodic_pickup``, ``periodic_pickup_2``, ``periodic_pattern``, ``offset`` or ``drift`` (any other name is returned as is).
+        ``periodic_pickup``, ``periodic_pickup_2``, ``periodic_pattern``, ``offset``, ``drift`` or ``step_offset`` (any other name is returned as is).
     params : dict
         Fitted parameters.
     model_family : str
@@ -202,6 +202,9 @@ def describe(effect, params, *, model_family, linear, unit="", t0=0.0):
     if effect == "offset":
         return (f"a constant offset of {params['offset']:.4g}{u}; a sensor bias and a constant disturbance "
                 f"give the same data")
+    if effect == "step_offset":
+        return (f"a step of {params['h_step']:.4g}{u} at t = {params['t_step']:.6g}; a sensor bumped or "
+                f"re-ranged and a sudden change of the surroundings give the same data")
     if effect == "drift":
         return (f"a linear drift of {params['drift']:.4g}{u} per time unit; a drifting sensor and a slow "
                 f"disturbance give the same data")

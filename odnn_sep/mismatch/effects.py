@@ -50,6 +50,7 @@ class Effect:
 
 _MECH = frozenset({"oscillator", "pendulum"})
 INF = np.inf
+STEP_CHOICES = 1000   # a step's instant: a choice among about this many samples (its BIC cost)
 
 EFFECTS: dict[str, Effect] = {e.name: e for e in [
     Effect("linear_damping", "linear (viscous, Stokes) damping force -b v missing from the model",
@@ -91,6 +92,12 @@ EFFECTS: dict[str, Effect] = {e.name: e for e in [
     Effect("drift", "linear drift d (t - t_start) added to the observations",
            {"drift": 0.0}, {"drift": (-INF, INF)},
            _MECH | {"cooling", "freefall", "hum", "user"}, generic=True),
+    # a step of the recording's level at one instant (a sensor bumped, a range switched, a
+    # recalibration): where it sits is a discrete choice among the samples (searched by the start,
+    # held during the fit)
+    Effect("step_offset", "a step h_step of the observations' level at the time t_step",
+           {"h_step": 0.0, "t_step": 0.0}, {"h_step": (-INF, INF)},
+           _MECH | {"cooling", "freefall", "user"}, generic=True, discrete={"t_step": STEP_CHOICES}),
     Effect("time_delay", "time delay / clock offset: observations follow the model at t - tau",
            {"tau": 0.0}, {"tau": (-INF, INF)}, frozenset({"freefall", "user"}), generic=True),
     Effect("amplitude_modulation", "amplitude modulation (1 + m cos(2 pi f_am t + phase)) of the output",
@@ -130,7 +137,7 @@ VOCABULARY = tuple(EFFECTS)
 
 # effects the data cannot tell apart from an additive disturbance: found, absorbed and reported as
 # disturbances (verdict.disturbances), never named as missing physics
-DISTURBANCE_EFFECTS = ("periodic_pickup", "periodic_pickup_2", "periodic_pattern", "offset", "drift")
+DISTURBANCE_EFFECTS = ("periodic_pickup", "periodic_pickup_2", "periodic_pattern", "offset", "drift", "step_offset")
 
 # effects that are alternatives, never added together (two drag laws for one falling body)
 EXCLUSIVE = (frozenset({"linear_damping", "quadratic_drag"}),
@@ -204,7 +211,7 @@ def applicable(family: str) -> list[str]:
     Examples
     --------
     >>> applicable("freefall")
-    ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'drift', 'time_delay']
+    ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'drift', 'step_offset', 'time_delay']
     """
     return [name for name, e in EFFECTS.items() if family in e.families]
 
@@ -259,6 +266,8 @@ def apply_generic(names, predict_fn, *, t0: float):
             out = out + p["offset"]
         if "drift" in names:
             out = out + p["drift"] * (t - t0)
+        if "step_offset" in names:
+            out = out + p["h_step"] * (t >= p["t_step"])
         return out
 
     return wrapped

@@ -153,7 +153,7 @@ class Model:
         Examples
         --------
         >>> make_model("freefall").with_effect("drift").applicable_effects()
-        ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'time_delay']
+        ['linear_damping', 'quadratic_drag', 'periodic_pickup', 'step_offset', 'time_delay']
         """
         return [e for e in applicable(self.family) if e not in self.effects and self._offers(e)]
 

@@ -266,7 +266,39 @@ _START_RULES = {
     "source_moved": (lambda *a: _moved_starts(*a), False),
     "periodic_pattern": (_pattern_starts, False),
     "offset": (lambda p, r, tt, base, model, t: [{**p, "offset": float(np.mean(r))}], None),
+    "step_offset": (lambda p, r, tt, base, model, t: _step_starts(p, r, tt), True),
 }
+
+STEP_EDGE = 0.05   # a step is looked for away from the record's ends (there it is an offset or a transient)
+
+
+def _step_starts(p, r, tt):
+    """Starts of a step of the level at the residual's strongest change of mean (the split that
+    best separates the means of the two sides), and at the second strongest.
+
+    Examples
+    --------
+    >>> tt = np.arange(100.0); r = 0.01 * np.sin(tt) + 0.5 * (tt >= 60)
+    >>> s = _step_starts({}, r, tt)[0]
+    >>> s["t_step"], round(s["h_step"], 2)
+    (59.5, 0.5)
+    """
+    n = len(r)
+    lo, hi = max(1, int(STEP_EDGE * n)), min(n - 1, int((1 - STEP_EDGE) * n))
+    if hi - lo < 2:
+        return []
+    c = np.cumsum(r - r.mean())
+    k = np.arange(1, n)
+    # between-sides contrast of a split after sample k-1: k (n - k) / n (mean_right - mean_left)^2
+    score = c[:-1] ** 2 * n / (k * (n - k))
+    score[: lo - 1], score[hi:] = -np.inf, -np.inf
+    out = []
+    for j in np.argsort(score)[::-1][:2]:
+        if not np.isfinite(score[j]):
+            break
+        kk = j + 1
+        out.append({**p, "t_step": float(0.5 * (tt[kk - 1] + tt[kk])), "h_step": float(r[kk:].mean() - r[:kk].mean())})
+    return out
 
 
 def effect_starts(effect, base, t, y, model=None, G=None):

@@ -46,7 +46,7 @@ INPUT_GAIN_POWERS = {"oscillator": -2, "pendulum": -2, "cooling": -1}
 EFFECT_POWERS = {
     "b_lin": -1, "q_drag": 0, "mu": -2, "beta": -2, "s_angle": 0,
     "F": -2, "omega_f": -1, "phase_f": 0,          # a force per unit mass: an acceleration
-    "a_pk": 0, "b_pk": 0, "omega_pk": -1, "offset": 0, "drift": -1, "tau": 1,
+    "a_pk": 0, "b_pk": 0, "omega_pk": -1, "offset": 0, "drift": -1, "tau": 1, "h_step": 0, "t_step": 1,
     "m_am": 0, "f_am": -1, "phase_am": 0, "r_rad": -1, "e_evap": -1, "B_2": 0, "lam_2": -1,
 }
 

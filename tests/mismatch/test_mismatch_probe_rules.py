@@ -72,3 +72,15 @@ def test_the_lowest_level_of_a_coarse_adc_near_a_flat_tail_is_not_a_rail():
         assert find_saturation(np.round(np.r_[np.linspace(30.0, 1.5, 40), tail])) is None
     clipped = np.maximum(np.r_[np.linspace(30.0, 1.5, 40), tail], 2.0)
     assert find_saturation(clipped).rails[0][:2] == ("lower", 2.0)
+
+
+def test_a_step_of_the_level_is_a_disturbance_with_its_instant():
+    # before: no disturbance could take a step; slow pickups and a drift absorbed it in part, or
+    # physics did (linear damping for a free fall's quadratic drag)
+    t = np.linspace(0, 0.9, 300)
+    y = 4.0 - 0.5 * 9.81 * t ** 2 + 0.01 * np.random.default_rng(3).normal(size=t.size) + 0.05 * (t >= 0.41)
+    res = explain("freefall", t, y)
+    assert res.effects == []
+    (d,) = [d for d in res.disturbances if d["effect"] == "step_offset"]
+    assert abs(d["parameters"]["t_step"] - 0.41) < 0.01 and abs(d["parameters"]["h_step"] - 0.05) < 0.01
+    assert "a step of" in d["description"]
