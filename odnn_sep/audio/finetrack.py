@@ -154,11 +154,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         # each harmonic's complex amplitude over the whole input: hum keeps one phase against
         # the fundamental, so every slow or fast phase error of the track shows against it
         c = v.mean(axis=0, keepdims=True)
-        # local noise of each line (1 s): a loud note on a harmonic makes its phase worthless
-        # for a while, and its weight drops for that while only
-        r2 = np.abs(v - c) ** 2
-        noise = ndimage.uniform_filter1d(r2, size=max(1, int(round(fs_d))), axis=0, mode="nearest")
-        noise = np.maximum(noise, 1e-12 * np.median(r2) + 1e-300)
+        noise = _own.local_scatter(v, c, fs_d)
         theta = np.angle(v * np.conj(c))                                                # rad, k x error
         w = (np.abs(c) ** 2 / noise) * ks[use] ** 2                                     # (nd, C, Ku)
         w = np.minimum(w, 1e8) * hum_present(v, fs_d)[:, None, None]

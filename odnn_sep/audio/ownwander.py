@@ -131,6 +131,23 @@ def own_wander(v: np.ndarray, ks: np.ndarray, kern: np.ndarray, present: np.ndar
     return V
 
 
+def local_scatter(v: np.ndarray, c: np.ndarray, fs_d: float) -> np.ndarray:
+    """Each line's scatter about its whole-input mean ``c``, averaged over 1 s: the local noise
+    of the shared phase's weights (a loud note on a harmonic makes its phase worthless for a
+    while, and its weight drops for that while only).
+
+    Examples
+    --------
+    >>> v = np.ones((40, 1, 1), complex); v[20:] += 1.0
+    >>> s = local_scatter(v, v.mean(axis=0, keepdims=True), 10.0)
+    >>> s.shape, float(s[0, 0, 0]), float(s[-1, 0, 0])
+    ((40, 1, 1), 0.25, 0.25)
+    """
+    r2 = np.abs(v - c) ** 2
+    noise = ndimage.uniform_filter1d(r2, size=max(1, int(round(fs_d))), axis=0, mode="nearest")
+    return np.maximum(noise, 1e-12 * np.median(r2) + 1e-300)
+
+
 def wander_weights(v: np.ndarray, ks: np.ndarray, V: np.ndarray, n_min: int, fs_d: float) -> np.ndarray:
     """Per-sample weights of each harmonic's phase estimate in the shared phase, with its own
     wander counted: ``k^2 |mean|^2 / (noise + 2 |mean|^2 V n / 1.5)``. The wander does not
@@ -161,11 +178,8 @@ def wander_weights(v: np.ndarray, ks: np.ndarray, V: np.ndarray, n_min: int, fs_
     True
     """
     c = v.mean(axis=0, keepdims=True)
-    # the local noise as the rounds before measure it (the scatter about the whole input's mean
-    # over 1 s), so that a harmonic with a small wander keeps nearly the weight it had there
-    size = max(1, int(round(fs_d)))
-    r2 = np.abs(v - c) ** 2
-    noise = ndimage.uniform_filter1d(r2, size=size, axis=0, mode="nearest")
-    noise = np.maximum(noise, 1e-12 * float(np.median(r2)) + 1e-300)
+    # the local noise as the rounds before measure it, so that a harmonic with a small wander
+    # keeps nearly the weight it had there
+    noise = local_scatter(v, c, fs_d)
     p = np.abs(c) ** 2
     return np.minimum(p * ks ** 2 / (noise + 2 * p * V[None] * n_min / 1.5), 1e8)
