@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.core.spectrum import spectrum
 from odnn_sep.errors import InputError
 
 KINDS_HELP = "auto, slow, none, lines, periodic:HZ (comma-separated, e.g. slow,periodic:3.7)"
@@ -130,10 +131,8 @@ def residual_lines(t, r, *, alpha=0.01, max_lines=MAX_DECLARED_LINES):
     """
     t = np.asarray(t, float)
     r = np.asarray(r, float) - np.mean(r)
-    n = len(r)
-    dt = float(np.median(np.diff(t)))
-    spec = np.abs(np.fft.rfft(r * np.hanning(n))) ** 2
-    f = np.fft.rfftfreq(n, dt)
+    f, X = spectrum(t, r, taper=True)
+    spec = np.abs(X) ** 2
     spec[0] = 0.0
     floor = np.median(spec[1:]) / np.log(2.0)     # median of an exponential is mean * ln 2
     thresh = floor * np.log(len(spec) / alpha)

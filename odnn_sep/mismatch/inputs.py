@@ -17,10 +17,13 @@ import bisect
 import numpy as np
 
 from odnn_sep.core.linalg import solve
+from odnn_sep.core.spectrum import is_uniform
 from odnn_sep.errors import InputError
 
 DRIVEN_PRESETS = ("oscillator", "pendulum", "cooling")
 MAX_INPUTS = 8
+# grid points of the uniform grid a driven linear model is simulated on when its times are irregular
+MAX_GRID = 2_000_000
 
 
 def check_inputs(inputs, t):
@@ -236,10 +239,19 @@ def regression_start(t, y, inputs, order):
     n = len(y)
     dt = float(np.median(np.diff(t)))
     win = max(7, (n // 60) | 1)
-    d1 = savgol_filter(y, win, 3, deriv=1, delta=dt)
+    if is_uniform(t):
+        def deriv(k):
+            return savgol_filter(y, win, 3, deriv=k, delta=dt)
+    else:   # irregular times: the smoothing filter needs equal steps, so take it on a uniform grid
+        g = np.linspace(float(t[0]), float(t[-1]), n)
+        yg = np.interp(g, t, y)
+
+        def deriv(k):
+            return np.interp(t, g, savgol_filter(yg, win, 3, deriv=k, delta=float(g[1] - g[0])))
+    d1 = deriv(1)
     us = [np.interp(t, tu, u) for tu, u in inputs.values()]
     if order == 2:
-        d2 = savgol_filter(y, win, 3, deriv=2, delta=dt)
+        d2 = deriv(2)
         A = np.column_stack([-y, -d1] + us)
         target = d2
     else:
@@ -323,7 +335,27 @@ def linear_response(A, B, x0, t, drive):
     """
     from scipy.signal import StateSpace, lsim
     A = np.atleast_2d(np.asarray(A, float))
-    ss = StateSpace(A, np.asarray(B, float).reshape(-1, 1), np.eye(A.shape[0]), np.zeros((A.shape[0], 1)))
-    _, _, x = lsim(ss, U=np.asarray(drive, float), T=np.asarray(t, float) - float(t[0]), X0=np.asarray(x0, float))
-    x = np.asarray(x, float).reshape(len(t), A.shape[0])
-    return x
+    B = np.asarray(B, float).reshape(-1)
+    t = np.asarray(t, float)
+    drive = np.asarray(drive, float)
+    ss = StateSpace(A, B.reshape(-1, 1), np.eye(A.shape[0]), np.zeros((A.shape[0], 1)))
+    if is_uniform(t, tol=1e-9) or len(t) < 3:
+        _, _, x = lsim(ss, U=drive, T=t - float(t[0]), X0=np.asarray(x0, float))
+        return np.asarray(x, float).reshape(len(t), A.shape[0])
+    # irregular times (lsim needs equal steps): a uniform grid of a quarter of the median spacing,
+    # the drive interpolated on it, the states brought back to ``t`` by cubic Hermite interpolation
+    # with their exact derivatives A x + B d (error of order (omega h)^4)
+    span = float(t[-1] - t[0])
+    m = int(min(np.ceil(4 * span / float(np.median(np.diff(t)))), MAX_GRID)) + 1
+    g = np.linspace(0.0, span, m)
+    h = g[1]
+    dg = np.interp(g, t - t[0], drive)
+    _, _, xg = lsim(ss, U=dg, T=g, X0=np.asarray(x0, float))
+    xg = np.asarray(xg, float).reshape(m, A.shape[0])
+    vg = xg @ A.T + np.outer(dg, B)
+    j = np.clip(((t - t[0]) // h).astype(int), 0, m - 2)
+    s_ = ((t - t[0]) - g[j]) / h
+    s2, s3 = s_ ** 2, s_ ** 3
+    h00, h10, h01, h11 = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s_, -2 * s3 + 3 * s2, s3 - s2
+    return (h00[:, None] * xg[j] + h10[:, None] * h * vg[j] + h01[:, None] * xg[j + 1]
+            + h11[:, None] * h * vg[j + 1])

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.core.spectrum import spectrum
+
 
 def _chi2():
     # imported on use: ``odnn-sep`` imports this package for every subcommand (and ``--help``)
@@ -160,9 +162,8 @@ def locate_frequency(t, residual, *, sigma=None, alpha=0.05, max_bands=5):
     r = np.asarray(residual, float)
     n = len(r)
     sigma = noise_sigma(r) if sigma is None else sigma
-    dt = float(np.median(np.diff(t)))
-    spec = np.abs(np.fft.rfft(r)) ** 2 / (n * sigma ** 2)   # exp(1) per interior bin under white noise
-    freqs = np.fft.rfftfreq(n, dt)
+    freqs, X = spectrum(t, r)
+    spec = np.abs(X) ** 2 / (n * sigma ** 2)   # exp(1) per interior bin under white noise
     interior = np.arange(1, len(spec) - (1 if n % 2 == 0 else 0))
     if len(interior) == 0:
         return []

@@ -6,6 +6,7 @@ import warnings
 import numpy as np
 
 from odnn_sep.core.linalg import solve
+from odnn_sep.core.spectrum import spectrum
 from odnn_sep.errors import InputError, ModelIntegrationError  # noqa: F401  (re-exported)
 
 INF = np.inf
@@ -182,7 +183,7 @@ def dominant_omega(t, y):
     Parameters
     ----------
     t : ndarray
-        Sample times (uniform).
+        Sample times (uniform or not).
     y : ndarray
         Samples.
 
@@ -199,10 +200,9 @@ def dominant_omega(t, y):
     3.0
     """
     n = len(t)
-    dt = float(np.median(np.diff(t)))
     nfft = int(2 ** np.ceil(np.log2(8 * n)))
-    spec = np.abs(np.fft.rfft((y - y.mean()) * np.hanning(n), nfft))
-    freqs = np.fft.rfftfreq(nfft, dt)
+    freqs, X = spectrum(t, y - y.mean(), nfft=nfft, taper=True)   # irregular times: non-uniform DFT
+    spec = np.abs(X)
     spec[0] = 0
     return 2 * np.pi * freqs[int(np.argmax(spec))]
 

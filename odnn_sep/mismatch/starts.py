@@ -12,14 +12,14 @@ import functools
 import numpy as np
 
 from odnn_sep.core.linalg import solve
+from odnn_sep.core.spectrum import spectrum
 
 
 def _peaks(t, r, *, n_peaks=3, fmin=0.0, fmax=None):
     n = len(r)
-    dt = float(np.median(np.diff(t)))
     nfft = int(2 ** np.ceil(np.log2(4 * n)))
-    spec = np.abs(np.fft.rfft((r - r.mean()) * np.hanning(n), nfft))
-    f = np.fft.rfftfreq(nfft, dt)
+    f, X = spectrum(t, r - r.mean(), nfft=nfft, taper=True)
+    spec = np.abs(X)
     ok = (f > max(fmin, 0.5 / (t[-1] - t[0]))) & (f <= (fmax if fmax is not None else f[-1]))
     spec = np.where(ok, spec, 0.0)
     out = []
@@ -349,6 +349,14 @@ def effect_starts(effect, base, t, y, model=None, G=None):
     return out
 
 
+# oscillators whose own line an additive sinusoid close to it can beat against: over a record of a
+# few cycles the beat is a slow change of amplitude and phase, which damping laws, a cubic stiffness
+# or an amplitude modulation fit as well. A pickup there competes with physics like any other
+# disturbance (absorbed first on a tie, the physics tested again on top of it); at the harmonics it
+# stays set aside, since a nonlinearity puts its own lines there
+BEATING_FAMILIES = ("oscillator", "pendulum")
+
+
 def near_system_line(f, fit, t, *, harmonics=8):
     """True when ``f`` lies within 1.5 resolution cells of the system's own frequency or a harmonic.
 
@@ -382,22 +390,84 @@ def near_system_line(f, fit, t, *, harmonics=8):
     >>> [bool(near_system_line(hz, f, t)) for hz in (0.318, 0.637, 0.5)]
     [True, True, False]
     """
+    return system_line_number(f, fit, t, harmonics=harmonics) > 0
+
+
+def system_frequency(fit):
+    """The system's own frequency (Hz) under a calibrated fit: an oscillator's sqrt(k/m) / 2 pi, a
+    pendulum's sqrt(w2) / 2 pi, hum's f0; None for other families.
+
+    Parameters
+    ----------
+    fit : Fit
+        Calibrated fit (``fit.params``, ``fit.model.family``).
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> round(system_frequency(NS(params={"w2": 4.0}, model=NS(family="pendulum"))), 4)
+    0.3183
+    >>> system_frequency(NS(params={}, model=NS(family="cooling"))) is None
+    True
+    """
     p = fit.params
     fam = fit.model.family
     if fam == "oscillator":
-        f_sys = np.sqrt(max(p["k"] / p.get("m", 1.0), 0.0)) / (2 * np.pi)
-    elif fam == "pendulum":
-        f_sys = np.sqrt(max(p["w2"], 0.0)) / (2 * np.pi)
-    elif fam == "hum":
-        f_sys = p["f0"]
-    else:
-        return False
+        return float(np.sqrt(max(p["k"] / p.get("m", 1.0), 0.0)) / (2 * np.pi))
+    if fam == "pendulum":
+        return float(np.sqrt(max(p["w2"], 0.0)) / (2 * np.pi))
+    if fam == "hum":
+        return float(p["f0"])
+    return None
+
+
+def system_line_number(f, fit, t, *, harmonics=8):
+    """Which of the system's own lines (1 = its frequency, k = the k-th harmonic) ``f`` lies within
+    1.5 resolution cells of; 0 when none (or the family has no own frequency).
+
+    Parameters
+    ----------
+    f : float
+        Frequency (Hz).
+    fit : Fit
+        Calibrated fit (oscillator, pendulum or hum; other families give 0).
+    t : ndarray
+        Sample times (the resolution is 1 / record length).
+    harmonics : int, optional
+        Harmonics checked.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.fitting import fit
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 20, 400)
+    >>> f = fit(make_model("oscillator", {"k": 4.0}), t, np.cos(2.0 * t))   # 2 rad/s = 0.318 Hz
+    >>> [system_line_number(hz, f, t) for hz in (0.318, 0.637, 0.5)]
+    [1, 2, 0]
+    """
+    f_sys = system_frequency(fit)
+    if f_sys is None:
+        return 0
     cell = 1.5 / float(t[-1] - t[0])
-    return min(abs(f - k * f_sys) for k in range(1, harmonics + 1)) <= cell
+    dist = [abs(f - k * f_sys) for k in range(1, harmonics + 1)]
+    k = int(np.argmin(dist))
+    return k + 1 if dist[k] <= cell else 0
 
 
 def _not_harmonics(freqs, base, t):
-    return [f for f in freqs if not near_system_line(f, base, t)]
+    """The frequencies an additive pickup may start at: off the system's own lines, except the
+    fundamental of a beating family (see ``BEATING_FAMILIES``)."""
+    keep = 1 if base.model.family in BEATING_FAMILIES else 0
+    return [f for f in freqs if system_line_number(f, base, t) <= keep]
 
 
 def _harmonic_columns(model, p, t, k):
