@@ -313,7 +313,8 @@ def _context_lines(v, failed):
     lines = [f"Disturbance found (absorbed, not physics): {dd['description']}" for dd in v["disturbances"]]
     lines += [f"Disturbance declared: {dd}" for dd in v["declared_disturbances"]]
     lines += [f"Dropped by the backward check: {dd['effect']} (BIC drop against the others "
-              f"{_fmt(dd['score_against_others'])})" for dd in v["dropped_by_backward_check"]]
+              f"{_fmt(dd['score_against_others'])}{'; ' + dd['reason'] if dd.get('reason') else ''})"
+              for dd in v["dropped_by_backward_check"]]
     lines += [f"Warning: {w}" for w in v["warnings"]] + [f"Note: {w}" for w in v["notes"]]
     if failed:
         lines += [f"Fit failed (not ranked): {f['effect']} at step {f['step']}: {f['reason']}" for f in failed]

@@ -426,6 +426,7 @@ def forward_backward(base, mse0, names, setup: SelectionSetup) -> Selection:
     sel.fit = cur
     if len(sel.accepted) >= 2 and any(c.effect not in DISTURBANCE_EFFECTS for c in sel.accepted):
         _backward(sel, base, setup)
+    _drop_wrong_sign(sel, base, setup)
     recheck_rivals(sel, base, setup, EQUIVALENCE_GAP)
     _drop_named_equivalents(sel.accepted)
     return sel
@@ -459,6 +460,28 @@ def _drop_check(c, sel, base, setup):
     check.heldout_mse = None
     heldout(check, mse_red, setup.t, setup.y, setup.G, setup.block_id, setup.folds)
     return check, f, mse_red
+
+
+def _drop_wrong_sign(sel, base, setup):
+    """A loss term that ends with the wrong sign in the final model is dropped, as at its own step.
+
+    Its sign is checked when it is chosen; refits on top of it (a second pickup, a drift) and the
+    backward check can still turn it into a heat gain, which stands in for some other shape of the
+    curve (a cooling null with two pickups and a drift ended with radiation r = -0.19)."""
+    for c in [c for c in sel.accepted if c.effect in LOSS_TERMS]:
+        v = sel.fit.params.get(LOSS_TERMS[c.effect])
+        if v is None or not v < 0:
+            continue
+        out = _drop_check(c, sel, base, setup)
+        if out is None:
+            continue
+        check, f, mse_red = out
+        sel.dropped.append({"effect": c.effect, "score_against_others": check.score,
+                            "heldout_gain_against_others": check.heldout_gain,
+                            "reason": f"fitted as a heat gain in the final model ({LOSS_TERMS[c.effect]} = {v:.3g})"})
+        sel.accepted.remove(c)
+        sel.fit = f
+        sel.heldout_rmse = float(np.sqrt(np.nanmean(mse_red[np.isfinite(mse_red)])))
 
 
 def _backward(sel, base, setup):

@@ -84,3 +84,21 @@ def test_a_step_of_the_level_is_a_disturbance_with_its_instant():
     (d,) = [d for d in res.disturbances if d["effect"] == "step_offset"]
     assert abs(d["parameters"]["t_step"] - 0.41) < 0.01 and abs(d["parameters"]["h_step"] - 0.05) < 0.01
     assert "a step of" in d["description"]
+
+
+def test_a_loss_term_that_ends_as_a_heat_gain_in_the_final_model_is_dropped(monkeypatch):
+    # radiation chosen with r > 0 can end at r < 0 once later disturbances are refitted on top of it
+    # (a cooling null with two pickups ended at r = -0.19, named); the final model's sign is checked too
+    from types import SimpleNamespace as NS
+
+    import odnn_sep.mismatch.selection as S
+    reduced = NS(params={"h": 0.04})
+    check = NS(score=12.0, heldout_gain=30.0)
+    monkeypatch.setattr(S, "_drop_check", lambda c, sel, base, setup: (check, reduced, np.ones(4)))
+    rad, pk = NS(effect="radiation"), NS(effect="periodic_pickup")
+    sel = NS(accepted=[rad, pk], fit=NS(params={"h": 0.04, "r_rad": -0.19}), dropped=[], heldout_rmse=None)
+    S._drop_wrong_sign(sel, None, None)
+    assert sel.accepted == [pk] and sel.fit is reduced and "heat gain" in sel.dropped[0]["reason"]
+    sel = NS(accepted=[rad], fit=NS(params={"r_rad": 0.01}), dropped=[], heldout_rmse=None)
+    S._drop_wrong_sign(sel, None, None)
+    assert sel.accepted == [rad] and sel.dropped == []
