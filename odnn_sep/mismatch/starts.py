@@ -357,42 +357,6 @@ def effect_starts(effect, base, t, y, model=None, G=None):
 BEATING_FAMILIES = ("oscillator", "pendulum")
 
 
-def near_system_line(f, fit, t, *, harmonics=8):
-    """True when ``f`` lies within 1.5 resolution cells of the system's own frequency or a harmonic.
-
-    A nonlinearity (Duffing stiffness, a large swing, drag) changes the oscillation there and puts
-    lines at its harmonics; an additive disturbance at those frequencies would claim physics the
-    model should be tested for, so it is not offered there (hum: the harmonics are the
-    missing_harmonic effect's).
-
-    Parameters
-    ----------
-    f : float
-        Frequency (Hz).
-    fit : Fit
-        Calibrated fit (oscillator, pendulum or hum; other families give False).
-    t : ndarray
-        Sample times (the resolution is 1 / record length).
-    harmonics : int, optional
-        Harmonics checked.
-
-    Returns
-    -------
-    bool
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from odnn_sep.mismatch.fitting import fit
-    >>> from odnn_sep.mismatch.model import make_model
-    >>> t = np.linspace(0, 20, 400)
-    >>> f = fit(make_model("oscillator", {"k": 4.0}), t, np.cos(2.0 * t))   # 2 rad/s = 0.318 Hz
-    >>> [bool(near_system_line(hz, f, t)) for hz in (0.318, 0.637, 0.5)]
-    [True, True, False]
-    """
-    return system_line_number(f, fit, t, harmonics=harmonics) > 0
-
-
 def system_frequency(fit):
     """The system's own frequency (Hz) under a calibrated fit: an oscillator's sqrt(k/m) / 2 pi, a
     pendulum's sqrt(w2) / 2 pi, hum's f0; None for other families.
