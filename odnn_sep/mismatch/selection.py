@@ -467,7 +467,7 @@ def _drop_wrong_sign(sel, base, setup):
 
     Its sign is checked when it is chosen; refits on top of it (a second pickup, a drift) and the
     backward check can still turn it into a heat gain, which stands in for some other shape of the
-    curve (a cooling null with two pickups and a drift ended with radiation r = -0.19)."""
+    curve (a cooling null with two pickups ended with radiation r = -0.19)."""
     for c in [c for c in sel.accepted if c.effect in LOSS_TERMS]:
         v = sel.fit.params.get(LOSS_TERMS[c.effect])
         if v is None or not v < 0:
