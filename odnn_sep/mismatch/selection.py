@@ -462,6 +462,18 @@ def _drop_check(c, sel, base, setup):
     return check, f, mse_red
 
 
+def _drop(sel, c, check, f, mse_red, reason=None):
+    """Remove named effect ``c``: record its check against the others, and take the reduced fit."""
+    entry = {"effect": c.effect, "score_against_others": check.score,
+             "heldout_gain_against_others": check.heldout_gain}
+    if reason is not None:
+        entry["reason"] = reason
+    sel.dropped.append(entry)
+    sel.accepted.remove(c)
+    sel.fit = f
+    sel.heldout_rmse = float(np.sqrt(np.nanmean(mse_red[np.isfinite(mse_red)])))
+
+
 def _drop_wrong_sign(sel, base, setup):
     """A loss term that ends with the wrong sign in the final model is dropped, as at its own step.
 
@@ -476,12 +488,8 @@ def _drop_wrong_sign(sel, base, setup):
         if out is None:
             continue
         check, f, mse_red = out
-        sel.dropped.append({"effect": c.effect, "score_against_others": check.score,
-                            "heldout_gain_against_others": check.heldout_gain,
-                            "reason": f"fitted as a heat gain in the final model ({LOSS_TERMS[c.effect]} = {v:.3g})"})
-        sel.accepted.remove(c)
-        sel.fit = f
-        sel.heldout_rmse = float(np.sqrt(np.nanmean(mse_red[np.isfinite(mse_red)])))
+        _drop(sel, c, check, f, mse_red,
+              reason=f"fitted as a heat gain in the final model ({LOSS_TERMS[c.effect]} = {v:.3g})")
 
 
 def _backward(sel, base, setup):
@@ -497,11 +505,7 @@ def _backward(sel, base, setup):
                 continue
             check, f, mse_red = out
             if not passes(check, setup.bic_threshold, setup.heldout_threshold):
-                sel.dropped.append({"effect": c.effect, "score_against_others": check.score,
-                                    "heldout_gain_against_others": check.heldout_gain})
-                sel.accepted.remove(c)
-                sel.fit = f
-                sel.heldout_rmse = float(np.sqrt(np.nanmean(mse_red[np.isfinite(mse_red)])))
+                _drop(sel, c, check, f, mse_red)
                 changed = True
                 break
             c.backward_score = check.score
