@@ -85,7 +85,7 @@ def _residual(out, inp, M, prior, b, random_state) -> dict:
     covs = [M[b[1]:b[3], b[0]:b[2]]]
     if prior is not None:
         covs.append(prior[b[1]:b[3], b[0]:b[2]])
-    return measure(out, inp, *covs, random_state=random_state)
+    return measure(out, inp, *covs, random_state=random_state, rims=prior is not None)
 
 
 def color_report(color, planes) -> dict:

@@ -219,7 +219,9 @@ def _residual_text(residual: dict) -> str:
         beside += (f"; another copy of the mark left at x {copy['at'][0]}, y {copy['at'][1]} (cut by the border or "
                    f"not found; detection score {copy['score']:.3f}, contrast {copy['contrast_levels']:.1f} grey "
                    f"levels)" if copy else "")
-        return (f"{100 * residual['edge_left']:.0f} % of its edge energy left, detection score on the output "
+        rims = (f", {residual['rim_levels']:.1f} grey levels of rims along the letters' contours "
+                f"({100 * residual['rim_left']:.0f} % of the mark's)" if "rim_levels" in residual else "")
+        return (f"{100 * residual['edge_left']:.0f} % of its edge energy left{rims}, detection score on the output "
                 f"{residual['score']:.3f} (threshold {residual['threshold']:g}), contrast "
                 f"{residual['contrast_levels']:.1f} grey levels{beside}")
     return (f"edge correlation with the registered logo {residual.get('score')}, "

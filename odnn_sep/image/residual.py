@@ -330,12 +330,14 @@ def edges_left_over(out: np.ndarray, inp: np.ndarray, coverages, departing: np.n
 
 
 def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold: float = THRESHOLD,
-            random_state=0, data_band: bool = True) -> dict:
+            random_state=0, data_band: bool = True, rims: bool = False) -> dict:
     """Residual mark of an output crop ``out`` (h, w, C) in [0, 1], given the input crop ``inp`` and
     the coverages (h, w) the mark may have (the estimated one, the registered rendering; the last is
     the rendering). With ``data_band`` the edges are also counted in the band of the coverage the
     input shows around the last one (``coverage_data.data_coverage``): where the tool's shapes are a
     pixel or two off the true glyphs, the rims the removal leaves along the true edges are there.
+    With ``rims`` (text mode: the last coverage is the registered rendering) the edge strength left
+    across the rendering's contours is counted as well (``residual_rims.rims_left``).
 
     Returns
     -------
@@ -346,7 +348,10 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
     ``visible``: a blend still detected with contrast, most of the mark's edges still there, or a
     blend of the estimated shape with ``STRONG_LEVELS`` of contrast whatever the statistic says;
     ``second_colour``: None, or the outline or shadow left beside the mark
-    (``residual_second.second_colour``: its shape, score and contrast), which also makes it visible.
+    (``residual_second.second_colour``: its shape, score and contrast), which also makes it visible;
+    with ``rims``, ``rim_left`` and ``rim_levels``: the edge strength across the rendering's contours
+    left in the output (a share of the input's, and 8-bit grey levels), visible from
+    ``residual_rims.RIM_SHARE`` and ``RIM_LEVELS``.
 
     Examples
     --------
@@ -375,6 +380,11 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
         Md = data_coverage(inp, coverages[-1], random_state=random_state)
         Md = Md if Md is not None and (Md > 0.5).any() else None
     left, edges_visible = edges_left_over(out, inp, coverages, Md)
+    rim = None
+    if rims and coverages:
+        from odnn_sep.image.residual_rims import rims_left
+
+        rim = rims_left(out, inp, coverages[-1:])
     levels = contrast_levels(out, best_m, random_state=random_state) if best_m is not None and best >= threshold \
         else 0.0
     visible = (best >= threshold and levels >= VISIBLE_LEVELS) or edges_visible
@@ -398,8 +408,13 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
             if second is not None:
                 visible = True
                 break
-    return {"score": round(float(best), 4), "contrast_levels": round(levels, 2), "edge_left": round(left, 3),
-            "threshold": threshold, "visible": bool(visible), "second_colour": second}
+    if rim is not None and rim[2]:
+        visible = True              # after the second colour: an outline or shadow is named when there is one
+    report = {"score": round(float(best), 4), "contrast_levels": round(levels, 2), "edge_left": round(left, 3),
+              "threshold": threshold, "visible": bool(visible), "second_colour": second}
+    if rim is not None:
+        report.update(rim_left=round(rim[0], 3), rim_levels=round(rim[1], 2))
+    return report
 
 
 __all__ = ["measure", "step_left", "edge_excess", "edges_left_over", "aligned_energy", "aligned_share", "ALIGNED_LEFT", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS", "EDGE_LEFT_STRONG",

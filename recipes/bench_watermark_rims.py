@@ -1,0 +1,144 @@
+"""Watermark: is a mark reported removed really gone? The residual-mark verdict with and without the rims
+along the mark's contours (``odnn_sep.image.residual_rims``), against an oracle that knows the clean photo.
+
+Marks from the unseen-font generator (``_watermark_unseen.draw``: fonts the tool never tries, or with
+``--family dejavu`` the DejaVu faces it does try; letter spacing, faux bold, blur or resampling, PNG and
+JPEG q 90). For each mark found, the output of ``unwatermark`` (no ``--font``) is judged:
+
+* oracle (the probe's, ``_watermark_probe.score`` on the mark's box): the mark is still there when the
+  output keeps >= 4 grey levels RMS in the true mark's band beyond the JPEG noise floor, with >= 0.25 of the
+  mark's own structure;
+* the tool's verdict without the rims (``residual.measure(rims=False)``, the version before) and with them;
+* the clean photo scored as the output of a perfect removal (it must never be called visible).
+
+Usage::
+
+    python recipes/bench_watermark_rims.py --seeds 1 7 --trials 2                  # development
+    python recipes/bench_watermark_rims.py --seeds 1 7 --trials 1 --family dejavu  # development
+    python recipes/bench_watermark_rims.py --seeds 2026 2027 --trials 1            # evaluation
+"""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+
+def _oracle(out, y, clean, M, fmt) -> dict:
+    """The probe's oracle on crops (float [0, 1]); JPEG: the floor is the clean photo's own JPEG error."""
+    import cv2
+    from _watermark_probe import _across
+
+    band = cv2.dilate((M > 0.05).astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool)
+    o, i, c = out * 255, y * 255, clean * 255
+    floor = 0.0
+    if fmt == "jpeg":
+        from bench_watermark import jpeg
+
+        c8 = np.clip(np.round(c), 0, 255).astype(np.uint8)
+        cj = jpeg(c8[:, :, 0] if c8.shape[2] == 1 else c8).astype(np.float64)
+        cj = cj[:, :, None] if cj.ndim == 2 else cj
+        floor = float(np.sqrt(np.mean((cj - c)[band] ** 2)))
+    d_out, d_in = (o - c)[band], (i - c)[band]
+    left = float(np.sqrt(max(0.0, np.mean(d_out ** 2) - floor ** 2)))
+    n_in = float(np.sum(d_in ** 2))
+    proj = abs(float(np.sum(d_out * d_in)) / n_in) if n_in > 0 else 0.0
+    e_in = _across(i - c, M)
+    edge = max(0.0, _across(o - c, M) / e_in) if e_in > 0 else 0.0
+    share = max(proj, edge)
+    return {"left": left, "share": share, "there": bool(left >= 4.0 and share >= 0.25)}
+
+
+def run(seed: int, family: str, trials: int) -> list[dict]:
+    """Every found mark of ``seed``: oracle, verdicts without and with the rims, clean photo's rims."""
+    import _watermark_unseen as U
+    from bench_watermark import jpeg
+
+    import odnn_sep.image.api as api
+    from odnn_sep.errors import InputError
+    from odnn_sep.image import unwatermark
+    from odnn_sep.image.residual import measure
+    from odnn_sep.image.residual_rims import rims_left
+
+    if family == "unseen":
+        fonts = U.available_fonts()
+    else:
+        mpl = Path(importlib.util.find_spec("matplotlib").origin).parent / "mpl-data" / "fonts" / "ttf"
+        fonts = [(mpl / f, None) for f in ("DejaVuSans.ttf", "DejaVuSans-Bold.ttf", "DejaVuSerif.ttf",
+                                          "DejaVuSans-Oblique.ttf")]
+    seen: dict = {}
+    real_residual = api._residual
+
+    def spy(out, inp, M, prior, b, rs):       # the crops the verdict is made on
+        seen.update(out=np.asarray(out, float), inp=np.asarray(inp, float), b=b,
+                    covs=[M[b[1]:b[3], b[0]:b[2]]] + ([prior[b[1]:b[3], b[0]:b[2]]] if prior is not None else []))
+        return real_residual(out, inp, M, prior, b, rs)
+
+    api._residual = spy
+    rows = []
+    rng = np.random.default_rng(seed)
+    try:
+        for name, img in U.photos():
+            for k in range(trials):
+                y_png, clean, Mt, truth = U.draw(img, rng, fonts)
+                for fmt in ("png", "jpeg"):
+                    y = y_png if fmt == "png" else jpeg(y_png)
+                    try:
+                        rep = unwatermark(y, text=truth["text"]).report["residual_mark"]
+                    except InputError:
+                        rows.append({"seed": seed, "photo": name, "trial": k, "format": fmt, "found": False})
+                        continue
+                    b = seen["b"]
+                    cl = clean[b[1]:b[3], b[0]:b[2]].astype(np.float64) / 255
+                    cl = cl[:, :, None] if cl.ndim == 2 else cl
+                    out, inp, covs = seen["out"], seen["inp"], seen["covs"]
+                    before = measure(out, inp, *covs, random_state=0)["visible"]
+                    c_share, c_levels, c_vis = rims_left(cl, inp, covs[-1:])
+                    rows.append({"seed": seed, "photo": name, "trial": k, "format": fmt, "found": True,
+                                 "font": truth["font"], "alpha": round(truth["alpha"], 2), "post": truth["post"],
+                                 **_oracle(out, inp, cl, Mt[b[1]:b[3], b[0]:b[2]], fmt),
+                                 "before": before, "after": rep["visible"], "rim_left": rep.get("rim_left"),
+                                 "rim_levels": rep.get("rim_levels"), "clean_rim_left": round(c_share, 3),
+                                 "clean_rim_levels": round(c_levels, 2), "clean_visible": c_vis})
+                    r = rows[-1]
+                    print(f"{seed} {name:20s} #{k} {fmt:4s} {r['font'][:22]:22s} oracle {'there' if r['there'] else 'gone ':5s} "
+                          f"(left {r['left']:5.1f}, share {r['share']:.2f}) | before {'visible' if before else 'removed'} "
+                          f"after {'visible' if r['after'] else 'removed'} rims {r['rim_left']} ({r['rim_levels']} levels) "
+                          f"| clean photo rims {r['clean_rim_left']}", flush=True)
+    finally:
+        api._residual = real_residual
+    return rows
+
+
+def summary(rows: list[dict]) -> str:
+    found = [r for r in rows if r["found"]]
+    there = [r for r in found if r["there"]]
+    gone = [r for r in found if not r["there"]]
+    return "\n".join([
+        f"marks drawn {len(rows)}, found {len(found)}; oracle: still there {len(there)}, gone {len(gone)}",
+        f"still there but reported removed (dishonest): before {sum(not r['before'] for r in there)}, "
+        f"after {sum(not r['after'] for r in there)}",
+        f"gone but reported visible (by the oracle): before {sum(r['before'] for r in gone)}, "
+        f"after {sum(r['after'] for r in gone)}",
+        f"clean photo scored as the output, called visible by the rims: {sum(r['clean_visible'] for r in found)}"
+        f"/{len(found)} (largest share {max((r['clean_rim_left'] for r in found), default=float('nan')):.2f})"])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1, 7])
+    ap.add_argument("--trials", type=int, default=2, help="marks per photo (default 2)")
+    ap.add_argument("--family", choices=("unseen", "dejavu"), default="unseen")
+    args = ap.parse_args(argv)
+    rows = [r for s in args.seeds for r in run(s, args.family, args.trials)]
+    print(summary(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
