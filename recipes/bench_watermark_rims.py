@@ -11,11 +11,17 @@ JPEG q 90). For each mark found, the output of ``unwatermark`` (no ``--font``) i
 * the tool's verdict without the rims (``residual.measure(rims=False)``, the version before) and with them;
 * the clean photo scored as the output of a perfect removal (it must never be called visible).
 
+With ``--family logo`` the marks are the logos of ``recipes/bench_logo.py`` (one per photo and format,
+given with or without their alpha channel, single or tiled) removed with ``--reference``; "before" is the
+logo check's edge correlation alone (``logo_residual``: z > 4 against chance).
+
 Usage::
 
     python recipes/bench_watermark_rims.py --seeds 1 7 --trials 2                  # development
     python recipes/bench_watermark_rims.py --seeds 1 7 --trials 1 --family dejavu  # development
     python recipes/bench_watermark_rims.py --seeds 2026 2027 --trials 1            # evaluation
+    python recipes/bench_watermark_rims.py --seeds 7 11 --family logo              # development (logos)
+    python recipes/bench_watermark_rims.py --seeds 2026 2027 --family logo         # evaluation (logos)
 """
 from __future__ import annotations
 
@@ -115,6 +121,61 @@ def run(seed: int, family: str, trials: int) -> list[dict]:
     return rows
 
 
+def run_logo(seed: int) -> list[dict]:
+    """Every found logo of ``seed`` (``bench_logo``'s logos and blend, one per photo and format)."""
+    import bench_logo as B
+    import cv2
+
+    import odnn_sep.image.logo_residual as LR
+    from odnn_sep.errors import InputError
+    from odnn_sep.image import unwatermark
+    from odnn_sep.image.residual_rims import rims_left
+
+    seen: dict = {}
+    real_residual = LR.residual_mark
+
+    def spy(y, out, M, L, **kw):               # the crops the verdict is made on
+        seen.update(inp=np.asarray(y, float), out=np.asarray(out, float), M=np.asarray(M, float))
+        return real_residual(y, out, M, L, **kw)
+
+    LR.residual_mark = spy
+    rows = []
+    rng = np.random.default_rng(seed)
+    try:
+        for name, clean in B.photos(False):
+            for fmt in ("png", "jpeg"):
+                logo = B.make_logo(rng, bool(rng.random() < 0.5))
+                given_alpha, tiled = bool(rng.random() < 0.5), bool(rng.random() < 0.3)
+                y, A, _, truth = B.blend(clean, logo, rng, tiled)
+                if fmt == "jpeg":
+                    y = cv2.imdecode(cv2.imencode(".jpg", y, [cv2.IMWRITE_JPEG_QUALITY, 90])[1], cv2.IMREAD_UNCHANGED)
+                try:
+                    rep = unwatermark(y, reference=logo if given_alpha else B.flatten(logo)).report
+                except InputError:
+                    rows.append({"seed": seed, "photo": name, "format": fmt, "found": False})
+                    continue
+                x0, y0, x1, y1 = rep["bbox"]
+                rm = rep["residual_mark"]
+                cl = clean[y0:y1, x0:x1].astype(np.float64) / 255
+                out, inp, M = seen["out"], seen["inp"], seen["M"]
+                c_share, c_levels, c_vis = rims_left(cl, inp, [M])
+                before = bool(rm["z"] > LR.VISIBLE_SD and rm["score"] - rm["chance"] > LR.VISIBLE_MIN)
+                rows.append({"seed": seed, "photo": name, "format": fmt, "found": True, "font": "logo",
+                             "tiled": tiled, **_oracle(out, inp, cl, A[y0:y1, x0:x1] / truth["alpha"], fmt),
+                             "before": before, "after": rm["visible"], "rim_left": rm.get("rim_left"),
+                             "rim_levels": rm.get("rim_levels"), "clean_rim_left": round(c_share, 3),
+                             "clean_rim_levels": round(c_levels, 2), "clean_visible": c_vis})
+                r = rows[-1]
+                print(f"{seed} {name:20s} {fmt:4s} {'tiled ' if tiled else 'single'} oracle "
+                      f"{'there' if r['there'] else 'gone ':5s} (left {r['left']:5.1f}, share {r['share']:.2f}) | before "
+                      f"{'visible' if before else 'removed'} after {'visible' if r['after'] else 'removed'} rims "
+                      f"{r['rim_left']} ({r['rim_levels']} levels) | clean photo rims {r['clean_rim_left']} "
+                      f"({r['clean_rim_levels']} levels)", flush=True)
+    finally:
+        LR.residual_mark = real_residual
+    return rows
+
+
 def summary(rows: list[dict]) -> str:
     found = [r for r in rows if r["found"]]
     there = [r for r in found if r["there"]]
@@ -133,9 +194,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, nargs="+", default=[1, 7])
     ap.add_argument("--trials", type=int, default=2, help="marks per photo (default 2)")
-    ap.add_argument("--family", choices=("unseen", "dejavu"), default="unseen")
+    ap.add_argument("--family", choices=("unseen", "dejavu", "logo"), default="unseen")
     args = ap.parse_args(argv)
-    rows = [r for s in args.seeds for r in run(s, args.family, args.trials)]
+    rows = [r for s in args.seeds for r in (run_logo(s) if args.family == "logo" else run(s, args.family, args.trials))]
     print(summary(rows))
     return 0
 

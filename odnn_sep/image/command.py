@@ -252,5 +252,7 @@ def _residual_text(residual: dict) -> str:
         return (f"{100 * residual['edge_left']:.0f} % of its edge energy left{rims}, detection score on the output "
                 f"{residual['score']:.3f} (threshold {residual['threshold']:g}), contrast "
                 f"{residual['contrast_levels']:.1f} grey levels{beside}")
+    rims = (f", {residual['rim_levels']:.1f} grey levels of rims along its contours "
+            f"({100 * residual['rim_left']:.0f} % of the logo's)" if "rim_levels" in residual else "")
     return (f"edge correlation with the registered logo {residual.get('score')}, "
-            f"z {residual.get('z')} against chance")
+            f"z {residual.get('z')} against chance{rims}")

@@ -4,7 +4,10 @@ The output's gradient magnitude is correlated (Pearson, over the mark's box) wit
 the logo at its registered placement. Chance: the same correlation with the logo's edge map shifted
 circularly by a quarter to three quarters of the box (same edge statistics, wrong layout). The mark
 counts as still visible when the correlation exceeds the chance mean by ``VISIBLE_SD`` chance
-standard deviations and by at least ``VISIBLE_MIN`` in correlation.
+standard deviations and by at least ``VISIBLE_MIN`` in correlation. A logo placed a pixel or two off
+leaves its outline as thin rims, which the correlation over the whole box can miss: the rims along the
+logo's contours are counted as in text mode (``residual_rims.rims_left``, with text mode's thresholds,
+fixed before logos were looked at), and rims over them also make the mark still visible.
 """
 from __future__ import annotations
 
@@ -27,7 +30,8 @@ def residual_mark(y: np.ndarray, out: np.ndarray, M: np.ndarray, L: np.ndarray, 
 
     All arrays cover the same box: ``y``, ``out`` (h, w, C) floats, ``M`` (h, w), ``L`` (h, w, C).
     Returns a JSON-ready dict: ``score`` (output), ``input_score``, ``chance`` and ``chance_sd``,
-    ``z`` and ``visible``.
+    ``z``, ``rim_left`` and ``rim_levels`` (``residual_rims.rims_left`` along the contours of ``M``) and
+    ``visible``.
 
     Parameters
     ----------
@@ -72,6 +76,11 @@ def residual_mark(y: np.ndarray, out: np.ndarray, M: np.ndarray, L: np.ndarray, 
         chance.append(_corr(np.roll(T, (dy, dx), axis=(0, 1)), E_out))
     score, mean, sd = _corr(T, E_out), float(np.mean(chance)), float(np.std(chance) + 1e-6)
     z = (score - mean) / sd
+    from odnn_sep.image.residual_rims import rims_left
+
+    yy, oo = (np.asarray(a, dtype=np.float64) for a in (y, out))
+    rim_share, rim_lv, rims = rims_left(oo if oo.ndim == 3 else oo[:, :, None], yy if yy.ndim == 3 else yy[:, :, None],
+                                        [np.asarray(M, dtype=np.float64)])
     return {"score": round(score, 4), "input_score": round(_corr(T, E_in), 4), "chance": round(mean, 4),
-            "chance_sd": round(sd, 4), "z": round(z, 2),
-            "visible": bool(z > VISIBLE_SD and score - mean > VISIBLE_MIN)}
+            "chance_sd": round(sd, 4), "z": round(z, 2), "rim_left": round(rim_share, 3),
+            "rim_levels": round(rim_lv, 2), "visible": bool((z > VISIBLE_SD and score - mean > VISIBLE_MIN) or rims)}
