@@ -60,6 +60,24 @@ def _oracle(out, y, clean, M, fmt) -> dict:
     return {"left": left, "share": share, "there": bool(left >= 4.0 and share >= 0.25)}
 
 
+def _judged(out, inp, clean, M_true, rendering, fmt, before, reported) -> dict:
+    """A found mark's row: the oracle, the verdicts before and after, and the clean photo's rims."""
+    from odnn_sep.image.residual_rims import rims_left
+
+    c_share, c_levels, c_vis = rims_left(clean, inp, [rendering])
+    return {"found": True, **_oracle(out, inp, clean, M_true, fmt), "before": bool(before),
+            "after": bool(reported["visible"]), "rim_left": reported.get("rim_left"),
+            "rim_levels": reported.get("rim_levels"), "clean_rim_left": round(c_share, 3),
+            "clean_rim_levels": round(c_levels, 2), "clean_visible": c_vis}
+
+
+def _print_row(r: dict, what: str) -> None:
+    print(f"{r['seed']} {r['photo']:20s} {what} oracle {'there' if r['there'] else 'gone ':5s} (left {r['left']:5.1f}, "
+          f"share {r['share']:.2f}) | before {'visible' if r['before'] else 'removed'} after "
+          f"{'visible' if r['after'] else 'removed'} rims {r['rim_left']} ({r['rim_levels']} levels) | clean photo "
+          f"rims {r['clean_rim_left']} ({r['clean_rim_levels']} levels)", flush=True)
+
+
 def run(seed: int, family: str, trials: int) -> list[dict]:
     """Every found mark of ``seed``: oracle, verdicts without and with the rims, clean photo's rims."""
     import _watermark_unseen as U
@@ -69,7 +87,6 @@ def run(seed: int, family: str, trials: int) -> list[dict]:
     from odnn_sep.errors import InputError
     from odnn_sep.image import unwatermark
     from odnn_sep.image.residual import measure
-    from odnn_sep.image.residual_rims import rims_left
 
     if family == "unseen":
         fonts = U.available_fonts()
@@ -104,18 +121,10 @@ def run(seed: int, family: str, trials: int) -> list[dict]:
                     cl = cl[:, :, None] if cl.ndim == 2 else cl
                     out, inp, covs = seen["out"], seen["inp"], seen["covs"]
                     before = measure(out, inp, *covs, random_state=0)["visible"]
-                    c_share, c_levels, c_vis = rims_left(cl, inp, covs[-1:])
-                    rows.append({"seed": seed, "photo": name, "trial": k, "format": fmt, "found": True,
-                                 "font": truth["font"], "alpha": round(truth["alpha"], 2), "post": truth["post"],
-                                 **_oracle(out, inp, cl, Mt[b[1]:b[3], b[0]:b[2]], fmt),
-                                 "before": before, "after": rep["visible"], "rim_left": rep.get("rim_left"),
-                                 "rim_levels": rep.get("rim_levels"), "clean_rim_left": round(c_share, 3),
-                                 "clean_rim_levels": round(c_levels, 2), "clean_visible": c_vis})
-                    r = rows[-1]
-                    print(f"{seed} {name:20s} #{k} {fmt:4s} {r['font'][:22]:22s} oracle {'there' if r['there'] else 'gone ':5s} "
-                          f"(left {r['left']:5.1f}, share {r['share']:.2f}) | before {'visible' if before else 'removed'} "
-                          f"after {'visible' if r['after'] else 'removed'} rims {r['rim_left']} ({r['rim_levels']} levels) "
-                          f"| clean photo rims {r['clean_rim_left']}", flush=True)
+                    rows.append({"seed": seed, "photo": name, "trial": k, "format": fmt, "font": truth["font"],
+                                 "alpha": round(truth["alpha"], 2), "post": truth["post"],
+                                 **_judged(out, inp, cl, Mt[b[1]:b[3], b[0]:b[2]], covs[-1], fmt, before, rep)})
+                    _print_row(rows[-1], f"#{k} {fmt:4s} {truth['font'][:22]:22s}")
     finally:
         api._residual = real_residual
     return rows
@@ -129,7 +138,6 @@ def run_logo(seed: int) -> list[dict]:
     import odnn_sep.image.logo_residual as LR
     from odnn_sep.errors import InputError
     from odnn_sep.image import unwatermark
-    from odnn_sep.image.residual_rims import rims_left
 
     seen: dict = {}
     real_residual = LR.residual_mark
@@ -158,19 +166,10 @@ def run_logo(seed: int) -> list[dict]:
                 rm = rep["residual_mark"]
                 cl = clean[y0:y1, x0:x1].astype(np.float64) / 255
                 out, inp, M = seen["out"], seen["inp"], seen["M"]
-                c_share, c_levels, c_vis = rims_left(cl, inp, [M])
                 before = bool(rm["z"] > LR.VISIBLE_SD and rm["score"] - rm["chance"] > LR.VISIBLE_MIN)
-                rows.append({"seed": seed, "photo": name, "format": fmt, "found": True, "font": "logo",
-                             "tiled": tiled, **_oracle(out, inp, cl, A[y0:y1, x0:x1] / truth["alpha"], fmt),
-                             "before": before, "after": rm["visible"], "rim_left": rm.get("rim_left"),
-                             "rim_levels": rm.get("rim_levels"), "clean_rim_left": round(c_share, 3),
-                             "clean_rim_levels": round(c_levels, 2), "clean_visible": c_vis})
-                r = rows[-1]
-                print(f"{seed} {name:20s} {fmt:4s} {'tiled ' if tiled else 'single'} oracle "
-                      f"{'there' if r['there'] else 'gone ':5s} (left {r['left']:5.1f}, share {r['share']:.2f}) | before "
-                      f"{'visible' if before else 'removed'} after {'visible' if r['after'] else 'removed'} rims "
-                      f"{r['rim_left']} ({r['rim_levels']} levels) | clean photo rims {r['clean_rim_left']} "
-                      f"({r['clean_rim_levels']} levels)", flush=True)
+                rows.append({"seed": seed, "photo": name, "format": fmt, "font": "logo", "tiled": tiled,
+                             **_judged(out, inp, cl, A[y0:y1, x0:x1] / truth["alpha"], M, fmt, before, rm)})
+                _print_row(rows[-1], f"{fmt:4s} {'tiled ' if tiled else 'single'}")
     finally:
         LR.residual_mark = real_residual
     return rows

@@ -246,17 +246,47 @@ def aligned_energy(y: np.ndarray, cov: np.ndarray) -> float:
     >>> aligned_energy(y, M) > 0, abs(aligned_energy(np.full((32, 48, 1), 0.4), M)) < 1e-9
     (True, True)
     """
+    mag, parts = contour_components(y, cov)
+    return sum(float(np.sum(mag ** 2 * (across ** 2 - along ** 2), dtype=np.float64)) for across, along in parts)
+
+
+def contour_components(y: np.ndarray, cov: np.ndarray) -> tuple[np.ndarray, list]:
+    """(contour strength (h, w), [(across, along) per channel]): the Sobel gradient of each channel of
+    ``y`` across and along the contours of ``cov`` smoothed over a pixel (so a contour a pixel or two off
+    the true one still points the same way), and the strength of those contours.
+
+    Parameters
+    ----------
+    y : np.ndarray
+        (h, w, C) float image.
+    cov : np.ndarray
+        (h, w) coverage of the mark.
+
+    Returns
+    -------
+    tuple
+        ``mag`` (h, w) and a list of C pairs of (h, w) arrays.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.image.residual import contour_components
+    >>> M = np.zeros((32, 48)); M[8:24, 10:16] = 1
+    >>> mag, parts = contour_components(0.4 + 0.2 * M[..., None], M)
+    >>> across, along = parts[0]                            # a step along the contours: mostly across
+    >>> len(parts), bool(np.sum(mag * across ** 2) > 10 * np.sum(mag * along ** 2))
+    (1, True)
+    """
     import cv2
 
     mx, my = _gradient(cv2.GaussianBlur(np.ascontiguousarray(cov, dtype=np.float32), (0, 0), 1.0))
     mag = np.hypot(mx, my)
     nx, ny = mx / np.maximum(mag, 1e-12), my / np.maximum(mag, 1e-12)
-    total = 0.0
+    parts = []
     for c in range(y.shape[2]):
         gx, gy = _gradient(y[:, :, c])
-        across, along = gx * nx + gy * ny, gy * nx - gx * ny
-        total += float(np.sum(mag ** 2 * (across ** 2 - along ** 2), dtype=np.float64))
-    return total
+        parts.append((gx * nx + gy * ny, gy * nx - gx * ny))
+    return mag, parts
 
 
 def aligned_share(out: np.ndarray, inp: np.ndarray, cov: np.ndarray) -> float:
@@ -417,5 +447,5 @@ def measure(out: np.ndarray, inp: np.ndarray, *coverages: np.ndarray, threshold:
     return report
 
 
-__all__ = ["measure", "step_left", "edge_excess", "edges_left_over", "aligned_energy", "aligned_share", "ALIGNED_LEFT", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS", "EDGE_LEFT_STRONG",
+__all__ = ["measure", "step_left", "edge_excess", "edges_left_over", "aligned_energy", "aligned_share", "contour_components", "ALIGNED_LEFT", "VISIBLE_LEVELS", "EDGE_LEFT", "EDGE_EXCESS", "EDGE_LEFT_STRONG",
            "EDGE_SIGNAL", "STRONG_LEVELS"]

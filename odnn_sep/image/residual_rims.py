@@ -52,21 +52,15 @@ def rim_levels(y: np.ndarray, cov: np.ndarray) -> float:
     >>> round(rim_levels(y, M)), round(rim_levels(np.full((32, 48, 1), 0.4), M))
     (33, 0)
     """
-    import cv2
+    from odnn_sep.image.residual import contour_components
 
-    from odnn_sep.image.residual import _gradient
-
-    mx, my = _gradient(cv2.GaussianBlur(np.ascontiguousarray(cov, dtype=np.float32), (0, 0), 1.0))
-    mag = np.hypot(mx, my)
+    mag, parts = contour_components(y, cov)
     total_w = float(np.sum(mag, dtype=np.float64))
     if total_w <= 1e-12:
         return 0.0
-    nx, ny = mx / np.maximum(mag, 1e-12), my / np.maximum(mag, 1e-12)
     diff = np.zeros(cov.shape, np.float64)
     norm = np.zeros(cov.shape, np.float64)
-    for c in range(y.shape[2]):
-        gx, gy = _gradient(y[:, :, c])
-        across, along = gx * nx + gy * ny, gy * nx - gx * ny
+    for across, along in parts:
         diff += across * across - along * along
         norm += across * across + along * along
     per_pixel = diff / np.sqrt(norm + 1e-12)   # |g| cos 2 theta over the channels
