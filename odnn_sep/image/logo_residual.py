@@ -78,9 +78,11 @@ def residual_mark(y: np.ndarray, out: np.ndarray, M: np.ndarray, L: np.ndarray, 
     z = (score - mean) / sd
     from odnn_sep.image.residual_rims import rims_left
 
-    yy, oo = (np.asarray(a, dtype=np.float64) for a in (y, out))
-    rim_share, rim_lv, rims = rims_left(oo if oo.ndim == 3 else oo[:, :, None], yy if yy.ndim == 3 else yy[:, :, None],
-                                        [np.asarray(M, dtype=np.float64)])
+    def as3(a):
+        a = np.asarray(a, dtype=np.float64)
+        return a if a.ndim == 3 else a[:, :, None]
+
+    rim_share, rim_lv, rims = rims_left(as3(out), as3(y), [np.asarray(M, dtype=np.float64)])
     return {"score": round(score, 4), "input_score": round(_corr(T, E_in), 4), "chance": round(mean, 4),
             "chance_sd": round(sd, 4), "z": round(z, 2), "rim_left": round(rim_share, 3),
             "rim_levels": round(rim_lv, 2), "visible": bool((z > VISIBLE_SD and score - mean > VISIBLE_MIN) or rims)}
