@@ -163,6 +163,81 @@ def pick_column(header, column, *, path) -> int:
     return j
 
 
+# Date-times of one column differ by less than this many years: a longer span is a misread column.
+MAX_TIME_SPAN_YEARS = 200
+
+
+def time_values(cells, *, path, name="time", first_line=2):
+    """Seconds of a CSV's time column: numbers as they are, or ISO 8601 date-times as seconds since the first.
+
+    Data loggers write time stamps (``2026-01-31T14:05:00.250``, ``2026-01-31 14:05:00``, with or without
+    a UTC offset) more often than seconds; such a column is read as the seconds elapsed since its first
+    row, and that row's time stamp is returned as the origin. A column is read one way or the other,
+    never mixed.
+
+    Parameters
+    ----------
+    cells : sequence of str
+        The column's cells, in file order.
+    path : str or Path
+        The file (for the messages).
+    name : str, optional
+        The column's header (for the messages).
+    first_line : int, optional
+        The file line of ``cells[0]`` (for the messages).
+
+    Returns
+    -------
+    (ndarray, str or None)
+        The times (s for date-times) and the origin (the first time stamp, ISO 8601) or None for numbers.
+
+    Raises
+    ------
+    odnn_sep.errors.FormatError
+        For a cell that is neither, time stamps with and without a UTC offset, or a span over
+        ``MAX_TIME_SPAN_YEARS``.
+
+    Examples
+    --------
+    >>> t, origin = time_values(["2026-01-31 14:05:00", "2026-01-31 14:05:00.5", "2026-01-31T14:06:00"], path="a.csv")
+    >>> t.tolist(), origin
+    ([0.0, 0.5, 60.0], '2026-01-31T14:05:00')
+    >>> time_values(["0", "1.5"], path="a.csv")[0].tolist()
+    [0.0, 1.5]
+    """
+    import numpy as np
+
+    try:
+        return np.array([float(c) for c in cells]), None
+    except ValueError:
+        pass
+    first = str(cells[0]).strip() if len(cells) else ""
+    if _is_number(first):
+        # a numeric column with a bad cell further down: the line is named by the caller's reader
+        bad = next(k for k, c in enumerate(cells) if not _is_number(c))
+        raise FormatError(f"{str(path)!r} line {bad + first_line}: the time column {name!r} holds {cells[bad]!r}, "
+                          f"not a number; remove or fix that row")
+    from datetime import datetime
+
+    stamps = []
+    for k, c in enumerate(cells):
+        try:
+            stamps.append(datetime.fromisoformat(str(c).strip()))
+        except ValueError:
+            raise FormatError(f"{str(path)!r} line {k + first_line}: the time column {name!r} holds {c!r}, neither a "
+                              f"number nor an ISO 8601 date-time (e.g. 2026-01-31T14:05:00.25); give seconds or "
+                              f"time stamps in that form") from None
+    if len({s.tzinfo is None for s in stamps}) > 1:
+        raise FormatError(f"{str(path)!r}: the time column {name!r} mixes time stamps with and without a UTC offset; "
+                          f"give every row the same form")
+    t0 = stamps[0]
+    t = np.array([(s - t0).total_seconds() for s in stamps])
+    if t.size and float(np.max(np.abs(t))) > MAX_TIME_SPAN_YEARS * 365.25 * 86400:
+        raise FormatError(f"{str(path)!r}: the time stamps of column {name!r} span more than {MAX_TIME_SPAN_YEARS} "
+                          f"years; check that column is the record's time")
+    return t, t0.isoformat()
+
+
 def pick_channel(column, n_channels: int, *, path) -> int:
     """Index of an audio channel given as ``--column`` (counted from 0; default 0).
 

@@ -155,6 +155,9 @@ def _load_series(args, params, model):
                                 with_aux=True)
     if info.get("frames"):
         params, model = _frame_params(args, params, model, info)
+    if info.get("time_origin") and not args.quiet:
+        print(f"Note: column {info['time']!r} holds date-times: time is in seconds since {info['time_origin']}",
+              file=sys.stderr)
     inputs = _pick_inputs(args.input, aux, info)
     info.pop("not_numeric", None)      # (only for the message above; the report lists the columns used)
     if args.no_aux or model.family != "hum":

@@ -42,6 +42,9 @@ def _numeric_columns(rows, skip, why=None):
 def read_csv(path, column=None, *, aux=False):
     """Return (t, y, info) from a CSV with a header row; time is the first column.
 
+    Time is in seconds, or ISO 8601 date-times read as seconds since the first row (``info["time_origin"]``
+    is then that row's time stamp).
+
     With ``aux=True`` return (t, y, info, aux): ``aux`` holds every other all-numeric column.
 
     Parameters
@@ -81,15 +84,20 @@ def read_csv(path, column=None, *, aux=False):
     from odnn_sep.io_read import check_header
     check_header(header, path=path, first_row=rows[1])
     j = _pick_column(header, column, path)
-    t, y = [], []
+    y = []
     for k, r in enumerate(rows[1:], start=2):
         try:
-            t.append(float(r[0]))
             y.append(float(r[j]))
         except (ValueError, IndexError):
             raise FormatError(f"CSV {str(path)!r} line {k}: time and column {header[j]!r} must be numbers; "
                               f"got {r[:max(j + 1, 1)]}") from None
+    from odnn_sep.io_read import time_values
+
+    # seconds, or date-times read as seconds since the first (the origin goes in the report)
+    t, origin = time_values([r[0] for r in rows[1:]], path=path, name=header[0].strip())
     info = {"format": "csv", "column": header[j].strip(), "time": header[0].strip()}
+    if origin is not None:
+        info["time_origin"] = origin
     if aux:
         info["not_numeric"] = {}
         return np.array(t), np.array(y), info, _numeric_columns(rows, {0, j}, info["not_numeric"])

@@ -57,10 +57,14 @@ def read_series_csv(path, series, column=None):
                          f"columns: {', '.join(header)}")
     js = header.index(series)
     jv = _value_column(header, js, column, path)
+    from odnn_sep.io_read import time_values
+
+    # seconds, or date-times as seconds since the file's first row (one origin shared by every series)
+    times, _ = time_values([r[0] if r else "" for r in rows[1:]], path=str(path), name=header[0])
     groups: dict = {}
     for k, r in enumerate(rows[1:], start=2):
         try:
-            groups.setdefault(r[js].strip(), []).append((float(r[0]), float(r[jv])))
+            groups.setdefault(r[js].strip(), []).append((times[k - 2], float(r[jv])))
         except (ValueError, IndexError):
             raise FormatError(f"CSV {str(path)!r} line {k}: time and {header[jv]!r} must be numbers; "
                               f"got {r}") from None
