@@ -167,6 +167,11 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         new = [q for q in found if all(abs(q - p) > 2 * n_min for p in known)]
         cuts = sorted([*known, *new])
         err = _steps.piecewise(lambda a, b, p=power, k=ks[use]: smoothed_correction(a, b, p, k, n_min, fs_d), num, den, cuts)
+        if K == 1:
+            # judged on the whole correction so far: a later round sees only what is left of a beat
+            done = (psi - psi0)[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
+            err = lone_line_correction(done + err, v * np.exp(2j * np.pi * done * ks[0])[:, None, None],
+                                       n_min, fs_d) - done
         if new:
             known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
@@ -202,6 +207,75 @@ def _own_wander_rounds(D, psi, ks, tc, td, known: dict, n_min: int, fs_d: float,
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
         v = None
     return psi
+
+
+LONE_SLOW_S = 8.0    # a lone line's correction: the part faster than this (s) is gated by lone_line_gain
+LONE_NOISE = 2.0     # magnitude scatter up to this many times its median counts as noise, not a beat
+
+
+def lone_line_correction(total, v, n_min: int, fs_d: float) -> np.ndarray:
+    """A lone line's phase correction (cycles, per decimated sample), with the fast part kept only
+    where its phase moves more than its magnitude does.
+
+    With one line there is no other harmonic to carry the phase: a tone 0.3-1.5 Hz from it (a bass
+    note, a sweep passing) beats with it, and the 0.5 s track followed the beat while the tone
+    sounded (13 dB of gain in those seconds, 40-50 dB between notes). A beat moves the line's
+    magnitude and phase alike (two phasors adding); a drifting fundamental moves the phase only.
+    So the correction is split at ``LONE_SLOW_S`` into a slow part, kept, and a fast part, scaled by
+    ``1 - R / T``: ``T`` and ``R`` the local powers (over twice the shortest kernel) of the fast
+    parts of the line's phase and of its log-magnitude, each smoothed as the correction is. ``R``
+    counts only above ``LONE_NOISE`` times its median over the input: the content's ordinary
+    scatter, which moves both by the same small amount everywhere, leaves the correction whole.
+
+    Parameters
+    ----------
+    total : (nd,) array
+        The whole correction so far (cycles): earlier rounds' and this round's.
+    v : (nd, C, 1) complex array
+        The line's decimated baseband along the phase before any correction (the block track's).
+    n_min : int
+        Shortest kernel (decimated samples).
+    fs_d : float
+        Decimated sample rate (Hz).
+
+    Returns
+    -------
+    (nd,) float array
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0); t = np.arange(600) / 10.0
+    >>> wander = 0.05 * np.sin(2 * np.pi * t / 6)                       # the fundamental moves
+    >>> noise = 0.01 * (rng.standard_normal(600) + 1j * rng.standard_normal(600))
+    >>> v = (np.exp(2j * np.pi * wander) + noise)[:, None, None]
+    >>> bool(np.abs(lone_line_correction(wander, v, 12, 10.0) - wander).max() < 0.005)
+    True
+    >>> on = (t > 25) & (t < 40)                                         # a tone beats with it
+    >>> beat = 0.05 * np.sin(2 * np.pi * 0.4 * t) * on
+    >>> v = (1 + 0.3 * np.exp(2j * np.pi * 0.4 * t) * on + noise)[:, None, None]
+    >>> bool(np.abs(lone_line_correction(beat, v, 12, 10.0)[270:380]).max() < 0.005)
+    True
+    """
+    one = np.ones(len(total))
+    k_slow = _hann(max(n_min + 1, int(round(LONE_SLOW_S * fs_d))))
+
+    def slow(x):
+        return ndimage.convolve1d(x, k_slow, axis=0, mode="constant") / \
+            ndimage.convolve1d(one, k_slow, mode="constant").reshape((-1,) + (1,) * (x.ndim - 1))
+
+    c = v.mean(axis=0)[:, 0]                                    # (C,)
+    u = v[:, :, 0] / np.where(np.abs(c) > 0, c, 1.0)
+    logmag = np.log(np.maximum(np.abs(u), 1e-12))
+    phase = np.unwrap(np.angle(u), axis=0)
+    k_min = _hann(n_min) / _hann(n_min).sum()
+    k_loc = _hann(2 * n_min) / _hann(2 * n_min).sum()
+    power = np.abs(c) ** 2                                      # channels weighted by their line's power
+    T, R = (ndimage.convolve1d(((ndimage.convolve1d(x - slow(x), k_min, axis=0, mode="nearest")) ** 2
+                                * power).sum(axis=1), k_loc, mode="nearest") for x in (phase, logmag))
+    R = np.maximum(R - LONE_NOISE * np.median(R), 0.0)
+    gain = np.clip(1.0 - R / np.maximum(T, 1e-300), 0.0, 1.0)
+    base = slow(total)
+    return base + gain * (total - base)
 
 
 MIN_SHARE = 0.05     # the harmonics of a round hold at least this share of the phase's precision
