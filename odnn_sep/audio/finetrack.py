@@ -209,7 +209,7 @@ def _own_wander_rounds(D, psi, ks, tc, td, known: dict, n_min: int, fs_d: float,
     return psi
 
 
-LONE_SLOW_S = 8.0    # a lone line's correction: the part faster than this (s) is gated by lone_line_gain
+LONE_SLOW_S = 8.0    # a lone line's correction: its part faster than this (s) is gated (lone_line_correction)
 LONE_NOISE = 2.0     # magnitude scatter up to this many times its median counts as noise, not a beat
 
 
