@@ -213,7 +213,7 @@ def time_values(cells, *, path, name="time", first_line=2):
         pass
     first = str(cells[0]).strip() if len(cells) else ""
     if _is_number(first):
-        # a numeric column with a bad cell further down: the line is named by the caller's reader
+        # a numeric column with a bad cell further down: named as such, not as a failed date-time
         bad = next(k for k, c in enumerate(cells) if not _is_number(c))
         raise FormatError(f"{str(path)!r} line {bad + first_line}: the time column {name!r} holds {cells[bad]!r}, "
                           f"not a number; remove or fix that row")

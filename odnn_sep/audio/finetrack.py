@@ -267,8 +267,7 @@ def lone_line_correction(total, v, n_min: int, fs_d: float) -> np.ndarray:
     u = v[:, :, 0] / np.where(np.abs(c) > 0, c, 1.0)
     logmag = np.log(np.maximum(np.abs(u), 1e-12))
     phase = np.unwrap(np.angle(u), axis=0)
-    k_min = _hann(n_min) / _hann(n_min).sum()
-    k_loc = _hann(2 * n_min) / _hann(2 * n_min).sum()
+    k_min, k_loc = (k / k.sum() for k in (_hann(n_min), _hann(2 * n_min)))
     power = np.abs(c) ** 2                                      # channels weighted by their line's power
     T, R = (ndimage.convolve1d(((ndimage.convolve1d(x - slow(x), k_min, axis=0, mode="nearest")) ** 2
                                 * power).sum(axis=1), k_loc, mode="nearest") for x in (phase, logmag))
