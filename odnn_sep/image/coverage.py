@@ -91,11 +91,31 @@ def predict_photo(R: np.ndarray, w: np.ndarray, sigma: float) -> tuple[np.ndarra
     >>> round(float(pred[15, 15, 0]), 3), bool(err.max() < 1e-6)
     (0.4, True)
     """
-    den = _smooth(w, sigma)[:, :, None] + 1e-6
-    pred = np.stack([_smooth(w * R[:, :, c], sigma) for c in range(R.shape[2])], axis=2) / den
-    err = np.mean((R - pred) ** 2, axis=2)
-    var = _smooth(w * err, sigma) / den[:, :, 0]
-    return pred.astype(np.float64), np.sqrt(np.maximum(var, 0.0)).astype(np.float64)
+    pred, err = _predicted_channels(R, w, sigma)
+    return np.stack(pred, axis=2), err
+
+
+def _channels(a: np.ndarray) -> list[np.ndarray]:
+    """The channels of ``a`` (h, w, C) as contiguous float64 planes."""
+    return [np.ascontiguousarray(a[:, :, c], dtype=np.float64) for c in range(a.shape[2])]
+
+
+def _predicted_channels(R, w, sigma) -> tuple[list[np.ndarray], np.ndarray]:
+    """``predict_photo`` with the prediction as a list of float64 planes.
+
+    Channel by channel on contiguous planes: a sum over a length-3 last axis costs about as much as
+    the rest of a matting step, and adding the planes in channel order gives the same bits."""
+    Rc = R if isinstance(R, list) else _channels(R)
+    den = _smooth(w, sigma) + 1e-6
+    pred = [_smooth(w * r, sigma) / den for r in Rc]
+    err = None
+    for r, p in zip(Rc, pred):
+        d = r - p
+        d *= d
+        err = d if err is None else err + d
+    err /= len(Rc)
+    var = _smooth(w * err, sigma) / den
+    return [p.astype(np.float64) for p in pred], np.sqrt(np.maximum(var, 0.0)).astype(np.float64)
 
 
 def coverage_step(y, M, prior, band, alpha, color, sigma, first):
@@ -141,20 +161,26 @@ def coverage_step(y, M, prior, band, alpha, color, sigma, first):
     (0.0, 0.5, 0)
     """
     a = float(alpha)
-    col = np.asarray(color, dtype=np.float64).reshape(1, 1, -1)
+    col = np.asarray(color, dtype=np.float64).reshape(-1)
+    yc = _channels(y)
     if first:  # the rendering's glyphs may be wrong: only the photo outside the band is trusted
         w = (~band).astype(np.float64)
-        R = y
+        R = yc
     else:
-        aM = a * M[:, :, None]
-        R = (y - aM * col) / np.maximum(1.0 - aM, 0.05)
+        aM = a * M
+        keep = np.maximum(1.0 - aM, 0.05)
+        R = [(v - aM * k) / keep for v, k in zip(yc, col)]
         # outside the glyphs the photo is seen as is; inside, after the inversion (its noise is
         # amplified 1 / (1 - a)); at the glyph edges, where M is uncertain, not at all
         w = np.where(M < 0.03, 1.0, np.where(M > 0.97, (1.0 - a) ** 2, 0.0))
-    I_hat, sd = predict_photo(R, w, sigma)
-    D = a * (col - I_hat)
-    dd = np.sum(D * D, axis=2) + 1e-12
-    M_data = np.sum((y - I_hat) * D, axis=2) / dd
+    I_hat, sd = _predicted_channels(R, w, sigma)
+    dd = num = None
+    for v, k, i in zip(yc, col, I_hat):  # channel sums in channel order (the same bits as np.sum)
+        D = a * (k - i)
+        dd = D * D if dd is None else dd + D * D
+        num = (v - i) * D if num is None else num + (v - i) * D
+    dd += 1e-12
+    M_data = num / dd
     sd_M = (1.5 * sd + NOISE_FLOOR) / np.sqrt(dd)
     prec_d, prec_p = 1.0 / sd_M**2, 1.0 / PRIOR_SD**2
     post = (M_data * prec_d + prior * prec_p) / (prec_d + prec_p)
