@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from odnn_sep.audio import lonebridge as _bridge
 from odnn_sep.audio import ownwander as _own
 from odnn_sep.audio import phasesteps as _steps
 from odnn_sep.audio import track as _track
@@ -135,9 +136,31 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     """
     J, C, K = D.shape
     ks = np.asarray(ks, float)
-    nd = J // DECIM
-    if nd < 16:
+    if J // DECIM < 16:
         return psi0
+    psi, known, v, err, use, w = _rounds(D, sr, ks, psi0, steps, cuts)
+    if K == 1:
+        # a louder tone near the lone line: its phase bridged across the tone (lonebridge.py)
+        return _bridge.bridged_phase(psi, w, lambda gate: _rounds(D, sr, ks, psi0, False, None, gate),
+                                     chunk_times(J, sr), shortest_kernel(sr), sr / _track.chunk_length(sr) / DECIM,
+                                     steps=sorted(known))
+    # the last round's baseband (every harmonic) turned by its own correction: the check for
+    # wandering harmonics costs no new pass over the chunk sums where none wanders
+    nd = J // DECIM
+    tc = chunk_times(J, sr)
+    td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
+    last = v * np.exp(-2j * np.pi * err[:, None, None] * ks[use]) if use.all() else None
+    return _own_wander_rounds(D, psi, ks, tc, td, known, shortest_kernel(sr), sr / _track.chunk_length(sr) / DECIM,
+                              last)
+
+
+def _rounds(D, sr: int, ks: np.ndarray, psi0: np.ndarray, steps: bool, cuts, gate=None):
+    """The rounds of :func:`refine_phase` (one per ``K_CAPS``): ``(psi, steps found, last round's
+    baseband, its correction, the harmonics it used, its weights (nd, C, Ku))``. ``gate(w)`` (nd,)
+    multiplies each round's weights ``w`` (lonebridge.py: zero where a louder tone holds a lone
+    line)."""
+    J, C, K = D.shape
+    nd = J // DECIM
     fs_d = sr / _track.chunk_length(sr) / DECIM
     tc = chunk_times(J, sr)
     td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
@@ -158,6 +181,8 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         theta = np.angle(v * np.conj(c))                                                # rad, k x error
         w = (np.abs(c) ** 2 / noise) * ks[use] ** 2                                     # (nd, C, Ku)
         w = np.minimum(w, 1e8) * hum_present(v, fs_d)[:, None, None]
+        if gate is not None:
+            w = w * gate(w)[:, None, None]
         num = (w * theta / ks[use]).sum(axis=(1, 2)) / (2 * np.pi)                     # cycles x weight
         den = w.sum(axis=(1, 2))
         power = np.abs(c[0]) ** 2
@@ -175,12 +200,7 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
         if new:
             known.update(zip(new, _steps.place_steps(D[:, :, use], psi, ks[use], c[0], err, new, DECIM)))
         psi = psi + _at_chunks(tc, td, err, cuts, [known[q] for q in cuts])
-    if K < 2:
-        return psi
-    # the last round's baseband (every harmonic) turned by its own correction: the check for
-    # wandering harmonics costs no new pass over the chunk sums where none wanders
-    last = v * np.exp(-2j * np.pi * err[:, None, None] * ks[use]) if use.all() else None
-    return _own_wander_rounds(D, psi, ks, tc, td, known, n_min, fs_d, last)
+    return psi, known, v, err, use, w
 
 
 def _own_wander_rounds(D, psi, ks, tc, td, known: dict, n_min: int, fs_d: float, v=None) -> np.ndarray:
