@@ -9,6 +9,11 @@ the pattern between the harmonics), and a hum harmonic has none. A locked line w
 of lines beside it and a second pair at twice the distance, each steady over the input and at least
 a quarter of its power, is read as the host's (a hum's own amplitude modulation would need a depth
 of 100 % to make such sidebands). lockcomb drops such lines only when most of a comb's lines are.
+
+A pattern with a longer period (4 s: lines every 0.25 Hz) puts its neighbours inside the harmonic's
+own band, where the spectrum cannot see them; the whole input's tracked baseband resolves them as
+sidebands (:func:`baseband_sidebands`). Once the spectrum has given most of a comb's lines to a
+host, the comb's other lines with such sidebands go too, and no later test adds a dropped line back.
 """
 from __future__ import annotations
 
@@ -104,3 +109,56 @@ def _symmetric_pair(p, steady, ic: int, m_lo: int, m_hi: int, need: float) -> bo
         if all(_peak_near(p, steady, ic + s * j * m, need) for s in (-1, 1) for j in (1, 2)):
             return True
     return False
+
+
+# A tracked line's baseband: power at a symmetric pair of offsets 0.15-4 Hz, each at least this
+# share of the line's own (DC) power, marks a line of a host's fine grid (development cases: loop
+# lines 0.17-0.70 of their line, hum lines under the same loops 0.00-0.14). Used only on a comb the
+# spectrum's test already gave to a host (lockcomb): a hum line under speech can show 0.4-1.2 too
+# (the syllables' modulation of the speech partials beside it), so this alone decides nothing.
+BASEBAND_SIDE = 0.3
+BASEBAND_SIDE_HZ = (0.15, 4.0)
+
+
+def baseband_sidebands(v: np.ndarray, fs: float) -> np.ndarray:
+    """Each line's strongest symmetric pair of sidebands in its tracked baseband, against its own
+    power: ``max over d of min(P(+d), P(-d)) / P(0)`` for d in ``BASEBAND_SIDE_HZ``.
+
+    A pattern placed to the sample with a period of 1-4 s has lines every 0.25-1 Hz: too close to
+    the harmonic for the spectrum's test (:func:`grid_lines`, which needs its neighbours outside the
+    harmonic's own band), but resolved by the whole input's baseband, where they are sidebands as
+    strong as the line. A hum line's baseband holds its level changes only.
+
+    Parameters
+    ----------
+    v : np.ndarray
+        (n, K) complex baseband of K lines at ``fs`` Hz (``finetrack.decimated_baseband``, one
+        channel or channels summed).
+    fs : float
+        Its sample rate (Hz).
+
+    Returns
+    -------
+    (K,) float array
+
+    Examples
+    --------
+    >>> t = np.arange(200) / 10.0
+    >>> loop = 1 + 2 * np.cos(2 * np.pi * 0.5 * t)            # lines at -0.5, 0, +0.5 Hz, equal
+    >>> hum = np.ones(200) + 0.01 * np.random.default_rng(0).standard_normal(200)
+    >>> np.round(baseband_sidebands(np.stack([loop, hum], axis=1).astype(complex), 10.0), 2).tolist()
+    [1.0, 0.0]
+    """
+    n = len(v)
+    m = 4 * n
+    P = np.abs(np.fft.fft(v * np.hanning(n)[:, None], n=m, axis=0)) ** 2
+    dc = np.maximum(P[0], 1e-300)
+    lo, hi = (int(np.ceil(d * m / fs)) for d in BASEBAND_SIDE_HZ)
+    hi = min(hi, m // 2 - 2)
+    if hi <= lo:
+        return np.zeros(v.shape[1])
+    idx = np.arange(lo, hi + 1)
+    # each side's peak within a bin of the offset (the pattern's lines fall between the bins)
+    pos = np.maximum.reduce([P[idx + j] for j in (-1, 0, 1)])
+    neg = np.maximum.reduce([P[-idx + j] for j in (-1, 0, 1)])
+    return np.max(np.minimum(pos, neg), axis=0) / dc

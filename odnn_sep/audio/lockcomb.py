@@ -66,6 +66,10 @@ class Comb:
         Harmonic -> ``(p, lock index, amplitude)`` of every line tested.
     jumps : list of (int, float)
         Steps of ``psi`` placed to the sample (a splice: phaseplace.to_the_sample).
+    lock_w : dict
+        Harmonic -> p-value of the weighted lock test, where it was run.
+    host_lines : list of int
+        Lines the periodic-host test dropped (``_off_host_grid``): never added back.
 
     Examples
     --------
@@ -84,6 +88,7 @@ class Comb:
     lock: dict = field(default_factory=dict)
     jumps: list = field(default_factory=list)
     lock_w: dict = field(default_factory=dict)   # harmonic -> p of the weighted lock test, where run
+    host_lines: list = field(default_factory=list)  # lines of a periodic host, dropped: not added back
 
 
 def _weights(spec, f_ref, ks, det_floors):
@@ -205,8 +210,14 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
         ks = sorted(ks + _new_lines(fam, seen, ks, psi))
         ks = sorted(ks + _intermittent_lines(fam, ks, psi))
         _weighted_rest(fam, ks, psi)
+    host: list[int] = []
     if test and ks:
-        ks = _off_host_grid(spec, fam.f_ref, ks, psi, sr)
+        kept = _off_host_grid(spec, fam.f_ref, ks, psi, sr)
+        host = [k for k in ks if k not in kept]
+        if host and kept:
+            kept = _off_fine_grid(fam, kept, psi)
+            host = [k for k in ks if k not in kept]
+        ks = kept
     lowest = LOWEST_K if N >= SHORT_INPUT_S * sr else LOWEST_K_SHORT
     if test and ks and min(ks) > lowest:
         # mains hum lives at the fundamental and the first harmonics (a weak fundamental is
@@ -223,7 +234,7 @@ def settle(source, spec, det, extra, *, alpha: float, n_tests: int, test: bool =
         psi, jumps = _phaseplace.to_the_sample(source, D, psi, ks, fam.f_ref)
     return Comb(nominal_hz=det.nominal_hz, f_ref=fam.f_ref, harmonics=ks, psi=psi if ks else None,
                 D=D, weights=fam.W[:, cols] if ks else None, evidence=ev, lock=info, jumps=jumps,
-                lock_w=fam.winfo)
+                lock_w=fam.winfo, host_lines=host)
 
 
 def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, progress=None) -> Comb | None:
@@ -310,7 +321,8 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     if test:
         _extend_high(source, spec, best, alpha=alpha, max_hz=max_hz, n_first=n_first)
         _add_pattern_lines(source, spec, best, alpha=alpha)
-        _keep_columns(best, _off_host_grid(spec, best.f_ref, best.harmonics, best.psi, source.sr))
+        _keep_columns(best, _off_host_grid(spec, best.f_ref, best.harmonics, best.psi, source.sr,
+                                           known=best.host_lines))
         if not best.harmonics:
             return None
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
@@ -318,12 +330,14 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     return best
 
 
-def _off_host_grid(spec, f_ref: float, ks, psi, sr: int) -> list[int]:
+def _off_host_grid(spec, f_ref: float, ks, psi, sr: int, known=()) -> list[int]:
     """``ks`` without the lines of a periodic host (``hostgrid.grid_lines``) when they are at least
     half of them, with a log line; ``psi`` the tracked phase (cycles at the chunk centres), whose
-    range of frequencies widens each line's own band."""
+    range of frequencies widens each line's own band. ``known``: lines this test dropped before
+    (the comb's first lines); they count among the host's, so lines added to the comb later
+    (above the 40th harmonic, the second family of tests) cannot outvote them."""
     grid = _hostgrid.grid_lines(spec, f_ref, ks, spread_hz=_spread_hz(psi, sr))
-    if 2 * len(grid) < len(ks):
+    if 2 * (len(grid) + len(known)) < len(ks) + len(known):
         # a few lines of a hum comb inside a loop's field look like the loop's (a weak fundamental
         # of a second-dominant hum among a drum loop's lines): the comb is the loop's only when
         # most of its lines are
@@ -332,6 +346,25 @@ def _off_host_grid(spec, f_ref: float, ks, psi, sr: int) -> list[int]:
         log.info("lines %s have lines of their own kind at equal distances on both sides (a drum loop or a "
                  "sequenced pattern placed to the sample): not taken for hum", grid)
     return [k for k in ks if k not in grid]
+
+
+def _off_fine_grid(fam, ks, psi) -> list[int]:
+    """``ks`` without the lines whose tracked baseband holds a host's finer grid
+    (``hostgrid.baseband_sidebands``), for a comb whose other lines the spectrum's test already gave
+    to a periodic host: the pattern's lines that the spectrum could not resolve from their
+    neighbours (a period of 4 s: lines every 0.25 Hz) would otherwise stay and be removed as hum."""
+    nd = fam.D.shape[0] // _finetrack.DECIM
+    if nd < 16:
+        return list(ks)
+    cols = fam.cols(ks)
+    v = _finetrack.decimated_baseband(fam.D[:, :, cols], psi, np.asarray(ks, float), np.ones(len(ks), bool), nd)
+    fs_d = fam.sr / _track.chunk_length(fam.sr) / _finetrack.DECIM
+    side = _hostgrid.baseband_sidebands(v.sum(axis=1), fs_d)
+    fine = [k for k, r in zip(ks, side, strict=True) if r >= _hostgrid.BASEBAND_SIDE]
+    if fine:
+        log.info("lines %s hold a finer grid of the same host in their baseband (sidebands at least %g of "
+                 "the line): not taken for hum", fine, _hostgrid.BASEBAND_SIDE)
+    return [k for k in ks if k not in fine]
 
 
 def _spread_hz(psi, sr: int) -> float:
@@ -461,6 +494,8 @@ def _add_pattern_lines(source, spec, comb: Comb, *, alpha: float) -> None:
     """The comb's unlocked lines in its own pattern that pass the second family's test
     (combpattern.py), added in place: demodulated once more, in harmonic order."""
     new = _combpattern.pattern_lines(comb.harmonics, comb.lock, comb.lock_w, alpha=alpha, floor_rel=NUMERICAL_REL)
+    # the lines the periodic-host test took out stay out: locked as they are, they are the host's
+    new = [k for k in new if k not in comb.host_lines]
     J, C, K = comb.D.shape
     # the strongest first, within the chunk sums' bound of the whole comb (_extend_high's)
     new = sorted(sorted(new, key=lambda k: -comb.lock[k][2])[: max(_sums_room(J, C) - K, 0)])
@@ -557,7 +592,8 @@ def _one_channel_retry(source, spec, *, mains, alpha: float, max_hz, tones) -> C
         ks = list(comb.harmonics)
         out = Comb(nominal_hz=comb.nominal_hz, f_ref=comb.f_ref, harmonics=ks, psi=comb.psi,
                    D=_track.demodulate(source, comb.f_ref, ks), weights=_weights(spec, comb.f_ref, ks, {}),
-                   evidence=comb.evidence, lock=comb.lock, jumps=comb.jumps, lock_w=comb.lock_w)
+                   evidence=comb.evidence, lock=comb.lock, jumps=comb.jumps, lock_w=comb.lock_w,
+                   host_lines=comb.host_lines)
         log.info("phase-locked comb on channel %d alone: %.4f Hz, harmonics %s (the channels pooled showed "
                  "none)", c, comb.f_ref, comb.harmonics)
         return out
