@@ -34,10 +34,11 @@ def plucked(n, sr, rng):
     return y / np.std(y)
 
 
-def drum_loop(n, sr, rng):
-    """A kick and a noise snare on a step of 0.125-0.5 s, placed to the sample: a line spectrum on a
-    grid of 2-8 Hz, which holds many multiples of 50 or 60 Hz."""
-    step = int(sr * rng.choice([0.125, 0.25, 0.5]))
+def drum_loop(n, sr, rng, step_s=None):
+    """A kick and a noise snare on a step of 0.125-0.5 s (``step_s``, drawn when not given), placed to
+    the sample in a pattern of 8 steps: a line spectrum on a grid of 0.25-1 Hz (the pattern's
+    period), which holds every multiple of 50 and 60 Hz."""
+    step = int(sr * (rng.choice([0.125, 0.25, 0.5]) if step_s is None else step_s))
     L = min(step, int(0.2 * sr))
     env = np.exp(-np.arange(L) / (0.03 * sr))
     kick = env * np.sin(2 * np.pi * rng.uniform(45, 90) * np.arange(L) / sr * (1 + env))

@@ -2,25 +2,22 @@
 50 and 60 Hz. The spectrum's host test (``hostgrid.grid_lines``) sees some of them; the others hold
 the loop's finer grid as sidebands in their tracked baseband (``hostgrid.baseband_sidebands``), and
 lines the host test dropped are not added back by the later tests (``lockcomb``)."""
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from odnn_sep.audio import denoise
 from odnn_sep.audio.hostgrid import BASEBAND_SIDE, baseband_sidebands
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "recipes"))
+from _audio_hosts import drum_loop  # noqa: E402  (the hosts generator's loop, with a given step)
+
 
 def _drum_loop(seed, step_s, sr=8000, seconds=16.0):
-    rng = np.random.default_rng(seed)
-    n, step = int(seconds * sr), int(sr * step_s)
-    L = min(step, int(0.2 * sr))
-    env = np.exp(-np.arange(L) / (0.03 * sr))
-    kick = env * np.sin(2 * np.pi * rng.uniform(45, 90) * np.arange(L) / sr * (1 + env))
-    snare = env * rng.standard_normal(L) * 0.7
-    pattern = rng.random(8) < 0.5
-    y = np.zeros(n)
-    for i, s0 in enumerate(range(0, n - L, step)):
-        y[s0:s0 + L] += kick if pattern[i % 8] else snare
-    return 0.3 * y / np.std(y), sr
+    x = drum_loop(int(seconds * sr), sr, np.random.default_rng(seed), step_s)
+    return 0.3 * x, sr
 
 
 @pytest.mark.parametrize("seed, step_s", [(1, 0.25), (1, 0.5), (2, 0.25), (2, 0.5)])
