@@ -176,10 +176,13 @@ def _whole_size(obj, p, f, size, iterations):
 
     Fonts are usually rendered at a whole pixel size, and hinting makes a 29.15 px rendering differ
     from a 29 px one in ways no continuous scale reproduces: test the nearest whole size as well.
-    Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one."""
+    Both neighbours: the continuous optimum of a hinted font often lies nearer the wrong one. And
+    one size further each way: a search that hands over the wrong whole size leaves the continuous
+    optimum stuck there ("SAMPLE" drawn at 40 px over 20 synthetic photos: registered at 41.0 px on
+    13 of them, 34 dB instead of 67 dB, the mark left as outlines)."""
     s_c = size * np.exp(p[3])
     best_int = None
-    near = sorted({int(np.floor(s_c)), int(np.ceil(s_c))})
+    near = sorted({int(np.floor(s_c)) - 1, int(np.floor(s_c)), int(np.ceil(s_c)), int(np.ceil(s_c)) + 1})
     if s_c >= WHOLE_SIZE_MAX_PX:  # a large mark's optimum is not a pixel off: the nearest size only
         near = [int(np.round(s_c))]
     for s_int in near:
