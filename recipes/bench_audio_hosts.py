@@ -2,6 +2,9 @@
 
     python recipes/bench_audio_hosts.py --seed 21              # 24 cases, writes the audio_hosts section
     python recipes/bench_audio_hosts.py --seed 11 --no-write   # a development seed, printed only
+    python recipes/bench_audio_hosts.py --seed 300 --seeds 32 --case 17 --no-anchors --no-write
+                                                 # case 17 (a bass note over a pure hum) of seeds 300-331
+    python recipes/bench_audio_hosts.py --loops 200 --seeds 12   # clean drum loops (no hum), rngs 200-211
 
 Per case: the SNR gain (dB: hum energy over the energy of output minus clean host) of odnn-sep
 (``denoise`` with its defaults: the lines are found by the tool) and of MNE ``spectrum_fit`` and
@@ -40,11 +43,13 @@ def _away_db(host, out, sr, mains_mean) -> float:
     return float(10 * np.log10(max(np.sum(E[~near]), 1e-300) / H))
 
 
-def run(seed: int, n_cases: int, anchors: bool, log=print):
+def run(seed: int, n_cases: int, anchors: bool, log=print, cases=None):
+    """Rows and (gain, anchor gains) of cases 0..``n_cases``-1 of ``seed``, or of the (seed, case)
+    pairs ``cases``."""
     from odnn_sep.audio import denoise
 
     rows, stats = [], []
-    for i in range(n_cases):
+    for seed, i in cases if cases is not None else ((seed, i) for i in range(n_cases)):
         x, hum, sr, d = hosts.make_case(seed, i)
         t0 = time.perf_counter()
         r = denoise(x + hum, sr)
@@ -64,6 +69,26 @@ def run(seed: int, n_cases: int, anchors: bool, log=print):
                      *([f"{a:.1f}" for a in an] if anchors else ["not run", "not run"]), chosen, f"{secs:.1f}"])
         log(" | ".join(rows[-1]))
     return rows, stats
+
+
+def clean_loops(first: int, count: int, log=print) -> int:
+    """Clean drum loops (``hosts.drum_loop``, no hum; 10-25 s at 8, 16 or 22.05 kHz, drawn from rngs
+    ``first``.. ``first + count - 1``) through ``denoise``: the lines removed and the change (dB re
+    the loop; -inf: output identical). Returns how many were left untouched."""
+    from odnn_sep.audio import denoise
+
+    untouched = 0
+    for r0 in range(first, first + count):
+        rng = np.random.default_rng(r0)
+        sr = int(rng.choice([8000, 16000, 22050]))
+        x = 0.3 * hosts.drum_loop(int(rng.uniform(10, 25) * sr), sr, rng)
+        r = denoise(x, sr)
+        change = float(np.sum((r.y - x) ** 2))
+        untouched += change == 0
+        log(f"loop {r0} | {sr / 1000:g} kHz | {len(x) / sr:.0f} s | lines removed {len(r.harmonics)} | change "
+            + (f"{10 * np.log10(change / np.sum(x ** 2)):.1f} dB" if change > 0 else "none"))
+    log(f"- left untouched: {untouched} of {count}")
+    return untouched
 
 
 def summary(stats, anchors: bool) -> str:
@@ -89,11 +114,23 @@ def main() -> int:
     ap.add_argument("--cases", type=int, default=N_CASES)
     ap.add_argument("--no-anchors", action="store_true")
     ap.add_argument("--no-write", action="store_true", help="print only; leave BENCHMARKS.md alone")
+    ap.add_argument("--seeds", type=int, default=1, help="with --case: this many seeds from --seed on")
+    ap.add_argument("--case", type=int, default=None, help="only this case of each seed (printed only)")
+    ap.add_argument("--loops", type=int, default=None, metavar="RNG",
+                    help="clean drum loops instead (no hum), rngs RNG.. RNG + --seeds - 1 (printed only)")
     args = ap.parse_args()
-    rows, stats = run(args.seed, args.cases, not args.no_anchors)
+    if args.case is not None and not 0 <= args.case < N_CASES:
+        ap.error(f"--case must be in 0..{N_CASES - 1}")
+    if not 1 <= args.seeds <= 1000:
+        ap.error("--seeds must be in 1..1000")
+    if args.loops is not None:
+        clean_loops(args.loops, args.seeds)
+        return 0
+    cases = None if args.case is None else [(args.seed + k, args.case) for k in range(args.seeds)]
+    rows, stats = run(args.seed, args.cases, not args.no_anchors, cases=cases)
     text = summary(stats, not args.no_anchors)
     print(text)
-    if not args.no_write:
+    if not args.no_write and cases is None:
         body = (__doc__.split("\n\n", 2)[2] + "\n" + text + "\n" + _bench_md.md_table(HEADER, rows))
         _bench_md.write_section("audio_hosts", "Audio hum removal: a third generator's hosts",
                                 f"python recipes/bench_audio_hosts.py --seed {args.seed}", body)
