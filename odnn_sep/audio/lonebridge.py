@@ -20,11 +20,12 @@ tens of times its scatter elsewhere, so the phase weights of ``finetrack.refine_
 4. **Checked on the data**: each trusted stretch is held out in turn and bridged from the rest
    (with the stretches beside it, so the check is harder than the real bridges); the RMS error over
    them is the bridges' error ``e``.
-5. A held stretch is bridged only where the first track departs from its bridge by more than
-   ``DEPART`` times ``e`` and by at least ``MIN_DEPART_CYCLES``: the first track is then further from
-   the bridge than the bridge can be from the hum. When no stretch departs (a steady note beside the
-   line that does not bend its phase; weights that drop for drums or formants), the first track
-   stands unchanged.
+5. The bridged track (the re-run's trusted phase, the bridges across the held stretches) replaces
+   the first one only when on at least one held stretch the first track departs from its bridge by
+   more than ``DEPART`` times ``e`` and by at least ``MIN_DEPART_CYCLES``: it is then further from the
+   bridge than the bridge can be from the hum. When no stretch departs (a steady note beside the
+   line that does not bend its phase; weights that drop for drums or formants), or where the first
+   track keeps a step of the phase outside the held stretches (a splice), the first track stands.
 
 A hum that wanders faster than the bridges reach (the phase not a quadratic over two notes) fails
 step 4, and the first track stands: there the data cannot tell the hum's phase under the note.
