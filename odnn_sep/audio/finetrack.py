@@ -139,19 +139,33 @@ def refine_phase(D, sr: int, f_ref: float, ks, weights, psi0: np.ndarray, *, ste
     if J // DECIM < 16:
         return psi0
     psi, known, v, err, use, w = _rounds(D, sr, ks, psi0, steps, cuts)
+    tc, td = _times(J, sr)
     if K == 1:
         # a louder tone near the lone line: its phase bridged across the tone (lonebridge.py)
         return _bridge.bridged_phase(psi, w, lambda gate: _rounds(D, sr, ks, psi0, False, None, gate),
-                                     chunk_times(J, sr), shortest_kernel(sr), sr / _track.chunk_length(sr) / DECIM,
-                                     steps=sorted(known))
+                                     tc, shortest_kernel(sr), decimated_rate(sr), steps=sorted(known))
     # the last round's baseband (every harmonic) turned by its own correction: the check for
     # wandering harmonics costs no new pass over the chunk sums where none wanders
+    last = v * np.exp(-2j * np.pi * err[:, None, None] * ks[use]) if use.all() else None
+    return _own_wander_rounds(D, psi, ks, tc, td, known, shortest_kernel(sr), decimated_rate(sr), last)
+
+
+def decimated_rate(sr: int) -> float:
+    """Sample rate (Hz) of the low-passed baseband: ``DECIM`` chunks per sample.
+
+    Examples
+    --------
+    >>> decimated_rate(8000), decimated_rate(48000)
+    (10.0, 10.0)
+    """
+    return sr / _track.chunk_length(sr) / DECIM
+
+
+def _times(J: int, sr: int) -> tuple[np.ndarray, np.ndarray]:
+    """(chunk centres (J,), decimated sample times (J // DECIM,)) in seconds."""
     nd = J // DECIM
     tc = chunk_times(J, sr)
-    td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
-    last = v * np.exp(-2j * np.pi * err[:, None, None] * ks[use]) if use.all() else None
-    return _own_wander_rounds(D, psi, ks, tc, td, known, shortest_kernel(sr), sr / _track.chunk_length(sr) / DECIM,
-                              last)
+    return tc, tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
 
 
 def _rounds(D, sr: int, ks: np.ndarray, psi0: np.ndarray, steps: bool, cuts, gate=None):
@@ -161,9 +175,8 @@ def _rounds(D, sr: int, ks: np.ndarray, psi0: np.ndarray, steps: bool, cuts, gat
     line)."""
     J, C, K = D.shape
     nd = J // DECIM
-    fs_d = sr / _track.chunk_length(sr) / DECIM
-    tc = chunk_times(J, sr)
-    td = tc[: nd * DECIM].reshape(nd, DECIM).mean(axis=1)
+    fs_d = decimated_rate(sr)
+    tc, td = _times(J, sr)
     psi = psi0.copy()
     known: dict[int, int] = dict(cuts or {}) if steps else {}   # steps: decimated index -> first chunk after it
     n_min = shortest_kernel(sr)
@@ -454,8 +467,7 @@ def shortest_kernel(sr: int) -> int:
     >>> shortest_kernel(44100), shortest_kernel(8000)
     (12, 12)
     """
-    fs_d = sr / _track.chunk_length(sr) / DECIM
-    return max(3, int(round(0.72 / SMOOTH_HZ * fs_d)))
+    return max(3, int(round(0.72 / SMOOTH_HZ * decimated_rate(sr))))
 
 
 def _at_chunks(tc: np.ndarray, td: np.ndarray, err: np.ndarray, cuts, starts) -> np.ndarray:

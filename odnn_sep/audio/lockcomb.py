@@ -358,7 +358,7 @@ def _off_fine_grid(fam, ks, psi) -> list[int]:
         return list(ks)
     cols = fam.cols(ks)
     v = _finetrack.decimated_baseband(fam.D[:, :, cols], psi, np.asarray(ks, float), np.ones(len(ks), bool), nd)
-    fs_d = fam.sr / _track.chunk_length(fam.sr) / _finetrack.DECIM
+    fs_d = _finetrack.decimated_rate(fam.sr)
     side = _hostgrid.baseband_sidebands(v.sum(axis=1), fs_d)
     fine = [k for k, r in zip(ks, side, strict=True) if r >= _hostgrid.BASEBAND_SIDE]
     if fine:

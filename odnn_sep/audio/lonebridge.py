@@ -176,6 +176,12 @@ def bridge_error(psi_d: np.ndarray, held: np.ndarray, td: np.ndarray, n_min: int
     return float(np.sqrt(np.mean(sq))) if sq else float("inf")
 
 
+def _decimated(x: np.ndarray, nd: int) -> np.ndarray:
+    """Chunk-rate values ``x`` (J,) averaged to the ``nd`` decimated samples (``J // nd`` chunks each)."""
+    dec = len(x) // nd
+    return x[: nd * dec].reshape(nd, dec).mean(axis=1)
+
+
 def bridged_phase(psi: np.ndarray, w: np.ndarray, rerun, tc: np.ndarray, n_min: int, fs_d: float,
                   steps=()) -> np.ndarray:
     """The lone line's phase ``psi`` (cycles, at the chunk centres ``tc``) bridged across the
@@ -218,8 +224,7 @@ def bridged_phase(psi: np.ndarray, w: np.ndarray, rerun, tc: np.ndarray, n_min: 
     held = held_samples(w)
     if not MIN_HELD <= held.mean() <= MAX_HELD:
         return psi
-    dec = len(tc) // nd
-    td = tc[: nd * dec].reshape(nd, dec).mean(axis=1)
+    td = _decimated(tc, nd)
     last = {}
 
     def gate(wr):
@@ -232,14 +237,14 @@ def bridged_phase(psi: np.ndarray, w: np.ndarray, rerun, tc: np.ndarray, n_min: 
     held = last["held"]
     if not MIN_HELD <= held.mean() <= MAX_HELD or not all(held[q] for q in steps):
         return psi   # a step of the phase where no tone holds the line: a splice, which the first track keeps
-    g_d = gated[: nd * dec].reshape(nd, dec).mean(axis=1)
+    g_d = _decimated(gated, nd)
     new = bridge(g_d, held, td, n_min, fs_d)
     if new is None:
         return psi
     err = bridge_error(g_d, held, td, n_min, fs_d)
     if not err <= MAX_ERROR_CYCLES:
         return psi
-    first = psi[: nd * dec].reshape(nd, dec).mean(axis=1)
+    first = _decimated(psi, nd)
     lab, n = ndimage.label(held)
     depart = [float(np.sqrt(np.mean((first[s] - new[s]) ** 2))) for s in ndimage.find_objects(lab)]
     if not any(d > max(DEPART * err, MIN_DEPART_CYCLES) for d in depart):
