@@ -155,6 +155,10 @@ def run(args) -> int:
             if steps:
                 level += (f"; its phase jumps at {_first_times([st['time_s'] for st in steps], 3)} s "
                           "(a splice or a source switched over)")
+            spans = res.info.get("hum_spans") or []
+            if spans:
+                level += ("; the hum sounds over " + ", ".join(f"{sp['start_s']:.1f}-{sp['end_s']:.1f} s" for sp in spans)
+                          + " only: removed there, the rest written as read")
             print(f"removed hum: fundamental {f0} (family {res.nominal_hz}), lines {lines}{level} -> {args.output}")
         else:
             print(f"no significant hum found; wrote the input unchanged -> {args.output}")
