@@ -17,6 +17,7 @@ import numpy as np
 from scipy import special
 
 from odnn_sep.audio import detect as _detect
+from odnn_sep.audio import track as _track
 
 MIN_LINES = 2          # harmonics standing in one segment (and locked in the stretch's analysis)
 ALPHA_SHARE = 0.01     # a stretch's own tests run at this share of the significance level
@@ -32,6 +33,8 @@ TIGHT_MIN_S = 4.0      # shortest run the finer look keeps (the issue's held not
 TIGHT_MARGIN_S = 0.25
 EDGE_S = 2.0           # a switch this near a stretch's end is where the stretch is cut (cut_at_switches)
 SWITCH_WINDOW_S = 0.1  # the Hann over which the lines are demodulated to place a switch
+ABSENT_S = 4.0         # a lone hum line found in the whole input but absent this long at its start or
+ABSENT_SHARE = 0.01    # end (power under this share of its level) is fitted where it sounds (hum_extent)
 CUT_MIN_S = 2.0        # ... unless less than this would be left between the switches
 
 
@@ -284,4 +287,66 @@ def cut_at_switches(source, a: int, n: int, f0: float, ks) -> tuple[int, int]:
     last = o2 + lo + (int(above2[-1]) + 1 if above2.size else e)
     if last - first < CUT_MIN_S * sr:
         return a, n
+    return first, last - first
+
+
+def hum_extent(source, f0: float, k: int, max_seconds: float = 240.0) -> tuple[int, int] | None:
+    """Where a lone hum line (harmonic ``k`` of ``f0``) the whole input's analysis found sounds,
+    when it is absent for ``ABSENT_S`` or more at the input's start or end: ``(first frame,
+    frames)``, else None. Its chunk sums (track.demodulate) summed over 0.1 s give its power; its
+    level is the 90th percentile of that power; it sounds from the first to the last instant at a
+    quarter of that level, and is absent before and after when the power there averages under
+    ``ABSENT_SHARE`` of it (a line masked by loud content is not absent: the content counts).
+    A shared level (envelope.py) needs two lines, so a lone line is fitted with one level per
+    block, smeared across a switch: a line on for 15 s of 26 s gained 6 dB.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The whole input.
+    f0 : float
+        The tracked fundamental's median (Hz).
+    k : int
+        The line's harmonic number.
+    max_seconds : float
+        Longer inputs are not looked at (None).
+
+    Returns
+    -------
+    (int, int) or None
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 4000; t = np.arange(30 * sr) / sr
+    >>> y = ((t > 9.0) & (t < 24.0)) * np.cos(2 * np.pi * 50 * t)
+    >>> y = y + 0.1 * np.random.default_rng(0).standard_normal(len(t))
+    >>> a, n = hum_extent(ArraySource(y, sr), 50.0, 1)
+    >>> round(a / sr, 1), round((a + n) / sr, 1)
+    (9.0, 24.0)
+    >>> hum_extent(ArraySource(np.cos(2 * np.pi * 50 * t), sr), 50.0, 1) is None
+    True
+    """
+    sr, N = source.sr, source.frames
+    if N > max_seconds * sr:
+        return None
+    D = _track.demodulate(source, f0, [k])
+    m = _track.chunk_length(sr)
+    L = max(1, int(round(SWITCH_WINDOW_S * sr / m)))
+    if D.shape[0] < 3 * L:
+        return None
+    cs = np.concatenate([np.zeros((1,) + D.shape[1:], complex), np.cumsum(D, axis=0, dtype=complex)])
+    P = (np.abs(cs[L:] - cs[:-L]) ** 2).sum(axis=(1, 2))          # window j: chunks j .. j + L - 1
+    level = float(np.percentile(P, 90))
+    above = np.flatnonzero(P >= 0.25 * level)
+    if level <= 0 or not above.size:
+        return None
+    j0, j1 = int(above[0]), int(above[-1])
+    first = max(0, (j0 + L // 2) * m)                # the window at a quarter of the level: about on the switch
+    last = min(N, (j1 + L // 2 + 1) * m)
+    lead, tail = P[: max(0, j0 - L)], P[j1 + L + 1:]
+    absent = [len(p) * m >= ABSENT_S * sr and float(np.mean(p)) < ABSENT_SHARE * level for p in (lead, tail)]
+    if not any(absent) or last - first < CUT_MIN_S * sr:
+        return None
+    first, last = (first if absent[0] else 0), (last if absent[1] else N)
     return first, last - first

@@ -121,7 +121,7 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
                          f"pass at least {MIN_S:g} s of audio")
     found, bar = _analyse(source, opts)
     tick = (lambda k: bar.update(k)) if bar is not None else None
-    parts = _span_parts(source, opts, found) if _nothing_found(found) else []
+    parts = _span_parts(source, opts, found) if _nothing_found(found) else _lone_line_part(source, opts, found)
     if parts:
         amps, phs, valid, overall = _fit_parts(source, sink, opts, parts, tick)
         found = _with_spans(found, parts)
@@ -177,6 +177,30 @@ def _span_parts(source, opts: DenoiseOptions, found) -> list:
                      f_sub.f_med, f_sub.lines.harmonics)
             parts.append((a, n, f_sub))
     return parts
+
+
+def _lone_line_part(source, opts: DenoiseOptions, found) -> list:
+    """A lone hum line the whole input's analysis found, absent for seconds at the input's start
+    or end (humspans.hum_extent): ``[(first frame, frames, _Found)]`` of where it sounds, cut at
+    its switches and analysed there for the same line; empty otherwise, and where the lines were
+    named, tones given or other lines found (several lines share a level that follows a switch:
+    envelope.py)."""
+    lines = found.lines
+    if opts.harmonics != "auto" or opts.tones or lines.fixed_freqs or len(lines.harmonics) != 1:
+        return []
+    k = lines.harmonics[0]
+    ext = _humspans.hum_extent(source, found.f_med, k)
+    if ext is None:
+        return []
+    ext = _humspans.cut_at_switches(source, *ext, found.f_med, [k])
+    with _quiet_logs():
+        f_ext, _ = _analyse(_humspans.SliceSource(source, *ext),
+                            replace(opts, progress=False, harmonics=[k], mains=found.det.nominal_hz))
+    if f_ext.lines.harmonics != [k]:
+        return []
+    log.info("hum line h%d over %.1f-%.1f s only (absent before and after)", k, ext[0] / source.sr,
+             (ext[0] + ext[1]) / source.sr)
+    return [(ext[0], ext[1], f_ext)]
 
 
 def _fit_parts(source, sink, opts: DenoiseOptions, parts, tick):

@@ -69,3 +69,18 @@ def test_the_command_line_says_where_the_hum_was(tmp_path, capsys):
     assert "the hum sounds over" in said and "only: removed there, the rest written as read" in said
     spans = json.loads(rep.read_text())["hum_spans"]
     assert len(spans) == 1 and spans[0]["harmonics"]
+
+
+def test_a_lone_hum_line_switched_on_for_part_of_the_take_is_fitted_where_it_sounds():
+    # one line (no harmonics): the shared level that follows a switch needs two lines, so the
+    # line was fitted with one level per block across its switches (6-8 dB)
+    rng = np.random.default_rng(2)
+    t = np.arange(int(26 * SR)) / SR
+    gate = np.clip((t - 7.0) / 0.01, 0, 1) * np.clip((21.5 - t) / 0.01, 0, 1)
+    hum = 0.1 * gate * np.cos(2 * np.pi * 60.01 * t + 0.3)
+    host = np.std(hum[gate > 0.5]) * rng.standard_normal(t.size)          # white, at the line's level
+    r = denoise(host + hum, SR)
+    assert r.harmonics == [1] and len(r.info["hum_spans"]) == 1
+    start, end = r.info["hum_spans"][0]["start_s"], r.info["hum_spans"][0]["end_s"]
+    assert 6.95 <= start <= 7.05 and 21.45 <= end <= 21.55
+    assert 10 * np.log10(np.sum(hum ** 2) / np.sum((r.y - host) ** 2)) > 20.0
