@@ -54,8 +54,8 @@ def denoise(y: np.ndarray, sr: int | None = None, *, mains: str | float = "auto"
     alpha : float
         Family-wise significance level of the line tests (Bonferroni over all lines tested).
     max_hz : float, optional
-        Highest harmonic frequency considered (default: 0.95 x Nyquist; 40 harmonics, more while the
-        locked comb reaches the top of them).
+        Highest harmonic frequency considered (default: 0.95 x Nyquist, 5 Hz under Nyquist at rates of
+        1 kHz and under; 40 harmonics, more while the locked comb reaches the top of them).
     progress : bool
         Show a progress bar on stderr (only when it is a terminal).
     random_state : int

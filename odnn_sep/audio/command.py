@@ -60,7 +60,8 @@ def register(subparsers) -> None:
     p.add_argument("--block-s", default="auto", metavar="auto|S",
                    help="fit block length in seconds, 50%% overlap; auto (default) picks 8 s or 16 s from the data")
     p.add_argument("--max-hz", type=float, default=None, metavar="HZ",
-                   help="highest harmonic frequency to consider (default 0.95 x Nyquist; 40 harmonics, more "
+                   help="highest harmonic frequency to consider (default 0.95 x Nyquist, 5 Hz under Nyquist at "
+                        "rates of 1 kHz and under; 40 harmonics, more "
                         "while the locked comb reaches the top of them)")
     p.add_argument("--subtype", default=None, metavar="ST",
                    help="output subtype, e.g. PCM_16, PCM_24, FLOAT (default: same as the input)")

@@ -259,7 +259,7 @@ def _analyse(source, opts: DenoiseOptions):
     """Detection, phase-locked comb, block plan and track, further combs: a :class:`_Found` and
     the progress bar (or None)."""
     sr, N = source.sr, source.frames
-    top = min(0.95 * sr / 2, opts.max_hz if opts.max_hz is not None else np.inf,
+    top = min(_detect.top_hz(sr, opts.max_hz),
               (_detect.MAX_HARMONICS + 1) * (65.0 if opts.mains == "auto" else opts.mains))
     keep_hz = top + 2 * _detect.FLOOR_WIDTH_HZ
     spec_before = _detect.excerpt_spectrum(source, keep_segments_hz=keep_hz)
