@@ -16,13 +16,12 @@ Pipeline (all passes stream in blocks, so memory does not grow with the file len
 
 Where the whole input shows no hum, stretches of it where harmonics stand segment after segment
 (a device switched on for part of the take) are analysed and fitted as inputs of their own
-(humspans.py); the rest is written as read.
+(humspans.py, spanrun.py); the rest is written as read.
 """
 from __future__ import annotations
 
 import logging
-from contextlib import contextmanager
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,8 +32,8 @@ from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import envelope as _envelope
 from odnn_sep.audio import finetrack as _finetrack
-from odnn_sep.audio import humspans as _humspans
 from odnn_sep.audio import lockcomb as _lockcomb
+from odnn_sep.audio import spanrun as _spanrun
 from odnn_sep.audio import steadypath as _steadypath
 from odnn_sep.audio import track as _track
 from odnn_sep.audio.background import Background
@@ -121,10 +120,11 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
                          f"pass at least {MIN_S:g} s of audio")
     found, bar = _analyse(source, opts)
     tick = (lambda k: bar.update(k)) if bar is not None else None
-    parts = _span_parts(source, opts, found) if _nothing_found(found) else _lone_line_part(source, opts, found)
+    parts = (_spanrun.span_parts(source, opts, found, _analyse) if _nothing_found(found)
+             else _spanrun.lone_line_part(source, opts, found, _analyse))
     if parts:
-        amps, phs, valid, overall = _fit_parts(source, sink, opts, parts, tick)
-        found = _with_spans(found, parts)
+        amps, phs, valid, overall = _spanrun.fit_parts(source, sink, opts, parts, tick, _fit)
+        found = _spanrun.with_spans(found, parts)
     else:
         if _nothing_found(found):
             _warn_none(source, opts)
@@ -143,116 +143,6 @@ def _warn_none(source, opts: DenoiseOptions):
                 "persist); the output equals the input%s",
                 "50 and 60 Hz" if opts.mains == "auto" else f"{opts.mains:g} Hz",
                 _short_hint(source.frames / source.sr, opts))
-
-
-def _span_parts(source, opts: DenoiseOptions, found) -> list:
-    """Hum over part of the input only (humspans.py): ``[(first frame, frames, _Found)]`` of
-    the stretches whose own analysis locks ``humspans.MIN_LINES`` harmonics or more; empty
-    where the lines were named (the whole input is then the user's choice) or tones given."""
-    if opts.harmonics != "auto" or opts.tones:
-        return []
-    nominals = (50.0, 60.0) if opts.mains == "auto" else (float(opts.mains),)
-    stretches = _humspans.find_stretches(found.spec_before, source.sr, source.frames, nominals)
-    parts = []
-    # a stretch is picked where lines stand: its tests get a stricter level (two held note partials
-    # over 7 s of a synthesised voice locked to one fundamental at p = 9e-5)
-    quiet = replace(opts, progress=False, alpha=opts.alpha * _humspans.ALPHA_SHARE)
-    for a0, n0, nominal in stretches:
-        a, n = _humspans.tighten(source, a0, n0, nominal)
-        with _quiet_logs():
-            f_sub, _ = _analyse(_humspans.SliceSource(source, a, n), quiet)
-            ks = f_sub.lines.harmonics
-            cut = _humspans.cut_at_switches(source, a, n, f_sub.f_med, ks) if len(ks) >= _humspans.MIN_LINES else (a, n)
-            if cut != (a, n):
-                # the hum switches on or off inside the stretch: analysed again between the switches,
-                # for the lines found (a shorter stretch gives the lock test less to go on)
-                f_cut, _ = _analyse(_humspans.SliceSource(source, *cut), quiet)
-                if not set(f_sub.lines.harmonics) <= set(f_cut.lines.harmonics):
-                    f_cut, _ = _analyse(_humspans.SliceSource(source, *cut),
-                                        replace(quiet, harmonics=list(f_sub.lines.harmonics), mains=f_sub.det.nominal_hz))
-                if len(f_cut.lines.harmonics) >= _humspans.MIN_LINES:
-                    (a, n), f_sub = cut, f_cut
-        if len(f_sub.lines.harmonics) >= _humspans.MIN_LINES:
-            log.info("hum over %.1f-%.1f s only: %.4f Hz, harmonics %s", a / source.sr, (a + n) / source.sr,
-                     f_sub.f_med, f_sub.lines.harmonics)
-            parts.append((a, n, f_sub))
-    return parts
-
-
-def _lone_line_part(source, opts: DenoiseOptions, found) -> list:
-    """A lone hum line the whole input's analysis found, absent for seconds at the input's start
-    or end (humspans.hum_extent): ``[(first frame, frames, _Found)]`` of where it sounds, cut at
-    its switches and analysed there for the same line; empty otherwise, and where the lines were
-    named, tones given or other lines found (several lines share a level that follows a switch:
-    envelope.py)."""
-    lines = found.lines
-    if opts.harmonics != "auto" or opts.tones or lines.fixed_freqs or len(lines.harmonics) != 1:
-        return []
-    k = lines.harmonics[0]
-    ext = _humspans.hum_extent(source, found.f_med, k)
-    if ext is None:
-        return []
-    ext = _humspans.cut_at_switches(source, *ext, found.f_med, [k])
-    with _quiet_logs():
-        f_ext, _ = _analyse(_humspans.SliceSource(source, *ext),
-                            replace(opts, progress=False, harmonics=[k], mains=found.det.nominal_hz))
-    if f_ext.lines.harmonics != [k]:
-        return []
-    log.info("hum line h%d over %.1f-%.1f s only (absent before and after)", k, ext[0] / source.sr,
-             (ext[0] + ext[1]) / source.sr)
-    return [(ext[0], ext[1], f_ext)]
-
-
-def _fit_parts(source, sink, opts: DenoiseOptions, parts, tick):
-    """Pass 2 on each stretch of ``parts``; the input between them goes to ``sink`` as read.
-    The blocks' numbers of the longest stretch are returned (the report's lines are its lines)."""
-    pos, longest = 0, max(range(len(parts)), key=lambda i: parts[i][1])
-    out = None
-    for i, (a, n, f_sub) in enumerate(parts):
-        _pass_through(source, sink, pos, a, tick)
-        fitted = _fit(_humspans.SliceSource(source, a, n), sink, opts, f_sub, tick)
-        if i == longest:
-            out = fitted
-        pos = a + n
-    _pass_through(source, sink, pos, source.frames, tick)
-    return out
-
-
-def _pass_through(source, sink, a: int, b: int, tick, step: int = 1 << 16):
-    for s in range(a, b, step):
-        piece = source.read(s, min(step, b - s))
-        sink(piece, np.zeros_like(piece))
-        if tick is not None:
-            tick(piece.shape[0])
-
-
-def _with_spans(found, parts):
-    """The whole input's :class:`_Found` for the report: the longest stretch's lines, track (its
-    times on the input's clock) and amplitudes, with the whole input's spectrum; every stretch in
-    ``hum_spans``."""
-    a, _, f_sub = max(parts, key=lambda p: p[1])
-    sr = f_sub.plan.sr
-    det = f_sub.det
-    det.candidates = found.det.candidates + det.candidates
-    env = f_sub.envelope
-    if env is not None:
-        env = replace(env, steps_s=tuple(t + a / sr for t in env.steps_s))
-    return replace(f_sub, spec_before=found.spec_before, trk=replace(f_sub.trk, t=f_sub.trk.t + a / sr), det=det,
-                   envelope=env,
-                   hum_spans=[{"start_s": a2 / sr, "end_s": (a2 + n2) / sr, "mains_hz": f.f_med,
-                               "harmonics": list(f.lines.harmonics)} for a2, n2, f in parts])
-
-
-@contextmanager
-def _quiet_logs():
-    """A stretch's own analysis says nothing: what it finds is logged once, by the caller."""
-    audio_log = logging.getLogger("odnn_sep.audio")
-    old = audio_log.level
-    audio_log.setLevel(logging.ERROR)
-    try:
-        yield
-    finally:
-        audio_log.setLevel(old)
 
 
 def _analyse(source, opts: DenoiseOptions):
