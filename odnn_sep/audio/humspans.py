@@ -350,3 +350,38 @@ def hum_extent(source, f0: float, k: int, max_seconds: float = 240.0) -> tuple[i
         return None
     first, last = (first if absent[0] else 0), (last if absent[1] else N)
     return first, last - first
+
+
+def enough_lines(source, opts) -> bool:
+    """Whether the detection spectrum of ``source`` (a stretch) holds ``MIN_LINES`` harmonics or
+    more at ``opts``' level (detect.detect_hum): a stretch whose spectrum shows fewer cannot
+    lock that many, and its lock tests (the costly part of an analysis) are skipped. Stretches
+    proposed by music (a voice's partials near the harmonics) are most of those looked at.
+
+    Parameters
+    ----------
+    source : SliceSource
+        The stretch.
+    opts : DenoiseOptions
+        Validated options (mains, alpha, max_hz).
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> from odnn_sep.audio.options import DenoiseOptions
+    >>> sr = 4000; t = np.arange(8 * sr) / sr
+    >>> noise = 0.3 * np.random.default_rng(0).standard_normal(t.size)
+    >>> hum = np.cos(2 * np.pi * 50 * t) + np.cos(2 * np.pi * 100 * t)
+    >>> opts = DenoiseOptions().validated(sr)
+    >>> enough_lines(ArraySource(hum + noise, sr), opts), enough_lines(ArraySource(noise, sr), opts)
+    (True, False)
+    """
+    top = _detect.top_hz(source.sr, opts.max_hz)
+    spec = _detect.excerpt_spectrum(source, keep_segments_hz=top + 2 * _detect.FLOOR_WIDTH_HZ)
+    det = _detect.detect_hum(spec, source.sr, mains=opts.mains, harmonics="auto", alpha=opts.alpha,
+                             max_hz=opts.max_hz)
+    return len(det.harmonics) >= MIN_LINES

@@ -47,6 +47,8 @@ def span_parts(source, opts: DenoiseOptions, found, analyse) -> list:
     quiet = replace(opts, progress=False, alpha=opts.alpha * _humspans.ALPHA_SHARE)
     for a0, n0, nominal in stretches:
         a, n = _humspans.tighten(source, a0, n0, nominal)
+        if not _humspans.enough_lines(_humspans.SliceSource(source, a, n), quiet):
+            continue            # music proposes stretches too: most go here, before the lock tests
         with _quiet_logs():
             f_sub, _ = analyse(_humspans.SliceSource(source, a, n), quiet)
             ks = f_sub.lines.harmonics
