@@ -89,8 +89,11 @@ def read_csv(path, column=None, *, aux=False):
         try:
             y.append(float(r[j]))
         except (ValueError, IndexError):
+            cell = r[j].strip() if j < len(r) else ""
+            fix = ("the cell is empty (a missing value): remove that row or fill it" if not cell
+                   else "remove or repair that row (units belong in the header, e.g. 'T_degC')")
             raise FormatError(f"CSV {str(path)!r} line {k}: time and column {header[j]!r} must be numbers; "
-                              f"got {r[:max(j + 1, 1)]}") from None
+                              f"got {r[:max(j + 1, 1)]}; {fix}") from None
     from odnn_sep.io_read import time_values
 
     # seconds, or date-times read as seconds since the first (the origin goes in the report)
