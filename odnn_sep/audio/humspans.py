@@ -262,21 +262,16 @@ def cut_at_switches(source, a: int, n: int, f0: float, ks) -> tuple[int, int]:
     h = int(SWITCH_WINDOW_S * sr) | 1
     win = np.hanning(h + 2)[1:-1]
     win /= win.sum()
-    heads = []
-    for s0 in (a, a + n - e):
-        x = source.read(s0 - h, e + 2 * h).sum(axis=1)          # channels pooled; h beyond each side
-        t = (np.arange(x.size) + s0 - h) / sr
-        P = np.zeros(x.size)
-        for k in ks:
-            z = np.convolve(x * np.exp(-2j * np.pi * k * f0 * t), win, mode="same")
-            P += np.abs(z) ** 2
-        heads.append((s0 - h, P))
-    # each line's power in the middle of the stretch (the hum sounds there), for the weights
-    mid = source.read(a + n // 2 - e // 2, e).sum(axis=1)
-    tm = (np.arange(mid.size) + a + n // 2 - e // 2) / sr
-    ref = 0.0
-    for k in ks:
-        ref += float(np.mean(np.abs(np.convolve(mid * np.exp(-2j * np.pi * k * f0 * tm), win, mode="same")) ** 2))
+
+    def power(s0, length):
+        # the lines' demodulated power over the window, summed, at each sample of s0 .. s0 + length
+        x = source.read(s0, length).sum(axis=1)                  # channels pooled
+        t = (np.arange(x.size) + s0) / sr
+        return sum(np.abs(np.convolve(x * np.exp(-2j * np.pi * k * f0 * t), win, mode="same")) ** 2 for k in ks)
+
+    heads = [(s0 - h, power(s0 - h, e + 2 * h)) for s0 in (a, a + n - e)]      # h beyond each side
+    # the power in the middle of the stretch, where the hum sounds: its level
+    ref = float(np.mean(power(a + n // 2 - e // 2, e)))
     if ref <= 0:
         return a, n
     (o1, P1), (o2, P2) = heads
