@@ -172,7 +172,8 @@ def find_stretches(spec, sr: int, frames: int, nominals, *, seg_s: float = 4.0,
         edges = np.flatnonzero(np.diff(np.concatenate([[0], on.astype(int), [0]])))
         for j0, j1 in zip(edges[::2], edges[1::2], strict=True):
             a = max(0, j0 * step - int(margin_s * sr))
-            b = min(frames, (j1 - 1) * step + nper + int(margin_s * sr))
+            # a run through the last segment reaches the input's end (the segments stop short of it)
+            b = frames if j1 == L else min(frames, (j1 - 1) * step + nper + int(margin_s * sr))
             if b - a >= min_s * sr and b - a <= MAX_SHARE * frames:
                 out.append((int(a), int(b - a), float(nominal)))
     out.sort(key=lambda s: -s[1])
@@ -280,6 +281,9 @@ def cut_at_switches(source, a: int, n: int, f0: float, ks) -> tuple[int, int]:
     above2 = np.flatnonzero(P2[lo:hi] >= 0.25 * ref)
     first = o1 + lo + (int(above1[0]) if above1.size else 0)
     last = o2 + lo + (int(above2[-1]) + 1 if above2.size else e)
+    # at the input's own ends the window runs out of samples and the power falls: not a switch
+    first = 0 if a == 0 and first <= a + h else first
+    last = a + n if a + n >= source.frames and last >= a + n - h else last
     if last - first < CUT_MIN_S * sr:
         return a, n
     return first, last - first

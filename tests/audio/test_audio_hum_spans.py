@@ -84,3 +84,12 @@ def test_a_lone_hum_line_switched_on_for_part_of_the_take_is_fitted_where_it_sou
     start, end = r.info["hum_spans"][0]["start_s"], r.info["hum_spans"][0]["end_s"]
     assert 6.95 <= start <= 7.05 and 21.45 <= end <= 21.55
     assert 10 * np.log10(np.sum(hum ** 2) / np.sum((r.y - host) ** 2)) > 20.0
+
+
+def test_hum_running_to_the_end_of_the_take_is_removed_to_the_end():
+    # the last 4 s segment of the detection spectrum stops short of the input's end: a span that
+    # reaches it runs to the end (13 dB before: the last half second kept its hum)
+    host, hum = _gated(on=(15.0, 30.0), dur=25.0, seed=3)
+    r = denoise(host + hum, SR)
+    assert r.info["hum_spans"] and r.info["hum_spans"][-1]["end_s"] == 25.0
+    assert 10 * np.log10(np.sum(hum ** 2) / np.sum((r.y - host) ** 2)) > 25.0
