@@ -55,7 +55,8 @@ def span_parts(source, opts: DenoiseOptions, found, analyse) -> list:
             cut = _humspans.cut_at_switches(source, a, n, f_sub.f_med, ks) if len(ks) >= _humspans.MIN_LINES else (a, n)
             if cut != (a, n):
                 # the hum switches on or off inside the stretch: analysed again between the switches,
-                # for the lines found (a shorter stretch gives the lock test less to go on)
+                # with the lines found named where the data alone lose some (a shorter stretch gives
+                # the lock test less to go on)
                 f_cut, _ = analyse(_humspans.SliceSource(source, *cut), quiet)
                 if not set(f_sub.lines.harmonics) <= set(f_cut.lines.harmonics):
                     f_cut, _ = analyse(_humspans.SliceSource(source, *cut),
