@@ -32,6 +32,7 @@ NEAR_S = 0.25     # band about the line that counts as near: +-4 Hz (Hann main l
 POWER_S = 0.5     # smoothing of the power (s)
 ROUNDS = 2
 FLOOR = 0.05      # powers floored at this x their median (a few quiet chunks must not carry a block)
+MAX_WEIGHT = 1e20  # weights past this are rescaled (single-precision sums of them must stay finite)
 
 
 def _hann(n: int) -> np.ndarray:
@@ -106,10 +107,17 @@ def near_power(u: np.ndarray, fs: float) -> np.ndarray:
     p = np.ones(J, np.float32)
     for _ in range(ROUNDS):
         den = _smooth(w, h_line)
-        line = _smooth(w * u, h_line) / np.maximum(den, np.finfo(np.float32).tiny)
+        # relative floor: the FFT's rounding leaves the smallest sums meaningless where the weights
+        # span many decades (only after the rescaling below; the FLOOR keeps them within 20x otherwise)
+        line = _smooth(w * u, h_line) / np.maximum(den, max(1e-6 * float(den.max()), np.finfo(np.float32).tiny))
         r = _smooth(u - line, h_near)
         p = np.maximum(_smooth(np.abs(r) ** 2, h_pow), 0.0) / white_gain
         med = float(np.median(p))
-        p = np.maximum(p, FLOOR * med) if med > 0 else np.maximum(p, np.finfo(np.float32).tiny)
-        w = (1.0 / p).astype(np.float32)
+        p = np.maximum(p, max(FLOOR * med, np.finfo(np.float32).tiny))
+        with np.errstate(over="ignore"):
+            w = (1.0 / p).astype(np.float32)
+        if not np.all(w <= MAX_WEIGHT):
+            # a synthetic line with nothing beside it (near powers of 1e-40): only the weights'
+            # ratios count, and their sums must stay finite in single precision
+            w = (float(p.min()) / p.astype(np.float64)).astype(np.float32)
     return p.astype(np.float64)

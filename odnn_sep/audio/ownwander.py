@@ -111,7 +111,9 @@ def own_wander(v: np.ndarray, ks: np.ndarray, kern: np.ndarray, present: np.ndar
     logmag = np.log(np.maximum(np.abs(slow), 1e-300))
     radial = np.median((logmag - np.median(logmag, axis=0)) ** 2, axis=0) / MEDIAN_CHI2
     expect = float((kern ** 2).sum() / kern.sum() ** 2) * noise / (2 * np.abs(c) ** 2 + 1e-300)
-    floor = np.maximum(expect, radial)
+    # never under 1e-12 rad^2 (a line 120 dB over its noise): a synthetic line with no noise at
+    # all would get an infinite precision
+    floor = np.maximum(np.maximum(expect, radial), 1e-12)
     V = np.zeros(c.shape)
     for _ in range(FIXED_POINT):
         # the part common to all harmonics (k x one fundamental error), each harmonic measured

@@ -41,6 +41,7 @@ from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 from odnn_sep.mismatch.fitting import cross_validate, cv_folds
 from odnn_sep.mismatch.locate import locate
 from odnn_sep.mismatch.model import Model, make_model
+from odnn_sep.mismatch.resolution import resolution
 from odnn_sep.mismatch.selection import SelectionSetup, forward_backward
 from odnn_sep.mismatch.spikes_series import record_spikes, spikes_entries
 
@@ -118,6 +119,28 @@ class MismatchResult:
         return result_dict(self)
 
 
+# A final residual under this many times the record's resolution (resolution.py) is rounding: the
+# record is reproduced exactly (a simulation compared with a simulation).
+EXACT_FIT = 10.0
+
+
+# Mechanical records whose values are all under this (metres for a motion of nanometres): the
+# effects that grow with the motion are searched with steps sized for values near 1 and are missed
+# (a cubic stiffness of an oscillator was missed at amplitudes of 1e-7, found at 1e-6).
+SMALL_VALUES = 1e-5
+SMALL_VALUE_FAMILIES = ("oscillator", "freefall")
+
+
+def _small_values_note(m, y):
+    """A note for a mechanical record in units far larger than its motion, or None."""
+    top = float(np.max(np.abs(y))) if len(y) else 0.0
+    if m.family not in SMALL_VALUE_FAMILIES or not 0 < top < SMALL_VALUES:
+        return None
+    return (f"every value of the record is under {SMALL_VALUES:g} (largest {top:.3g}): the effects that grow with "
+            f"the motion (cubic stiffness, drag, friction) are searched with steps sized for values near 1 and "
+            f"can be missed at this scale; give the record in smaller units (mm, um or nm)")
+
+
 def _validate(t, y, model):
     if np.ndim(t) == 2 and isinstance(model, Model) and model.ndim != 2:
         raise InputError(f"model {model.name!r} describes a time series, but the data are a 2-D field "
@@ -139,6 +162,10 @@ def _validate(t, y, model):
             i = int(np.argmax(d <= 0)) + 1
             raise InputError(f"time must be strictly increasing; t[{i}] = {t[i]:g} follows t[{i - 1}] = "
                              f"{t[i - 1]:g}; sort the data by time and remove duplicate time stamps")
+    if len(y) > 1 and np.all(y == y[0]):
+        # every model fits a constant exactly with its rates undetermined: nothing to test
+        raise InputError(f"the record is constant (all {len(y)} values are {y[0]:g}): there is nothing for a "
+                         f"model to explain; check that the right column was read (CLI: --column)")
     return t, y
 
 
@@ -216,7 +243,7 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     block_id = cv_folds(len(y), folds=folds, blocks_per_fold=blocks_per_fold)
     G, cal, declared, periodic_declared = _declared_disturbances(disturbance, m, t, y, params)
     # a joint model's series are each repaired on their own (spikes_series.py)
-    spikes = record_spikes(m, t, cal.fit.residual) if despike else None
+    spikes = record_spikes(m, t, cal.fit.residual, floor=resolution(y)) if despike else None
     if spikes is not None:
         # the record as analysed from here on: every fit, test and interval sees the repaired samples
         y = spikes.repaired(y)
@@ -228,8 +255,12 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     if len(y) < SMALL_DATA:
         res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
                          f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
+    small = _small_values_note(m, y)
+    if small:
+        res.notes.append(small)
     from odnn_sep.mismatch.locate import noise_sigma
-    res.noise_sigma = noise_sigma(base.residual)
+    # a record the model reproduces to rounding has no noise to measure against (resolution.py)
+    res.noise_sigma = max(noise_sigma(base.residual), resolution(y))
     res.where = locate(t, base.residual, sigma=res.noise_sigma, alpha=alpha)
     names = _candidate_names(m, effects, aux, G, periodic_declared)
     res.aux_channels = list(aux)
@@ -254,6 +285,10 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         res.disturbances.append(saturation.entry(unit))
     from odnn_sep.mismatch.inputs import physical_warnings
     res.warnings = physical_warnings(out.fit.params)
+    floor = resolution(y)
+    if out.fit.rms <= EXACT_FIT * floor:
+        res.notes.append(f"the final model reproduces the record to its numerical resolution (residual RMS "
+                         f"{out.fit.rms:.3g}): the record has no noise, so the intervals show rounding, not a spread")
     return res
 
 

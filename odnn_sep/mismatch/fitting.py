@@ -22,6 +22,7 @@ from odnn_sep.core.uncertainty import sandwich_standard_errors
 from odnn_sep.errors import ConvergenceWarning, InputError
 from odnn_sep.mismatch.effects import EFFECTS
 from odnn_sep.mismatch.presets import ModelIntegrationError
+from odnn_sep.mismatch.resolution import resolution
 
 log = logging.getLogger(__name__)
 
@@ -53,6 +54,9 @@ class Fit:
     residual: np.ndarray = field(repr=False)
     converged: bool = True
     interval_dof: float = np.inf   # degrees of freedom of the spread estimate (blocks - 1 for the sandwich)
+    # per-sample square of the record's resolution (resolution.py), included in ``rss``: residuals
+    # under it are numerics, not noise
+    floor2: float = 0.0
 
     @property
     def n_params(self) -> float:
@@ -323,7 +327,8 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     free = model.free
     pt = _point_fit(model, t, y, start, G, rows, max_nfev)
     idx, r = pt.idx, pt.residual
-    rss = float(np.sum(r[idx] ** 2))
+    floor2 = resolution(np.asarray(y)[idx]) ** 2
+    rss = float(np.sum(r[idx] ** 2)) + len(idx) * floor2
     n_eff = len(idx) - pt.rank
     stderr, interval_dof = {}, np.inf
     if free:
@@ -335,7 +340,7 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
                       f"{max_nfev} evaluations before converging; treat its numbers with care",
                       ConvergenceWarning, stacklevel=2)
     return Fit(model, pt.params, free, stderr, rss, n_eff, pt.prediction, pt.disturbance, r, pt.converged,
-               interval_dof)
+               interval_dof, floor2)
 
 
 @dataclass

@@ -269,6 +269,11 @@ def _calibration_bias(base, final):
             for k in base.free if k in final.params}
 
 
+def _gain(v):
+    # an exactly fitted record gives gains of 1e12 and more: digits past the fourth say nothing
+    return f"{v:.1f}" if abs(v) < 1e6 else f"{v:.4g}"
+
+
 def _fmt(v):
     if v is None:
         return "-"
@@ -281,14 +286,14 @@ def _verdict_lines(v):
     if v["effect"] is None:
         lines = [f"Verdict: {v['description']}"]
         for h in v.get("not_established", []):
-            gain = "" if h["heldout_gain"] is None else f", held-out gain {h['heldout_gain']:.1f}"
+            gain = "" if h["heldout_gain"] is None else f", held-out gain {_gain(h['heldout_gain'])}"
             lines.append(f"  Not established: {h['effect']} (BIC drop {h['score']:.1f}{gain}; an effect "
                          f"needs a drop > {BIC_THRESHOLD:g} and a held-out gain > {HELDOUT_THRESHOLD:g}): "
                          f"the data hint at it but cannot show it; a longer or less noisy record could")
         return lines
     lines = [f"Verdict: {len(v['effects'])} effect(s) missing from the model, in the order found:"]
     for i, e in enumerate(v["effects"], 1):
-        gain = "-" if e["heldout_gain"] is None else f"{e['heldout_gain']:.1f}"
+        gain = "-" if e["heldout_gain"] is None else _gain(e["heldout_gain"])
         lines.append(f"  {i}. {e['effect']} — {e['description']}; BIC drop {e['score']:.1f}, "
                      f"held-out gain {gain}")
         if e["equivalence"]:
@@ -345,7 +350,7 @@ def _fit_lines(d):
              f"held-out gain > {HELDOUT_THRESHOLD:g}):"]
     for c in d["candidates"][:6]:
         hi = "" if c["heldout_gain"] is None else \
-            f", held-out RMSE {100 * c['heldout_improvement']:+.1f}%, gain {c['heldout_gain']:.1f}"
+            f", held-out RMSE {100 * c['heldout_improvement']:+.1f}%, gain {_gain(c['heldout_gain'])}"
         note = f"  ({c['note']})" if c.get("note") else ""
         lines.append(f"  {c['effect']:<22} score {c['score']:9.1f}{hi}{note}")
     b, a = d["fit"]["before"], d["fit"]["after"]

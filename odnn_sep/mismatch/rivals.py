@@ -84,7 +84,7 @@ def outlier_mask(resid) -> np.ndarray:
     return np.abs(r - med) > OUTLIER_Z * mad
 
 
-def prewhitened_score(resid, ref_resid, n_params, coefs, mask) -> float:
+def prewhitened_score(resid, ref_resid, n_params, coefs, mask, floor2=0.0) -> float:
     """BIC of the AR-prewhitened residual; at ``mask`` samples only ``resid - ref_resid`` counts.
 
     Parameters
@@ -99,6 +99,9 @@ def prewhitened_score(resid, ref_resid, n_params, coefs, mask) -> float:
         AR filter (:func:`~odnn_sep.core.whitening.ar_fit` of the reference residual).
     mask : ndarray of bool
         Outlier samples of the reference residual.
+    floor2 : float, optional
+        Per-sample square of the record's resolution (:mod:`~odnn_sep.mismatch.resolution`),
+        added to the sum of squares.
 
     Returns
     -------
@@ -115,7 +118,7 @@ def prewhitened_score(resid, ref_resid, n_params, coefs, mask) -> float:
     x = np.where(mask, np.asarray(resid) - np.asarray(ref_resid), resid)
     e = prewhiten(x, coefs)
     n = max(len(e), 1)
-    return float(n * np.log(max(float(e @ e), 1e-300) / n) + n_params * np.log(n))
+    return float(n * np.log(max(float(e @ e) + len(e) * floor2, 1e-300) / n) + n_params * np.log(n))
 
 
 def _rival_starts(stub, rival):
@@ -187,11 +190,12 @@ def recheck_rivals(sel, base, setup, gap):
         ref = sel.fit.residual
         mask = outlier_mask(ref)
         coefs = noise_filter(np.where(mask, 0.0, ref)) if np.ndim(setup.t) == 1 else np.zeros(0)
-        scores = {named.effect: (prewhitened_score(ref, ref, sel.fit.n_params, coefs, mask), sel.fit, named)}
+        fl = sel.fit.floor2
+        scores = {named.effect: (prewhitened_score(ref, ref, sel.fit.n_params, coefs, mask, fl), sel.fit, named)}
         for r in rivals:
             f = _refit_with(sel, base, setup, named, r)
             if f is not None:
-                scores[r.effect] = (prewhitened_score(f.residual, ref, f.n_params, coefs, mask), f, r)
+                scores[r.effect] = (prewhitened_score(f.residual, ref, f.n_params, coefs, mask, fl), f, r)
         if len(scores) > 1:
             _name_best(sel, i, named, scores, gap, {"ar_order": len(coefs), "outliers": int(mask.sum())})
 
@@ -248,7 +252,8 @@ def step_score(cur, resid, n_params, t) -> float:
     True
     """
     n_eff = cur.n_eff
-    plain = float(n_eff * np.log(max(cur.rss, 1e-300) / max(float(resid @ resid), 1e-300))
+    floor2 = getattr(cur, "floor2", 0.0)   # cur.rss includes it (fitting.fit)
+    plain = float(n_eff * np.log(max(cur.rss, 1e-300) / max(float(resid @ resid) + len(resid) * floor2, 1e-300))
                   + (cur.n_params - n_params) * np.log(max(n_eff, 1)))
     if np.ndim(t) != 1:
         return plain
@@ -257,5 +262,6 @@ def step_score(cur, resid, n_params, t) -> float:
         return plain
     e_cur, e_new = prewhiten(cur.residual, coefs), prewhiten(resid, coefs)
     n = max(n_eff - len(coefs), 1)
-    return float(n * np.log(max(float(e_cur @ e_cur), 1e-300) / max(float(e_new @ e_new), 1e-300))
+    return float(n * np.log(max(float(e_cur @ e_cur) + len(e_cur) * floor2, 1e-300)
+                            / max(float(e_new @ e_new) + len(e_new) * floor2, 1e-300))
                  + (cur.n_params - n_params) * np.log(n))

@@ -125,7 +125,7 @@ def departures(t, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.nan_to_num(d), both
 
 
-def find_spikes(t, residual) -> Spikes | None:
+def find_spikes(t, residual, floor=0.0) -> Spikes | None:
     """The isolated outliers of ``residual`` (see the module text), or None when there are none,
     too few samples to tell, or too many outliers to be spikes.
 
@@ -135,6 +135,9 @@ def find_spikes(t, residual) -> Spikes | None:
         Time stamps or coordinates.
     residual : (n,) array
         The calibrated model's residual.
+    floor : float, optional
+        The record's resolution (:mod:`~odnn_sep.mismatch.resolution`): the spread is never taken
+        under it, so the rounding of an exactly fitted record has no outliers.
 
     Returns
     -------
@@ -155,7 +158,7 @@ def find_spikes(t, residual) -> Spikes | None:
     if n < MIN_SAMPLES or not np.all(np.isfinite(r)):
         return None
     d, both = departures(t, r)
-    sigma = _spread(d)
+    sigma = max(_spread(d), floor)
     if not sigma > 0:
         return None
     scale = np.full(n, sigma)

@@ -51,7 +51,7 @@ class SeriesSpikes:
         return out
 
 
-def record_spikes(model, t, residual):
+def record_spikes(model, t, residual, floor=0.0):
     """The spikes of a record (:func:`find_spikes`), or of each series of a joint model on its own.
 
     Parameters
@@ -62,6 +62,8 @@ def record_spikes(model, t, residual):
         Time stamps (the stacked axis of a joint model) or 2-D coordinates.
     residual : ndarray
         The calibrated residual.
+    floor : float, optional
+        The record's resolution (see :func:`find_spikes`).
 
     Returns
     -------
@@ -77,10 +79,10 @@ def record_spikes(model, t, residual):
     """
     jp = getattr(model, "preset", None)
     if not hasattr(jp, "series_times"):
-        return find_spikes(t, residual)
+        return find_spikes(t, residual, floor)
     parts, start = [], 0
     for name, ts in zip(jp.series_names, jp.series_times, strict=True):
-        s = find_spikes(ts, residual[start:start + len(ts)])
+        s = find_spikes(ts, residual[start:start + len(ts)], floor)
         if s is not None:
             parts.append((name, start, s))
         start += len(ts)
