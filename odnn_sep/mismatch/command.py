@@ -58,9 +58,10 @@ def register(subparsers) -> None:
     p.add_argument("--input", action="append", default=[], metavar="COLUMN",
                    help="measured input column (repeatable) driving the model: oscillator/pendulum "
                         "m x'' + c x' + k x = kd u(t); cooling dT/dt = -h (T - T_amb) + kd u(t)")
-    p.add_argument("--units", default=None, choices=["degC", "degF", "K"],
-                   help="temperature unit of the data (cooling): degF and K are converted to degC for the "
-                        "physics (vapour pressure, radiation) and the report gives degC")
+    p.add_argument("--units", default=None, choices=["degC", "degF", "K", "deg", "rad"],
+                   help="unit of the data where the physics depends on it: temperatures (cooling; degF and K "
+                        "are converted to degC for the vapour pressure and radiation, the report gives degC) "
+                        "or angles (pendulum; deg is converted to rad for sin(theta), the report gives rad)")
     p.add_argument("--folds", type=int, default=4,
                    help="cross-validation folds of the held-out test (>= 2; default 4); fewer folds let short "
                         "series (16 points) be analysed, with less power")
@@ -125,9 +126,13 @@ def _checked_options(args):
     if not 2 <= args.folds <= 20:
         raise InputError(f"--folds must be between 2 and 20 (cross-validation folds); got {args.folds}")
     model = make_model(args.model, params)  # validates the model and parameter names
-    if args.units is not None and model.family != "cooling":
-        raise InputError(f"--units is for temperatures (--model cooling); model {args.model!r} has no "
+    if args.units in ("degC", "degF", "K") and model.family != "cooling":
+        raise InputError(f"--units {args.units} is for temperatures (--model cooling); model {args.model!r} has no "
                          f"temperature physics")
+    if args.units in ("deg", "rad") and (model.family != "pendulum" or float(model.start.get("L", 0.0)) > 0):
+        raise InputError(f"--units {args.units} is for angle records (--model pendulum without L); "
+                         + ("with L given the record is a tangential acceleration, in m/s^2"
+                            if model.family == "pendulum" else f"model {args.model!r} has no angle physics"))
     for out in (args.report, args.plot):
         if out is not None:
             for path in args.data:
@@ -150,7 +155,7 @@ def _load_series(args, params, model):
     import sys
 
     from odnn_sep.mismatch.io import load_data
-    from odnn_sep.mismatch.units import to_celsius
+    from odnn_sep.mismatch.units import to_celsius, to_radians
     t, y, info, aux = load_data(args.data, column=args.column, start=args.start, duration=args.duration,
                                 with_aux=True)
     if info.get("frames"):
@@ -165,10 +170,13 @@ def _load_series(args, params, model):
         aux = {}
         info["aux_channels"] = []
     unit = ""
+    note = None
     if model.family == "cooling":
         y, unit, note = to_celsius(y, args.units)
-        if note:
-            print(note, file=sys.stderr)
+    elif model.family == "pendulum" and float(model.start.get("L", 0.0)) <= 0:
+        y, unit, note = to_radians(y, args.units)
+    if note:
+        print(note, file=sys.stderr)
     return t, y, info, aux, inputs, unit, params, model
 
 

@@ -141,6 +141,14 @@ def _small_values_note(m, y):
             f"can be missed at this scale; give the record in smaller units (mm, um or nm)")
 
 
+def _angle_note(m, y):
+    """A note for a pendulum angle record that looks like degrees, or None."""
+    if m.family != "pendulum" or float(m.start.get("L", 0.0)) > 0:
+        return None     # with L the record is a tangential acceleration
+    from odnn_sep.mismatch.units import degrees_warning
+    return degrees_warning(y)
+
+
 def _validate(t, y, model):
     if np.ndim(t) == 2 and isinstance(model, Model) and model.ndim != 2:
         raise InputError(f"model {model.name!r} describes a time series, but the data are a 2-D field "
@@ -255,9 +263,9 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     if len(y) < SMALL_DATA:
         res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
                          f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
-    small = _small_values_note(m, y)
-    if small:
-        res.notes.append(small)
+    for note in (_small_values_note(m, y), _angle_note(m, y)):
+        if note:
+            res.notes.append(note)
     from odnn_sep.mismatch.locate import noise_sigma
     # a record the model reproduces to rounding has no noise to measure against (resolution.py)
     res.noise_sigma = max(noise_sigma(base.residual), resolution(y))

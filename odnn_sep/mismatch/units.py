@@ -1,4 +1,5 @@
-"""Temperature units for the cooling preset: its physics (vapour pressure, radiation) is in deg C."""
+"""Units the physics depends on: temperatures of the cooling preset (vapour pressure and radiation are in
+deg C) and angles of the pendulum (its restoring force is sin(theta), theta in radians)."""
 from __future__ import annotations
 
 import numpy as np
@@ -6,6 +7,9 @@ import numpy as np
 # water cooling in a room: deg C data stay below boiling; deg F data of a hot drink sit well above it
 LOOKS_LIKE_DEGF = 105.0
 LOOKS_LIKE_KELVIN = 200.0
+# a pendulum's angle in radians stays under pi (a swing over the top is not a pendulum's record);
+# over 2 pi it is all but surely in degrees
+LOOKS_LIKE_DEGREES = 2 * np.pi
 
 
 def to_celsius(y, units):
@@ -51,3 +55,56 @@ def to_celsius(y, units):
     else:
         note = None
     return y, "", note
+
+
+def to_radians(y, units):
+    """Return (angles in rad, unit label, note or None). ``units`` None: guess only to warn.
+
+    Parameters
+    ----------
+    y : array_like
+        Angles of a pendulum record.
+    units : {"deg", "rad"} or None
+        Their unit; None leaves the values as they are (explain() notes angles that look like
+        degrees: :func:`degrees_warning`).
+
+    Returns
+    -------
+    values : ndarray
+        Angles in rad (unchanged when ``units`` is None).
+    label : str
+        ``"rad"``, or ``""`` when the unit was not given.
+    note : str or None
+        What was converted.
+
+    Examples
+    --------
+    >>> np.round(to_radians([90.0, -45.0], "deg")[0], 4).tolist()
+    [1.5708, -0.7854]
+    >>> to_radians([30.0, -28.0], None)[1:]
+    ('', None)
+    """
+    y = np.asarray(y, float)
+    if units == "deg":
+        return np.deg2rad(y), "rad", "angles converted from deg to rad for the physics (sin theta); the report gives rad"
+    if units == "rad":
+        return y, "rad", None
+    return y, "", None
+
+
+def degrees_warning(y):
+    """The warning for pendulum angles that look like degrees, or None (see :func:`to_radians`).
+
+    Examples
+    --------
+    >>> degrees_warning([0.5, -0.4]) is None
+    True
+    >>> degrees_warning([30.0, -28.0]).split(";")[0]
+    'angles up to 30 look like degrees'
+    """
+    top = float(np.max(np.abs(np.asarray(y, float)))) if np.size(y) else 0.0
+    if not top > LOOKS_LIKE_DEGREES:
+        return None
+    return (f"angles up to {top:.4g} look like degrees; the pendulum physics (sin theta) assumes radians, so "
+            f"the large-angle effect is not tested as it should be: convert them (CLI: --units deg, or "
+            f"--units rad if they are radians)")
