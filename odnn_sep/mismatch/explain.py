@@ -149,6 +149,26 @@ def _angle_note(m, y):
     return degrees_warning(y)
 
 
+def _fall_direction_note(m, t, y):
+    """A note for a free-fall record that curves upwards (a distance fallen, positive down), or None.
+
+    Gravity bends a height downwards (h0 - g t^2 / 2) whatever the throw; a record whose t^2 term is
+    positive beyond 5 standard errors was measured the other way, and the preset's g sits at 0.
+    """
+    if m.family != "freefall" or np.ndim(t) != 1 or len(y) < 5:
+        return None
+    u = (t - t[0]) / max(float(np.ptp(t)), 1e-300)
+    X = np.stack([np.ones_like(u), u, u * u], axis=1)
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    r = y - X @ coef
+    cov = np.linalg.pinv(X.T @ X) * float(r @ r) / max(len(y) - 3, 1)
+    if not coef[2] > 5 * np.sqrt(max(cov[2, 2], 0.0)):
+        return None
+    return ("the record curves upwards (its t^2 term is positive): it looks like the distance fallen, positive "
+            "down, while the free-fall preset describes a height, h0 - g t^2 / 2; analyse the negated column "
+            "(h0 - d) for gravity and drag")
+
+
 def _validate(t, y, model):
     if np.ndim(t) == 2 and isinstance(model, Model) and model.ndim != 2:
         raise InputError(f"model {model.name!r} describes a time series, but the data are a 2-D field "
@@ -263,7 +283,7 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     if len(y) < SMALL_DATA:
         res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
                          f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
-    for note in (_small_values_note(m, y), _angle_note(m, y)):
+    for note in (_small_values_note(m, y), _angle_note(m, y), _fall_direction_note(m, t, y)):
         if note:
             res.notes.append(note)
     from odnn_sep.mismatch.locate import noise_sigma
