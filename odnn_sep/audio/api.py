@@ -14,6 +14,8 @@ from odnn_sep.audio.io import (
     ClipCounter,
     FileSource,
     is_integer_subtype,
+    lossy_note,
+    lossy_write_options,
     output_subtype,
     rounding_steps,
 )
@@ -219,7 +221,7 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
         with atomic_output(out) as tmp:
             kw = {"endian": src.endian} if fmt == src.format else {}
             with sf.SoundFile(str(tmp), "w", samplerate=src.sr, channels=src.channels, format=fmt, subtype=st,
-                              **kw) as fo:
+                              **kw, **lossy_write_options(st)) as fo:
                 res, removed_ss = _run_to_file(src, fo, tmp, clip, opts)
     finally:
         src.close()
@@ -231,6 +233,10 @@ def denoise_path(path_in, path_out, opts: DenoiseOptions, *, subtype: str | None
     res.requantisation_message = requantisation_note(removed_ss / max(src.frames * src.channels, 1), st)
     if res.requantisation_message:
         log.warning(res.requantisation_message)
+    lossy = lossy_note(fmt, st)
+    if lossy:
+        res.info["lossy_output"] = lossy
+        log.warning(lossy)
     return res
 
 

@@ -87,7 +87,15 @@ def denoise_file_channels(path_in, path_out, *, picks=None, spatial=False, subty
     import soundfile as sf
 
     from odnn_sep.audio.channels import denoise_channels
-    from odnn_sep.audio.io import ClipCounter, FileSource, is_integer_subtype, output_subtype, rounding_steps
+    from odnn_sep.audio.io import (
+        ClipCounter,
+        FileSource,
+        is_integer_subtype,
+        lossy_note,
+        lossy_write_options,
+        output_subtype,
+        rounding_steps,
+    )
     from odnn_sep.io_paths import check_output_path
     from odnn_sep.io_utils import atomic_output
 
@@ -108,11 +116,17 @@ def denoise_file_channels(path_in, path_out, *, picks=None, spatial=False, subty
     clip = ClipCounter(is_integer_subtype(st), rounding_steps(st))
     kw = {"endian": src.endian} if fmt == src.format else {}
     with atomic_output(out) as tmp:
-        sf.write(str(tmp), clip(cleaned), src.sr, format=fmt, subtype=st, **kw)
+        sf.write(str(tmp), clip(cleaned), src.sr, format=fmt, subtype=st, **kw, **lossy_write_options(st))
     msg = clip.message()
     if msg:
         log.warning(msg)
-    return _file_report(report, src, out, fmt, st, msg)
+    lossy = lossy_note(fmt, st)
+    if lossy:
+        log.warning(lossy)
+    rep = _file_report(report, src, out, fmt, st, msg)
+    if lossy:
+        rep["lossy_output"] = lossy
+    return rep
 
 
 def _file_report(report: dict, src, out, fmt: str, st: str, clip_message) -> dict:
