@@ -50,6 +50,16 @@ class InputError(OdnnSepError, ValueError):
     """
 
 
+class MarkNotFoundError(InputError):
+    """The watermark (text or logo) was searched for and not found in the image.
+
+    Examples
+    --------
+    >>> issubclass(MarkNotFoundError, InputError)    # callers catching InputError keep working
+    True
+    """
+
+
 class FormatError(OdnnSepError, ValueError):
     """A file could not be read or written in the requested format.
 

@@ -32,10 +32,11 @@ def _text(text) -> None:
         return
     if not text.strip():
         raise InputError("--text is empty; give the watermark's visible text")
-    bad = sorted({repr(c) for c in text if ord(c) < 32 or 0x7F <= ord(c) < 0xA0})
+    # line breaks separate the lines of a multi-line mark; other control characters are not text
+    bad = sorted({repr(c) for c in text if (ord(c) < 32 and c not in "\n\r") or 0x7F <= ord(c) < 0xA0})
     if bad:
-        raise InputError(f"--text contains control character(s) {', '.join(bad)}; a watermark is one line of "
-                         "visible text (give one line; run once per line of a multi-line mark)")
+        raise InputError(f"--text contains control character(s) {', '.join(bad)}; give the watermark's visible "
+                         "text (its lines separated by line breaks)")
     limits.check("text_chars", len(text), "--text length (characters)", hint="give the mark's visible text only")
 
 

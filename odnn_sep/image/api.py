@@ -69,9 +69,6 @@ def _check_text_options(text, min_score) -> None:
     if text is None:
         return
     t = str(text)
-    if "\n" in t or "\r" in t:
-        raise InputError("text/--text holds a line break; a watermark with several lines is removed one line at "
-                         "a time: run once per line with that line's text")
     if len(t) > MAX_TEXT_CHARS:
         raise InputError(f"text/--text has {len(t)} characters, more than {MAX_TEXT_CHARS}; give the "
                          f"watermark's visible text (one line)")
@@ -204,7 +201,9 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     Parameters
     ----------
     image : (H, W), (H, W, 3) or (H, W, 4) array, uint8, uint16 or float in [0, 1]
-    text : the watermark's text; it is rendered and found in the image (position, size, angle, repeats)
+    text : the watermark's text; it is rendered and found in the image (position, size, angle, repeats).
+        Several lines (separated by line breaks) are found and removed one after the other
+        (:mod:`~odnn_sep.image.textlines`)
     font : font file path or name (e.g. ``"DejaVuSans-Bold"``); default: try the common fonts found
     mask : (H, W) array, nonzero over the watermark's area; without ``text`` the mark's shape is
         estimated inside it (the coverage M is unknown in [0, 1] there: a rough box is fine; nothing
@@ -242,6 +241,15 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     if min_score is None:
         min_score = MIN_SCORE
     _check_text_options(text, min_score)
+    if text is not None and ("\n" in str(text) or "\r" in str(text)):
+        from odnn_sep.image.textlines import split_lines, unwatermark_lines
+
+        lines = split_lines(text)
+        if len(lines) > 1:   # several lines: each found and removed in turn (textlines.py)
+            return unwatermark_lines(image, lines, font=font, mask=mask, min_score=min_score, angle_range=angle_range,
+                                     max_marks=max_marks, inpaint_lost=inpaint_lost, random_state=random_state,
+                                     mask_invert=mask_invert)
+        text = lines[0] if lines else ""
     if (text is None or not str(text).strip()) and mask is None:
         raise InputError("give the watermark's text (text=/--text) or a mask of its area (mask=/--mask); got neither")
     planes = split(image)

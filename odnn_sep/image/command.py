@@ -55,7 +55,8 @@ def register(subparsers) -> None:
     p.add_argument("input", metavar="IMG", help="input image (PNG, JPEG, TIFF, WebP; grey/RGB/RGBA; 8/16-bit)")
     p.add_argument("-o", "--output", metavar="OUT", required=True,
                    help="output image (format from its extension); never the input")
-    p.add_argument("--text", default=None, help="the watermark's visible text")
+    p.add_argument("--text", default=None, help="the watermark's visible text; the lines of a mark of several lines "
+                                                "separated by line breaks (e.g. $'Studio 2024\\nJohn Doe' in bash)")
     p.add_argument("--font", default=None, metavar="PATH|NAME",
                    help="font file or name (e.g. DejaVuSans-Bold); default: try the common fonts found")
     p.add_argument("--reference", default=None, metavar="LOGO.png",
@@ -154,7 +155,8 @@ def run(args) -> int:
     if not args.quiet:
         where = f"font {_font_text(report['font'])} {report['font_size_px']:.1f} px, angle " \
             f"{report['angle_deg']:.1f} deg, " if "font" in report else ""
-        print(f"removed watermark: alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
+        lines = f"{len(report['lines'])} lines, " if report.get("lines") else ""
+        print(f"removed watermark: {lines}alpha {res.alpha:.3f}, colour {report.get('color_hex', report['color'])}, {where}"
               f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
               f"{float(residual.get('score') or 0.0):.3f} -> {args.output}")
     return 0
@@ -237,7 +239,20 @@ def _checked_paths(args):
 
 
 def _residual_text(residual: dict) -> str:
-    """One clause saying how much of the mark is left (text marks: edges and score; logos: edge correlation)."""
+    """One clause saying how much of the mark is left (text marks: edges and score; logos: edge correlation).
+
+    Examples
+    --------
+    >>> _residual_text({"lines_not_found": ["John Doe"], "lines_still_visible": []})
+    "line 'John Doe' not found (left as it was)"
+    """
+    missing, left = residual.get("lines_not_found", []), residual.get("lines_still_visible", [])
+    if missing or left:   # a text of several lines (textlines.py)
+        parts = [f"line {t!r} not found (left as it was)" for t in missing]
+        if left:
+            rest = {k: v for k, v in residual.items() if k not in ("lines_not_found", "lines_still_visible")}
+            parts.append(f"line {left[0]!r} still visible: {_residual_text(rest)}")
+        return "; ".join(parts)
     if "edge_left" in residual:
         second = residual.get("second_colour")
         beside = (f"; a second colour (outline or shadow, {second['shape']}) left beside the letters at "

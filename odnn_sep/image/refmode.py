@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from odnn_sep.errors import InputError
+from odnn_sep.errors import MarkNotFoundError
 from odnn_sep.image.logo import Placement, prepare_logo, render
 from odnn_sep.image.logo_colour import coloured_detection_score, fit_coloured
 
@@ -325,7 +325,7 @@ def reference_mode(image, reference, *, angle_range: float = 45.0, max_copies: i
     best_score = found[0][1] if found else 0.0
     kept = [p for p, e in found if e >= min_score]
     if not kept:
-        raise InputError(f"logo not found in the image (best match score {best_score:.3f}, needs >= {min_score:g}); "
+        raise MarkNotFoundError(f"logo not found in the image (best match score {best_score:.3f}, needs >= {min_score:g}); "
                          f"check --reference or give --mask")
     M, L = place_all(logo, kept, (H, W))
     ys, xs = np.nonzero(M > 0)

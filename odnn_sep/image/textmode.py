@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from odnn_sep.errors import InputError, NotIdentifiableError
+from odnn_sep.errors import MarkNotFoundError, NotIdentifiableError
 from odnn_sep.image.screening import placement_score, refine_order, screen_hypotheses
 
 log = logging.getLogger(__name__)
@@ -82,8 +82,8 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
 
     Raises
     ------
-    InputError
-        When the text is not found (best score below ``min_score``).
+    MarkNotFoundError
+        When the text is not found (best score below ``min_score``); an ``InputError``.
 
     Examples
     --------
@@ -104,7 +104,7 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     fonts = [resolve_font(font)] if font is not None else default_fonts()
     best, best_nc, score, off, ys = find(y, text, fonts, region, angle_range, random_state, min_score, reduced)
     if best is None or score < min_score:
-        raise InputError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
+        raise MarkNotFoundError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
                          f"{min_score:g}); check --text/--font or give --mask")
     placed = [best]
     if max_marks > 1:
@@ -457,7 +457,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
             placed.append(p)
             scores.append(sc)
     if not placed:
-        raise InputError(f"text {text!r} not found in the image (best match score {info['match_score']:.3f} on a "
+        raise MarkNotFoundError(f"text {text!r} not found in the image (best match score {info['match_score']:.3f} on a "
                          f"reduced copy, not confirmed at full resolution, needs >= {min_score:g}); check "
                          f"--text/--font or give --mask")
     order = np.argsort(-np.asarray(scores), kind="stable")
