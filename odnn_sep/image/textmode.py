@@ -101,7 +101,9 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     H, W = y.shape[:2]
     if max(H, W) > WORK_MAX_PX:
         return _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state)
-    fonts = [resolve_font(font)] if font is not None else default_fonts()
+    from odnn_sep.image.glyphs import fonts_for
+
+    fonts = fonts_for(text, [resolve_font(font)] if font is not None else default_fonts(), given=font is not None)
     best, best_nc, score, off, ys = find(y, text, fonts, region, angle_range, random_state, min_score, reduced)
     if best is None or score < min_score:
         raise MarkNotFoundError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
