@@ -14,6 +14,7 @@ finished and exits 130 (143 for SIGTERM).
 from __future__ import annotations
 
 import argparse
+import collections
 
 # command -> (output option, output suffix or None to keep the input's, default patterns)
 TARGETS = {
@@ -127,12 +128,21 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     import contextlib
     import io
     import os
+    import tempfile
     import time
+    from pathlib import Path
 
     from odnn_sep.cli import main
 
     out_opt = TARGETS[target][0]
     args = [target, src, out_opt, dst, *extra, "--quiet"]  # one progress bar for the batch
+    report = dst if out_opt == "--report" else None
+    tmp_dir = None
+    if report is None and "--report" not in extra:
+        # the report says what happened (batch_outcome.py): --quiet silences the summary line
+        tmp_dir = tempfile.TemporaryDirectory(prefix="odnn-sep-batch-")
+        report = str(Path(tmp_dir.name) / "report.json")
+        args += ["--report", report]
     err = io.StringIO()
     t0 = time.perf_counter()
     try:
@@ -143,6 +153,8 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     except Exception as exc:  # a bug on one file must not kill the batch; it is reported per file
         code = 3
         err.write(f"internal error: {type(exc).__name__}: {exc}")
+    if code in (130, 143) and tmp_dir is not None:
+        tmp_dir.cleanup()
     if code in (130, 143):
         import multiprocessing
 
@@ -150,8 +162,14 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
             # a pool worker told to stop: its file is rolled back; take no further job
             os._exit(code)
     msg = err.getvalue().strip().splitlines()
-    return {"input": src, "output": dst if code == 0 else None, "exit_code": code,
-            "message": msg[-1] if msg else "", "seconds": round(time.perf_counter() - t0, 3)}
+    rec = {"input": src, "output": dst if code == 0 else None, "exit_code": code,
+           "message": msg[-1] if msg else "", "seconds": round(time.perf_counter() - t0, 3)}
+    if report is not None and code in (0, 3):
+        from odnn_sep.batch_outcome import outcome
+        rec.update(outcome(target, report))
+    if tmp_dir is not None:
+        tmp_dir.cleanup()
+    return rec
 
 
 def _find(in_dir, patterns, recursive):
@@ -361,6 +379,12 @@ def _finish(args, jobs, results, interrupt, summary, stream, os) -> int:
         return 143 if interrupt == "Terminated" else 130
     if not args.quiet or failed:
         print(f"{len(results) - len(failed)} of {len(results)} file(s) processed; summary in {summary}", file=stream)
+        kinds = collections.Counter(str(r["outcome"]).split(":")[0][:48] for r in results if r.get("outcome"))
+        if kinds:
+            print("  outcomes: " + ", ".join(f"{k} {n}" for k, n in kinds.most_common()), file=stream)
+        warned = sum(1 for r in results if r.get("warnings"))
+        if warned:
+            print(f"  {warned} file(s) with warnings (see 'warnings' in the summary)", file=stream)
     for r in failed:
         print(f"  failed: {r['input']}: {r['message']}", file=stream)
     return 1 if failed else 0
