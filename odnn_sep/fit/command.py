@@ -26,7 +26,7 @@ def register(sub) -> None:
         help="fit known physics terms to a 1-D signal (CSV) or 2-D field (.npz) with a constrained disturbance",
         description="Model DATA as sum_j theta_j f_j + g + noise, with the basis f_j written as expressions in the "
         "coordinates (x, or x and y for .npz fields) and g confined to a class that cannot imitate them. "
-        "Prints theta with 95%% intervals (identified sets for convex/monotone classes).",
+        "Prints theta with 95% intervals (identified sets for convex/monotone classes).",
         epilog="example: odnn-sep separate data.csv --basis 'x**2*sin(5*x)' --disturbance even",
     )
     p.add_argument("data", help="CSV (header; first column x) or .npz with x, y, z")
