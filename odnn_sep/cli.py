@@ -245,6 +245,14 @@ def _configure_logging(debug: bool, quiet: bool) -> None:
     # libraries that set their own loggers to INFO (dask) still only reach the user at this level
     handler.setLevel(level)
     root.setLevel(level)
+    if not debug:
+        import warnings
+
+        # a warning is one line for the user ("path.py:292: ConvergenceWarning: ..." and the source
+        # line are for developers: --debug keeps Python's format)
+        def one_line(message, category, filename, lineno, file=None, line=None):
+            print(f"Warning: {message}", file=sys.stderr if file is None else file)
+        warnings.showwarning = one_line
     if quiet and not debug:
         for name in ("distributed", "dask", "tornado", "asyncio", "bokeh"):
             logging.getLogger(name).setLevel(logging.ERROR)

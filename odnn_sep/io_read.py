@@ -105,6 +105,56 @@ def _is_number(text) -> bool:
     return True
 
 
+# First-column names of a row counter written by a table library (pandas writes its index unnamed).
+ROW_INDEX_NAMES = frozenset({"", "index", "idx", "unnamed: 0", "#", "row", "rownum", "no", "n"})
+
+
+def row_index_column(header, columns) -> bool:
+    """Whether column 0 of a CSV is a row counter to leave out rather than the coordinate.
+
+    ``pandas.DataFrame.to_csv`` writes the row index first, unnamed: the time column then sat second
+    and was read as the values (a cooling record "up to 300 degF", the time column's last value).
+    Column 0 is a row counter when its name is one of ``ROW_INDEX_NAMES``, its values count
+    0, 1, 2, ... (or from 1), and at least two columns remain; unless it is unnamed (pandas), the next
+    column must also rise strictly (it can be the time): a record whose time is the sample number,
+    with values that do not rise, keeps it.
+
+    Parameters
+    ----------
+    header : list of str
+        Column names.
+    columns : list of sequences
+        The first three columns' cells (strings or numbers), column by column.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> row_index_column(["", "t", "T"], [["0", "1", "2"], ["0.0", "0.5", "1.0"], ["90", "85", "81"]])
+    True
+    >>> row_index_column(["index", "T", "ref"], [["0", "1", "2"], ["90", "85", "81"], ["1", "1", "1"]])
+    False
+    >>> row_index_column(["t", "T", "ref"], [["0", "1", "2"], ["0.0", "0.5", "1.0"], ["1", "1", "1"]])
+    False
+    >>> row_index_column(["", "t", "mug", "T"], [["0", "1", "2"], ["0", "0", "1"]])   # long format, pandas
+    True
+    """
+    if len(header) < 3 or str(header[0]).strip().lower() not in ROW_INDEX_NAMES or len(columns) < 2:
+        return False
+    try:
+        idx = [float(c) for c in columns[0]]
+        nxt = [float(c) for c in columns[1]]
+    except (TypeError, ValueError):
+        return False
+    if len(idx) < 2 or idx[0] not in (0.0, 1.0):
+        return False
+    counts = all(v == idx[0] + k for k, v in enumerate(idx))
+    unnamed = str(header[0]).strip().lower() in ("", "unnamed: 0")
+    return counts and (unnamed or all(b > a for a, b in zip(nxt, nxt[1:], strict=False)))
+
+
 def pick_column(header, column, *, path) -> int:
     """Index of the value column of a CSV: the same rule for every command.
 

@@ -1,6 +1,7 @@
 """Load a 1-D signal (CSV: first column x, value column chosen) or a 2-D field (.npz with x, y, z)."""
 from __future__ import annotations
 
+import logging
 import warnings
 from pathlib import Path
 
@@ -9,7 +10,16 @@ import numpy as np
 from odnn_sep import limits
 from odnn_sep.errors import FormatError, InputError, check_finite
 from odnn_sep.io_paths import check_input_path
-from odnn_sep.io_read import check_header, count_lines, load_npz_arrays, looks_binary, pick_column
+from odnn_sep.io_read import (
+    check_header,
+    count_lines,
+    load_npz_arrays,
+    looks_binary,
+    pick_column,
+    row_index_column,
+)
+
+log = logging.getLogger(__name__)
 
 
 def _load_field(p: Path, value_name: list | None):
@@ -100,6 +110,11 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise FormatError(f"could not read {str(p)!r} as CSV: {str(exc).strip().splitlines()[-1]}") from None
     data = np.atleast_2d(data)
+    if data.ndim == 2 and len(header) == data.shape[1] and row_index_column(header, [data[:, 0], data[:, 1]]):
+        # a table library's row counter (pandas' index) before the coordinate: left out
+        log.warning("the first column (%r) of %s counts the rows (a table's index): left out; x is column %r",
+                    header[0], p.name, header[1])
+        data, header = data[:, 1:], header[1:]
     if data.size == 0 or data.shape[1] < 2 or data.shape[0] < 2:
         raise FormatError(f"{str(p)!r} needs a header row, at least two data rows and at least two columns "
                           "(x and a value)")

@@ -160,6 +160,9 @@ def _load_series(args, params, model):
                                 with_aux=True)
     if info.get("frames"):
         params, model = _frame_params(args, params, model, info)
+    if "row_index_column" in info and not args.quiet:
+        print(f"Note: the first column ({info['row_index_column']!r}) counts the rows (a table's index): left out; "
+              f"time is column {info['time']!r}", file=sys.stderr)
     if info.get("time_origin") and not args.quiet:
         print(f"Note: column {info['time']!r} holds date-times: time is in seconds since {info['time_origin']}",
               file=sys.stderr)

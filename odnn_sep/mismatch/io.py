@@ -81,8 +81,14 @@ def read_csv(path, column=None, *, aux=False):
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = rows[0]
-    from odnn_sep.io_read import check_header
+    from odnn_sep.io_read import check_header, row_index_column
     check_header(header, path=path, first_row=rows[1])
+    dropped = None
+    if row_index_column(header, [[r[k] if k < len(r) else "" for r in rows[1:]] for k in range(2)]):
+        # a table library's row counter (pandas' unnamed index): time is the next column
+        dropped = header[0].strip()
+        rows = [r[1:] for r in rows]
+        header = rows[0]
     j = _pick_column(header, column, path)
     y = []
     for k, r in enumerate(rows[1:], start=2):
@@ -99,6 +105,8 @@ def read_csv(path, column=None, *, aux=False):
     # seconds, or date-times read as seconds since the first (the origin goes in the report)
     t, origin = time_values([r[0] for r in rows[1:]], path=path, name=header[0].strip())
     info = {"format": "csv", "column": header[j].strip(), "time": header[0].strip()}
+    if dropped is not None:
+        info["row_index_column"] = dropped
     if origin is not None:
         info["time_origin"] = origin
     if aux:

@@ -50,8 +50,12 @@ def read_series_csv(path, series, column=None):
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = [h.strip() for h in rows[0]]
-    from odnn_sep.io_read import check_header
+    from odnn_sep.io_read import check_header, row_index_column
     check_header(header, path=path, first_row=rows[1])
+    if series != header[0] and row_index_column(header, [[r[k] if k < len(r) else "" for r in rows[1:]]
+                                                         for k in range(2)]):
+        rows = [r[1:] for r in rows]     # a table library's row counter (see row_index_column)
+        header = header[1:]
     if series not in header:
         raise InputError(f"--series {series!r} is not a column of {str(path)!r}; {suggest_name(series, header)}"
                          f"columns: {', '.join(header)}")

@@ -36,7 +36,7 @@ def to_celsius(y, units):
     >>> to_celsius([212.0, 32.0], "degF")[0].tolist()
     [100.0, 0.0]
     >>> to_celsius([300.0, 350.0], None)[2].split(";")[0]
-    'warning: temperatures 300-350 look like kelvin'
+    'Warning: temperatures 300-350 look like kelvin'
     """
     y = np.asarray(y, float)
     if units == "degF":
@@ -47,10 +47,10 @@ def to_celsius(y, units):
         return y, "degC", None
     lo, hi = float(np.min(y)), float(np.max(y))
     if lo > LOOKS_LIKE_KELVIN:
-        note = (f"warning: temperatures {lo:.4g}-{hi:.4g} look like kelvin; the cooling physics assumes degC: "
+        note = (f"Warning: temperatures {lo:.4g}-{hi:.4g} look like kelvin; the cooling physics assumes degC: "
                 f"pass --units K (or --units degC if they are)")
     elif hi > LOOKS_LIKE_DEGF:
-        note = (f"warning: temperatures up to {hi:.4g} look like degF (above boiling in degC); the cooling "
+        note = (f"Warning: temperatures up to {hi:.4g} look like degF (above boiling in degC); the cooling "
                 f"physics assumes degC: pass --units degF (or --units degC if they are)")
     else:
         note = None
