@@ -39,6 +39,7 @@ class Saturation:
         return {"effect": "clipping", "parameters": {side: float(v) for side, v, _ in self.rails},
                 "interval95": {}, "score": None, "heldout_gain": None, "note": None,
                 "count": int(sum(k for _, _, k in self.rails)),
+                "rails": [[side, float(v), int(k)] for side, v, k in self.rails],
                 "description": (f"the sensor saturates: {'; '.join(parts)} (the record's extreme value, repeated) "
                                 f"were left out before any fit: a clipped stretch is not physics")}
 

@@ -134,4 +134,5 @@ def _entry(spikes, where, unit):
     return {"effect": "spikes", "parameters": {"count": spikes.count}, "interval95": {},
             "score": None, "heldout_gain": None, "note": None,
             "at": np.asarray(where).tolist(), "excess": [float(e) for e in spikes.excess[:20]],
-            "description": spikes.description(unit)}
+            "largest": float(np.max(np.abs(spikes.excess))) if spikes.count else 0.0,
+            "noise_level": float(spikes.sigma), "description": spikes.description(unit)}

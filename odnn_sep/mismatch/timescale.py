@@ -123,7 +123,9 @@ def time_power(family: str, name: str, own=frozenset()) -> int:
 class TimeUnits:
     """Converts parameters, models and results between the caller's time unit and the internal axis.
 
-    ``t_internal = t / scale``, so a parameter of time power ``q`` is ``value * scale ** -q`` inside.
+    ``t_internal = t / scale`` and ``y_internal = y / vscale`` (:mod:`~odnn_sep.mismatch.valuescale`),
+    so a parameter of time power ``q`` and value power ``r`` is ``value * scale ** -q * vscale ** -r``
+    inside.
 
     Examples
     --------
@@ -132,15 +134,23 @@ class TimeUnits:
     {'k': 4.0, 'c': 0.1, 'x0': 1.0}
     >>> u.outward({"k": 4.0, "q_drag": 0.05, "omega_pk": 3.0})
     {'k': 4e-06, 'q_drag': 0.05, 'omega_pk': 0.003}
+    >>> TimeUnits(1.0, "oscillator", vscale=1e-9).outward({"k": 4.0, "x0": 1.0, "beta": 0.5})
+    {'k': 4.0, 'x0': 1e-09, 'beta': 5e+17}
     """
 
-    def __init__(self, scale, family, own=frozenset(), aliases=None):
+    def __init__(self, scale, family, own=frozenset(), aliases=None, vscale=1.0):
         self.scale, self.family, self.own = float(scale), family, frozenset(own)
         self.aliases = dict(aliases or {})    # a joint fit's per-series name -> the preset's name (h_mug1 -> h)
+        self.vscale = float(vscale)           # values analysed as y / vscale (valuescale.py)
 
     def factor(self, name) -> float:
         """Internal value / caller's value of parameter ``name``."""
-        return self.scale ** -time_power(self.family, self.aliases.get(name, name), self.own)
+        base = self.aliases.get(name, name)
+        f = self.scale ** -time_power(self.family, base, self.own)
+        if self.vscale != 1.0 and base not in self.own:
+            from odnn_sep.mismatch.valuescale import value_power
+            f *= self.vscale ** -value_power(self.family, base)
+        return f
 
     def _map(self, values, inverse):
         out = {}

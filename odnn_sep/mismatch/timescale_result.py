@@ -43,20 +43,22 @@ def explain_in_caller_units(model, t, y, options):
     """
     from odnn_sep.mismatch.model import Model
     from odnn_sep.mismatch.presets import PRESETS
-    scale = ts.time_scale(model, t)
-    if scale == 1.0:
+    from odnn_sep.mismatch.valuescale import value_scale
+    scale, vscale = ts.time_scale(model, t), value_scale(model, y)
+    if scale == 1.0 and vscale == 1.0:
         return None
     from odnn_sep.mismatch.explain import explain
     user = isinstance(model, Model) and model.preset is None
     family = model.family if isinstance(model, Model) else PRESETS[str(model)].family
-    units = ts.TimeUnits(scale, family, own=set(model.start) if user else set())
+    units = ts.TimeUnits(scale, family, own=set(model.start) if user else set(), vscale=vscale)
     opts = dict(options)
     if opts.get("params"):
         opts["params"] = units.inward(opts["params"])
     opts["disturbance"] = ts.inward_disturbance(opts.get("disturbance"), scale)
     opts["inputs"] = ts.inward_inputs(opts.get("inputs"), scale)
     t = np.asarray(t, float)
-    res = explain(ts.internal_model(model, units), t / scale, y, **opts)
+    y_in = np.asarray(y, float) / vscale if vscale != 1.0 else y
+    res = explain(ts.internal_model(model, units), t / scale, y_in, **opts)
     return _caller_result(res, t, units, options.get("alpha", 0.05))
 
 
@@ -111,6 +113,12 @@ def _caller_result(res, t, units, alpha, span=None):
     from odnn_sep.mismatch.inputs import physical_warnings
     from odnn_sep.mismatch.locate import locate
     res.t = t
+    v = units.vscale
+    if v != 1.0:     # levels in the caller's value unit (valuescale.py)
+        res.y = np.asarray(res.y) * v
+        res.noise_sigma = None if res.noise_sigma is None else res.noise_sigma * v
+        res.heldout_rmse_before = None if res.heldout_rmse_before is None else res.heldout_rmse_before * v
+        res.heldout_rmse_after = None if res.heldout_rmse_after is None else res.heldout_rmse_after * v
     res.model = ts.caller_model(res.model, units)
     res.calibration = replace(res.calibration, fit=_fit(res.calibration.fit, units),
                               identifiability=_identifiability(res.calibration.identifiability, units))
@@ -122,16 +130,22 @@ def _caller_result(res, t, units, alpha, span=None):
     res.where = locate(t, res.calibration.fit.residual, sigma=res.noise_sigma, alpha=alpha)
     res.warnings = physical_warnings(res.final_fit.params)
     span = float(np.ptp(t)) if span is None else span
-    res.notes.append(f"time analysed as t / {units.scale:g} (the span of t, {span:.4g}, is far from "
-                     f"seconds-like); every parameter and interval is reported in the units of t")
+    if units.scale != 1.0:
+        res.notes.append(f"time analysed as t / {units.scale:g} (the span of t, {span:.4g}, is far from "
+                         f"seconds-like); every parameter and interval is reported in the units of t")
+    if v != 1.0:
+        top = float(np.max(np.abs(res.y)))
+        res.notes.append(f"values analysed as y / {v:g} (the largest, {top:.3g}, is far under 1); every "
+                         f"parameter, interval and level is reported in the units of y")
     return res
 
 
 def _fit(f, units):
-    """A fit in the caller's units (residuals, predictions and information criteria do not depend on them)."""
+    """A fit in the caller's units (residuals and sums of squares scale with the values' unit only)."""
     if f is None:
         return None
-    return replace(f, model=ts.caller_model(f.model, units), params=units.outward(f.params),
+    from odnn_sep.mismatch.valuescale import fit_outward
+    return replace(fit_outward(f, units.vscale), model=ts.caller_model(f.model, units), params=units.outward(f.params),
                    stderr=units.stderr_out(f.stderr))
 
 
@@ -140,6 +154,10 @@ def _candidate(c, units, seen=None):
     if id(c) in seen:
         return seen[id(c)]
     out = replace(c, fit=_fit(c.fit, units))
+    v = units.vscale
+    if v != 1.0:
+        out.heldout_rmse = None if c.heldout_rmse is None else c.heldout_rmse * v
+        out.heldout_mse = None if c.heldout_mse is None else np.asarray(c.heldout_mse) * v * v
     seen[id(c)] = out
     out.rival_candidates = [_candidate(r, units, seen) for r in c.rival_candidates]
     return out
@@ -155,8 +173,22 @@ def _disturbance(d, final, units, unit):
     """A found disturbance's entry with its parameters, intervals, times and sentence in the caller's units."""
     from odnn_sep.mismatch.disturbances import describe, linear_model
     d = dict(d)
+    v = units.vscale
     if d["effect"] == "spikes":
         d["at"] = [a * units.scale for a in d.get("at", [])]
+        if v != 1.0:
+            from odnn_sep.mismatch.spikes import Spikes
+            d["excess"] = [e * v for e in d.get("excess", [])]
+            d["largest"], d["noise_level"] = d["largest"] * v, d["noise_level"] * v
+            count = int(d["parameters"]["count"])
+            fake = Spikes(index=np.zeros(count, int), excess=np.full(count, d["largest"]), sigma=d["noise_level"])
+            d["description"] = fake.description(unit)
+        return d
+    if d["effect"] == "clipping":
+        if v != 1.0:
+            from odnn_sep.mismatch.saturation import Saturation
+            rails = [(side, val * v, k) for side, val, k in d["rails"]]
+            d = Saturation(keep=np.zeros(0, bool), rails=rails).entry(unit)
         return d
     d["parameters"] = units.outward(d["parameters"])
     d["interval95"] = {k: (None if v is None else [x / units.factor(k) for x in v]) for k, v in d["interval95"].items()}

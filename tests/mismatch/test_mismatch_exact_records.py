@@ -51,11 +51,18 @@ def test_cli_constant_record_one_line(tmp_path, capsys):
     assert len(err) == 1 and "constant" in err[0]
 
 
-def test_nanometre_oscillator_null_integrates_cleanly():
-    # integrated to 1e-11 absolute, a motion of 1e-9 carried a 1 % error: every effect fit "failed"
+def test_nanometre_oscillator_is_analysed_in_its_own_unit():
+    # integrated to 1e-11 absolute and stepped by 1e-5, a motion of 1e-9 had every effect fit "fail"
+    # and a cubic stiffness of 5e17 per m^2 s^2 never left 0; analysed as y / 1e-9 (valuescale.py)
+    # the record gives the verdict and parameters of the same record in nanometres
     t = np.linspace(0, 20, 400)
-    m = make_model("oscillator", {"k": 4.0, "c": 0.1, "x0": 1e-9})
-    y = m.predict(t) + 1e-11 * np.random.default_rng(1).normal(size=t.size)
-    res = explain("oscillator", t, y)
-    assert _names(res) == ([], []) and res.failed == []
-    assert any("smaller units" in n for n in res.notes)
+    m = make_model("oscillator", {"k": 4.0, "c": 0.1, "x0": 1.0}).with_effect("cubic_stiffness", {"beta": 0.5})
+    y = m.predict(t) + 0.01 * np.random.default_rng(1).normal(size=t.size)
+    nm, metres = explain("oscillator", t, y), explain("oscillator", t, y * 1e-9)
+    assert _names(nm) == _names(metres) == (["cubic_stiffness"], [])
+    assert metres.final_fit.params["beta"] * 1e-18 == pytest.approx(nm.final_fit.params["beta"], rel=1e-3)
+    assert metres.final_fit.params["x0"] * 1e9 == pytest.approx(nm.final_fit.params["x0"], rel=1e-3)
+    lo, hi = metres.final_intervals["beta"]
+    assert (lo * 1e-18, hi * 1e-18) == pytest.approx(nm.final_intervals["beta"], rel=1e-3)
+    assert metres.noise_sigma == pytest.approx(1e-9 * nm.noise_sigma, rel=1e-3)
+    assert any("values analysed as y / 1e-09" in n for n in metres.notes)
