@@ -76,7 +76,7 @@ def separator_of(header, first_row=None):
     Returns
     -------
     (str, bool) or None
-        The separator in words (``"';'"`` or ``"tabs"``) and whether the data use decimal commas;
+        The separator in words (``"';'"``, ``"tabs"`` or ``"spaces"``) and whether the data use decimal commas;
         None for a comma-separated header (or a single column without ``;`` or tabs).
 
     Examples
@@ -85,6 +85,8 @@ def separator_of(header, first_row=None):
     (True, ("';'", False), ('tabs', False))
     >>> separator_of(["t;x"], ["0", "000000;1", "001257"])
     ("';'", True)
+    >>> separator_of(["t T"], ["0.0 80.0"])
+    ('spaces', False)
     """
     cells = [str(c) for c in header]
     if len(cells) != 1:
@@ -94,7 +96,42 @@ def separator_of(header, first_row=None):
         if sep in cell:
             raw = ",".join(str(c) for c in first_row or []).strip()
             return name, any("," in v and _is_number(v.strip().replace(",", ".")) for v in raw.split(sep))
+    row = [str(c).strip() for c in first_row or []]
+    if len(cell.split()) >= 2 and len(row) == 1 and len(row[0].split()) >= 2 and all(map(_is_number, row[0].split())):
+        return "spaces", False     # 't T' over '0.0 80.0': a whitespace-separated table
     return None
+
+
+def leading_comments(rows) -> int:
+    """How many rows at the top of a CSV are comments (first cell starting with ``#``) before its header.
+
+    Loggers and instruments write lines such as ``# sensor: PT100`` above the header; they were read
+    as the header ("needs at least two columns, found ['# sensor: PT100']"). A ``#`` row directly
+    above rows of numbers with as many cells is the header itself (``#,t,T``, a row-number column).
+
+    Parameters
+    ----------
+    rows : list of list of str
+        The file's first rows, split at commas.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> leading_comments([["# export"], ["# sensor: PT100", " range 0-100"], ["t", "T"], ["0", "80"]])
+    2
+    >>> leading_comments([["#", "t", "T"], ["0", "0.0", "80"]])
+    0
+    """
+    k = 0
+    while k + 1 < len(rows) and rows[k] and str(rows[k][0]).lstrip().lstrip("\ufeff").startswith("#"):
+        nxt = rows[k + 1]
+        if len(rows[k]) == len(nxt) and all(_is_number(c) for c in nxt if str(c).strip()):
+            break
+        k += 1
+    return k
 
 
 def _is_number(text) -> bool:

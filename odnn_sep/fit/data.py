@@ -13,6 +13,7 @@ from odnn_sep.io_paths import check_input_path
 from odnn_sep.io_read import (
     check_header,
     count_lines,
+    leading_comments,
     load_npz_arrays,
     looks_binary,
     pick_column,
@@ -20,6 +21,8 @@ from odnn_sep.io_read import (
 )
 
 log = logging.getLogger(__name__)
+# Comment lines ('# ...') looked for above a CSV's header.
+MAX_COMMENT_LINES = 50
 
 
 def _load_field(p: Path, value_name: list | None):
@@ -98,13 +101,15 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
                  hint="decimate the data")
     try:
         with open(p, newline="", encoding="utf-8") as fh:
-            header = [h.strip() for h in fh.readline().strip().split(",")]
-            first = fh.readline().strip().split(",")
+            top = [fh.readline().strip().split(",") for _ in range(MAX_COMMENT_LINES + 2)]
+        skip = leading_comments([r for r in top if r != [""]])   # '# sensor: ...' lines above the header
+        header = [h.strip() for h in top[skip]]
+        first = top[skip + 1] if skip + 1 < len(top) else []
         # another separator or decimal commas: named before the numbers are misread
         check_header(header, path=p, first_row=first)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
-            data = np.genfromtxt(p, delimiter=",", skip_header=1, dtype=float, invalid_raise=True)
+            data = np.genfromtxt(p, delimiter=",", skip_header=skip + 1, dtype=float, invalid_raise=True)
     except FormatError:
         raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:

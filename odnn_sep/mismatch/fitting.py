@@ -427,9 +427,11 @@ def cv_folds(n, *, folds=4, blocks_per_fold=5, min_block=3):
     """
     bpf = min(blocks_per_fold, n // (folds * min_block))
     if bpf < 2:
+        fewest = 2 * 2 * min_block
+        hint = (f"fewer folds (--folds 2, at least {fewest} samples) analyse shorter series, with less power"
+                if folds > 2 and n >= fewest else "a longer record (or a finer sampling of it) is needed to test effects")
         raise InputError(f"too little data for the held-out split: {n} samples; need at least "
-                         f"{folds * 2 * min_block} ({folds} folds x 2 blocks x {min_block} samples); fewer folds "
-                         f"(--folds 2, at least {2 * 2 * min_block} samples) analyse shorter series, with less power")
+                         f"{folds * 2 * min_block} ({folds} folds x 2 blocks x {min_block} samples); {hint}")
     n_blocks = folds * bpf
     return np.minimum((np.arange(n) * n_blocks) // n, n_blocks - 1)
 

@@ -78,10 +78,11 @@ def read_csv(path, column=None, *, aux=False):
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
     rows = [r for r in rows if r and any(c.strip() for c in r)]
+    from odnn_sep.io_read import check_header, leading_comments, row_index_column
+    rows = rows[leading_comments(rows):]     # '# sensor: ...' lines above the header
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = rows[0]
-    from odnn_sep.io_read import check_header, row_index_column
     check_header(header, path=path, first_row=rows[1])
     dropped = None
     if row_index_column(header, [[r[k] if k < len(r) else "" for r in rows[1:]] for k in range(2)]):

@@ -47,6 +47,8 @@ def read_series_csv(path, series, column=None):
     from odnn_sep.mismatch.model import suggest_name
     with open(path, newline="") as fh:
         rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+    from odnn_sep.io_read import leading_comments
+    rows = rows[leading_comments(rows):]     # '# sensor: ...' lines above the header
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = [h.strip() for h in rows[0]]
