@@ -7,6 +7,8 @@ import numpy as np
 # water cooling in a room: deg C data stay below boiling; deg F data of a hot drink sit well above it
 LOOKS_LIKE_DEGF = 105.0
 LOOKS_LIKE_KELVIN = 200.0
+# --units K with every value under this is a unit mix-up (colder than -120 degC)
+NOT_KELVIN = 150.0
 # a pendulum's angle in radians stays under pi (a swing over the top is not a pendulum's record);
 # over 2 pi it is all but surely in degrees
 LOOKS_LIKE_DEGREES = 2 * np.pi
@@ -35,6 +37,10 @@ def to_celsius(y, units):
     --------
     >>> to_celsius([212.0, 32.0], "degF")[0].tolist()
     [100.0, 0.0]
+    >>> to_celsius([80.0, 20.0], "K")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --units K, but every value is under 150 (largest 80): that is below -120 degC; these look like degC (drop --units K, or give --units degC)
     >>> to_celsius([300.0, 350.0], None)[2].split(";")[0]
     'Warning: temperatures 300-350 look like kelvin'
     """
@@ -42,6 +48,10 @@ def to_celsius(y, units):
     if units == "degF":
         return (y - 32.0) * 5.0 / 9.0, "degC", "values converted from degF to degC for the physics"
     if units == "K":
+        if np.max(y) < NOT_KELVIN:
+            from odnn_sep.errors import InputError
+            raise InputError(f"--units K, but every value is under {NOT_KELVIN:g} (largest {np.max(y):.4g}): that is "
+                             f"below -120 degC; these look like degC (drop --units K, or give --units degC)")
         return y - 273.15, "degC", "values converted from K to degC for the physics"
     if units == "degC":
         return y, "degC", None
