@@ -193,10 +193,11 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step
 def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None = None,
                 mask: np.ndarray | None = None, min_score: float | None = None, angle_range: float = 45.0,
                 max_marks: int = 64, inpaint_lost: bool = True, random_state: int | None = 0,
-                mask_invert: bool | None = None, reference: np.ndarray | None = None) -> UnwatermarkResult:
+                mask_invert: bool | None = None, reference: np.ndarray | None = None,
+                check_beside: bool = True) -> UnwatermarkResult:
     """Remove a visible (alpha-blended) text watermark.
 
-    Why long (11 parameters): the public keyword API, one option per command-line flag.
+    Why long (12 parameters): the public keyword API, one option per command-line flag.
 
     Parameters
     ----------
@@ -214,6 +215,8 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     reference : a logo image (array, with or without alpha channel) to find (position, scale 0.25-4x,
         rotation within ``angle_range``, tiled copies) and remove; see ``refmode``. The report's
         ``residual_mark`` says whether the mark is still visible in the output
+    check_beside : text mode: look for text of the mark's colour and opacity beside the line removed
+        (another line of the mark, not given: a warning and ``residual_mark.text_beside``)
     min_score : detection threshold of text mode (``detect.detection_score``: mean log-ratio of the
         edge patches' photo-only residual to their residual under the mark, predicted out of
         sample); default ``MIN_SCORE``, just above the best chance score on clean photos
@@ -267,6 +270,8 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     report.update({"alpha": round(float(alpha), 5), **color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})
+    if text and check_beside and not report["residual_mark"].get("visible"):
+        _text_beside(y, M, alpha, color, report)
     score = report.get("match_score")
     if text and font is None and score is not None and score < LOW_CONFIDENCE_SCORE \
             and not report["residual_mark"].get("visible"):
@@ -274,6 +279,17 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
                     "the tool guessed: a fainter copy of its letters may remain; check the output, or give "
                     "--font with the mark's font file", score, LOW_CONFIDENCE_SCORE)
     return UnwatermarkResult(restored, float(alpha), np.asarray(color), M, lost, report)
+
+
+def _text_beside(y, M, alpha, color, report) -> None:
+    """Warn (and report) when text of the mark's colour and opacity sits beside the line removed."""
+    from odnn_sep.image.residual_beside import text_beside
+
+    found = text_beside(y, M, alpha, color, float(report.get("angle_deg") or 0.0))
+    report["residual_mark"]["text_beside"] = found
+    if found is not None:
+        log.warning("text of the mark's colour and opacity remains %s the line removed (another line of the mark?): "
+                    "give every line of the mark, separated by line breaks (--text $'line 1\\nline 2')", found["side"])
 
 
 __all__ = ["unwatermark", "UnwatermarkResult", "color_report", "MIN_SCORE", "WORK_MAX_PX"]

@@ -69,7 +69,7 @@ def unwatermark_lines(image, lines, **options):
     current, first, masks, lost, per_line = image, None, [], [], []
     for line in lines:
         try:
-            r = unwatermark(current, text=line, **options)
+            r = unwatermark(current, text=line, check_beside=False, **options)
         except MarkNotFoundError as exc:
             per_line.append({"text": line, "outcome": "not found", "why": str(exc)})
             continue

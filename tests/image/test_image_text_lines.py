@@ -55,3 +55,11 @@ def test_cli_multiline_text_and_other_control_characters(tmp_path, capsys):
     assert main(["unwatermark", str(src), "-o", str(tmp_path / "o2.png"), "--text", "Studio\t2024"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "control character" in err[0] and not (tmp_path / "o2.png").exists()
+
+
+def test_one_line_given_warns_about_the_line_beside():
+    y, _ = _two_line_mark()
+    r = unwatermark(y, text="Studio 2024", font="DejaVuSans-Bold")
+    assert r.report["residual_mark"]["text_beside"]["side"] == "below"
+    both = unwatermark(y, text="Studio 2024\nJohn Doe", font="DejaVuSans-Bold")
+    assert "text_beside" not in both.report["residual_mark"] or both.report["residual_mark"]["text_beside"] is None
