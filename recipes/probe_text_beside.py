@@ -34,6 +34,16 @@ def _blend(img, M, alpha, color):
     return np.clip(np.round((1 - aM) * photo + aM * col), 0, 255).astype(np.uint8)
 
 
+def _marked(img, cov, rng, alpha_lo):
+    """The photo with coverage ``cov`` blended at a random place, opacity (``alpha_lo``-0.8) and colour."""
+    H, W = img.shape[:2]
+    alpha, color = float(rng.uniform(alpha_lo, 0.8)), _colour(rng)
+    x0, y0 = int(rng.integers(2, W - cov.shape[1] - 2)), int(rng.integers(2, H - cov.shape[0] - 2))
+    M = np.zeros((H, W))
+    M[y0:y0 + cov.shape[0], x0:x0 + cov.shape[1]] = cov
+    return _blend(img, M, alpha, color)
+
+
 def _colour(rng):
     r = rng.random()
     return np.array((255, 255, 255) if r < 0.4 else (0, 0, 0) if r < 0.7 else rng.integers(0, 256, 3), float)
@@ -81,16 +91,11 @@ def two_line_runs(seed):
             cov = _two_lines(l1, l2, font, size, gap, angle)
             if cov.shape[0] >= H - 8 or cov.shape[1] >= W - 8:
                 continue
-            alpha, color = float(rng.uniform(0.3, 0.8)), _colour(rng)
-            x0, y0 = int(rng.integers(2, W - cov.shape[1] - 2)), int(rng.integers(2, H - cov.shape[0] - 2))
-            M = np.zeros((H, W))
-            M[y0:y0 + cov.shape[0], x0:x0 + cov.shape[1]] = cov
+            y = _marked(img, cov, rng, 0.3)
             which = l1 if rng.random() < 0.5 else l2
-            tb = _run(_blend(img, M, alpha, color), which, font)
-            if tb is False:
-                continue
-            n += 1
-            warned += tb is not None
+            tb = _run(y, which, font)
+            n += tb is not False
+            warned += tb not in (None, False)
     return warned, n
 
 
@@ -108,15 +113,9 @@ def single_line_runs(seed):
             cov = render(text, resolve_font(font), None, size, 0.0, 0, float(rng.uniform(-45, 45)))
             if cov.shape[0] >= H - 8 or cov.shape[1] >= W - 8:
                 continue
-            alpha, color = float(rng.uniform(0.25, 0.8)), _colour(rng)
-            x0, y0 = int(rng.integers(2, W - cov.shape[1] - 2)), int(rng.integers(2, H - cov.shape[0] - 2))
-            M = np.zeros((H, W))
-            M[y0:y0 + cov.shape[0], x0:x0 + cov.shape[1]] = cov
-            tb = _run(_blend(img, M, alpha, color), text, font)
-            if tb is False:
-                continue
-            n += 1
-            warned += tb is not None
+            tb = _run(_marked(img, cov, rng, 0.25), text, font)
+            n += tb is not False
+            warned += tb not in (None, False)
     return warned, n
 
 
