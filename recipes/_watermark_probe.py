@@ -9,7 +9,8 @@ Font sources none of the other recipes use (nothing is downloaded, no font file 
   Source Serif 4, Source Code Pro); skipped where absent.
 
 Cases per draw: text of 1 character to a long sentence, one mark, a tiled (repeated) mark or a mark of
-2-3 lines (the command run once per line, each on the previous output, as README says); grey or colour
+2-3 lines (the command run once per line, each on the previous output: the probe's own protocol; the
+command also takes every line at once, separated by line breaks); grey or colour
 photos (skimage's bundled images the other recipes do not use, plus ../shared/data/photos_clean_skimage),
 small (about 100-200 px), normal or large (upscaled 2x); mark near the border (partly cut) or anywhere;
 white, black or any colour; opacity low (0.1-0.2), middle or high (0.85-0.95); angle 0 or up to 35 deg;
