@@ -124,51 +124,6 @@ class MismatchResult:
 EXACT_FIT = 10.0
 
 
-# Mechanical records whose values are all under this (metres for a motion of nanometres): the
-# effects that grow with the motion are searched with steps sized for values near 1 and are missed
-# (a cubic stiffness of an oscillator was missed at amplitudes of 1e-7, found at 1e-6).
-SMALL_VALUES = 1e-5
-SMALL_VALUE_FAMILIES = ("oscillator", "freefall")
-
-
-def _small_values_note(m, y):
-    """A note for a mechanical record in units far larger than its motion, or None."""
-    top = float(np.max(np.abs(y))) if len(y) else 0.0
-    if m.family not in SMALL_VALUE_FAMILIES or not 0 < top < SMALL_VALUES:
-        return None
-    return (f"every value of the record is under {SMALL_VALUES:g} (largest {top:.3g}): the effects that grow with "
-            f"the motion (cubic stiffness, drag, friction) are searched with steps sized for values near 1 and "
-            f"can be missed at this scale; give the record in smaller units (mm, um or nm)")
-
-
-def _angle_note(m, y):
-    """A note for a pendulum angle record that looks like degrees, or None."""
-    if m.family != "pendulum" or float(m.start.get("L", 0.0)) > 0:
-        return None     # with L the record is a tangential acceleration
-    from odnn_sep.mismatch.units import degrees_warning
-    return degrees_warning(y)
-
-
-def _fall_direction_note(m, t, y):
-    """A note for a free-fall record that curves upwards (a distance fallen, positive down), or None.
-
-    Gravity bends a height downwards (h0 - g t^2 / 2) whatever the throw; a record whose t^2 term is
-    positive beyond 5 standard errors was measured the other way, and the preset's g sits at 0.
-    """
-    if m.family != "freefall" or np.ndim(t) != 1 or len(y) < 5:
-        return None
-    u = (t - t[0]) / max(float(np.ptp(t)), 1e-300)
-    X = np.stack([np.ones_like(u), u, u * u], axis=1)
-    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
-    r = y - X @ coef
-    cov = np.linalg.pinv(X.T @ X) * float(r @ r) / max(len(y) - 3, 1)
-    if not coef[2] > 5 * np.sqrt(max(cov[2, 2], 0.0)):
-        return None
-    return ("the record curves upwards (its t^2 term is positive): it looks like the distance fallen, positive "
-            "down, while the free-fall preset describes a height, h0 - g t^2 / 2; analyse the negated column "
-            "(h0 - d) for gravity and drag")
-
-
 def _validate(t, y, model):
     if np.ndim(t) == 2 and isinstance(model, Model) and model.ndim != 2:
         raise InputError(f"model {model.name!r} describes a time series, but the data are a 2-D field "
@@ -283,9 +238,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     if len(y) < SMALL_DATA:
         res.notes.append(f"only {len(y)} samples: the held-out test ({folds} folds) has little power, so a "
                          f"missing effect of moderate size may go unnamed; 'nothing missing' is weak evidence here")
-    for note in (_small_values_note(m, y), _angle_note(m, y), _fall_direction_note(m, t, y)):
-        if note:
-            res.notes.append(note)
+    from odnn_sep.mismatch.record_notes import record_notes
+    res.notes.extend(record_notes(m, t, y))
     from odnn_sep.mismatch.locate import noise_sigma
     # a record the model reproduces to rounding has no noise to measure against (resolution.py)
     res.noise_sigma = max(noise_sigma(base.residual), resolution(y))
