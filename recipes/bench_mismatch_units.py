@@ -33,6 +33,15 @@ VALUE_SYSTEMS = ("freefall/quadratic_drag", "oscillator/air_drag", "oscillator/d
 VALUE_SECTION = "mismatch_values"
 
 
+def _converted(res, factor):
+    """Final parameters, intervals and standard errors, each multiplied by ``factor[name]``."""
+    f = res.final_fit
+    p = {k: float(v) * factor[k] for k, v in f.params.items() if not isinstance(v, str)}
+    iv = {k: np.array(v) * factor[k] for k, v in f.intervals().items()}
+    se = {k: float(v) * factor[k] for k, v in f.stderr.items()}
+    return p, iv, se
+
+
 def in_given_values(res, family, vscale):
     """Final parameters, intervals and standard errors converted back to the values as given (the
     powers of ``odnn_sep.mismatch.valuescale``; None where this version has no such module)."""
@@ -40,23 +49,13 @@ def in_given_values(res, family, vscale):
         from odnn_sep.mismatch.valuescale import value_power
     except ImportError:
         return None
-    f = res.final_fit
-    back = {k: vscale ** -value_power(family, k) for k in f.params}
-    p = {k: float(v) * back[k] for k, v in f.params.items() if not isinstance(v, str)}
-    iv = {k: np.array(v) * back[k] for k, v in f.intervals().items()}
-    se = {k: float(v) * back[k] for k, v in f.stderr.items()}
-    return p, iv, se
+    return _converted(res, {k: vscale ** -value_power(family, k) for k in res.final_fit.params})
 
 
 def in_seconds(res, family, scale):
     """Final parameters, intervals and standard errors converted to seconds."""
     from odnn_sep.mismatch.timescale import time_power
-    f = res.final_fit
-    to_s = {k: scale ** -time_power(family, k) for k in f.params}
-    p = {k: float(v) * to_s[k] for k, v in f.params.items() if not isinstance(v, str)}
-    iv = {k: np.array(v) * to_s[k] for k, v in f.intervals().items()}
-    se = {k: float(v) * to_s[k] for k, v in f.stderr.items()}
-    return p, iv, se
+    return _converted(res, {k: scale ** -time_power(family, k) for k in res.final_fit.params})
 
 
 def run_case(name, null, seed=3, values=False):

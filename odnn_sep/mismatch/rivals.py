@@ -84,6 +84,12 @@ def outlier_mask(resid) -> np.ndarray:
     return np.abs(r - med) > OUTLIER_Z * mad
 
 
+def _sum_sq(e, floor2) -> float:
+    """Sum of squares of ``e`` with the record's resolution per sample (resolution.py), never 0."""
+    e = np.asarray(e, float)
+    return max(float(e @ e) + len(e) * floor2, 1e-300)
+
+
 def prewhitened_score(resid, ref_resid, n_params, coefs, mask, floor2=0.0) -> float:
     """BIC of the AR-prewhitened residual; at ``mask`` samples only ``resid - ref_resid`` counts.
 
@@ -118,7 +124,7 @@ def prewhitened_score(resid, ref_resid, n_params, coefs, mask, floor2=0.0) -> fl
     x = np.where(mask, np.asarray(resid) - np.asarray(ref_resid), resid)
     e = prewhiten(x, coefs)
     n = max(len(e), 1)
-    return float(n * np.log(max(float(e @ e) + len(e) * floor2, 1e-300) / n) + n_params * np.log(n))
+    return float(n * np.log(_sum_sq(e, floor2) / n) + n_params * np.log(n))
 
 
 def _rival_starts(stub, rival):
@@ -253,7 +259,7 @@ def step_score(cur, resid, n_params, t) -> float:
     """
     n_eff = cur.n_eff
     floor2 = getattr(cur, "floor2", 0.0)   # cur.rss includes it (fitting.fit)
-    plain = float(n_eff * np.log(max(cur.rss, 1e-300) / max(float(resid @ resid) + len(resid) * floor2, 1e-300))
+    plain = float(n_eff * np.log(max(cur.rss, 1e-300) / _sum_sq(resid, floor2))
                   + (cur.n_params - n_params) * np.log(max(n_eff, 1)))
     if np.ndim(t) != 1:
         return plain
@@ -262,6 +268,5 @@ def step_score(cur, resid, n_params, t) -> float:
         return plain
     e_cur, e_new = prewhiten(cur.residual, coefs), prewhiten(resid, coefs)
     n = max(n_eff - len(coefs), 1)
-    return float(n * np.log(max(float(e_cur @ e_cur) + len(e_cur) * floor2, 1e-300)
-                            / max(float(e_new @ e_new) + len(e_new) * floor2, 1e-300))
+    return float(n * np.log(_sum_sq(e_cur, floor2) / _sum_sq(e_new, floor2))
                  + (cur.n_params - n_params) * np.log(n))
