@@ -8,6 +8,7 @@ Single-line marks: it should not.
 
     python recipes/probe_text_beside.py --seed 0            # development seed
     python recipes/probe_text_beside.py --seed 5 --single-seeds 5 6
+    python recipes/probe_text_beside.py --seed 5 --scale 3   # photos and marks 3x larger
 """
 from __future__ import annotations
 
@@ -68,6 +69,15 @@ def _two_lines(l1, l2, font, size, gap, angle):
     return cv2.warpAffine(block.astype(np.float32), rot, (nw, nh), flags=cv2.INTER_CUBIC).clip(0, 1)
 
 
+def _photos(scale):
+    """The benchmark's photos, enlarged ``scale`` times (bicubic) so that the marks drawn on them are too."""
+    import cv2
+    from _watermark_unseen import photos
+
+    return [(n, img if scale == 1 else cv2.resize(img, None, fx=scale, fy=scale, interpolation=cv2.INTER_CUBIC))
+            for n, img in photos()]
+
+
 def _run(y, text, font):
     from odnn_sep.image import unwatermark
     try:
@@ -77,11 +87,10 @@ def _run(y, text, font):
     return r.report["residual_mark"].get("text_beside")
 
 
-def two_line_runs(seed):
-    from _watermark_unseen import photos
+def two_line_runs(seed, scale=1):
     rng = np.random.default_rng(seed)
     warned = n = 0
-    for _name, img in photos():
+    for _name, img in _photos(scale):
         H, W = img.shape[:2]
         for _ in range(2):
             l1, l2 = PAIRS[int(rng.integers(len(PAIRS)))]
@@ -99,13 +108,13 @@ def two_line_runs(seed):
     return warned, n
 
 
-def single_line_runs(seed):
-    from _watermark_unseen import photos, render
+def single_line_runs(seed, scale=1):
+    from _watermark_unseen import render
 
     from odnn_sep.image.render import resolve_font
     rng = np.random.default_rng(seed)
     warned = n = 0
-    for _name, img in photos():
+    for _name, img in _photos(scale):
         H, W = img.shape[:2]
         for _ in range(3):
             text, font = str(rng.choice(WORDS)), FONTS[int(rng.integers(3))]
@@ -123,14 +132,15 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seed", type=int, default=0, help="seed of the two-line marks")
     ap.add_argument("--single-seeds", type=int, nargs="*", default=None, help="seeds of the single-line marks")
+    ap.add_argument("--scale", type=int, default=1, help="enlarge the photos (and so the marks) this many times")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
     logging.disable(logging.WARNING)
-    w, n = two_line_runs(args.seed)
-    print(f"two-line marks, one line given (seed {args.seed}): warned on {w} of {n} marks found")
+    w, n = two_line_runs(args.seed, args.scale)
+    print(f"two-line marks, one line given (seed {args.seed}, scale {args.scale}): warned on {w} of {n} marks found")
     for s in args.single_seeds if args.single_seeds is not None else [args.seed]:
-        w, n = single_line_runs(s)
-        print(f"single-line marks (seed {s}): warned on {w} of {n} marks found")
+        w, n = single_line_runs(s, args.scale)
+        print(f"single-line marks (seed {s}, scale {args.scale}): warned on {w} of {n} marks found")
     return 0
 
 

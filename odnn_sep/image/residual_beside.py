@@ -34,11 +34,24 @@ MIN_CONTRAST = 0.08
 SHARE_OF_LINE = 0.25
 # ... and this many times the density of bands further away (the photo's own mark-coloured pixels).
 OVER_PHOTO = 3.0
+# A line taller than this (px, upright) is read on a copy reduced to this height: the bands span 15 line
+# heights and the median window 0.6 of one, so a 160 px line on a 12-MP photo cost seconds at full size,
+# while the strokes of a line this tall are still several pixels wide (their interiors hold share 1).
+WORK_LINE_PX = 48
 
 
-def _upright(img, M, angle_deg, pad):
-    """The crop around the mark (``pad`` px more on each side) turned so that the line is horizontal:
-    (image crop, coverage crop); of the two turning senses, the one whose coverage is lowest."""
+def _upright_height(M, angle_deg) -> float:
+    """Height in px of the mark's line turned horizontal (the lower of the two turning senses)."""
+    rr, cc = np.nonzero(M > 0.3)
+    if not rr.size:
+        return 0.0
+    t = np.deg2rad(float(angle_deg))
+    return float(min(np.ptp(np.cos(t) * rr + s * np.sin(t) * cc) for s in (-1.0, 1.0)))
+
+
+def _crop(img, M, pad, shrink):
+    """The crop around the mark (``pad`` px more on each side), as float32, reduced ``shrink`` times
+    when that is over 1 (area averaging): (image crop, coverage crop)."""
     import cv2
 
     H, W = M.shape
@@ -47,16 +60,28 @@ def _upright(img, M, angle_deg, pad):
     c0, c1 = max(0, cc.min() - pad), min(W, cc.max() + pad + 1)
     sub = np.ascontiguousarray(np.asarray(img[r0:r1, c0:c1], dtype=np.float32))   # a view of a large image: its crop
     m = np.ascontiguousarray(M[r0:r1, c0:c1], dtype=np.float32)
+    if shrink > 1:
+        size = (max(1, round((c1 - c0) / shrink)), max(1, round((r1 - r0) / shrink)))
+        sub, m = (cv2.resize(a, size, interpolation=cv2.INTER_AREA) for a in (sub, m))
+    return sub, m
+
+
+def _upright(sub, m, angle_deg):
+    """The crop turned so that the line is horizontal: (image crop, coverage crop); of the two
+    turning senses, the one whose coverage is lowest."""
+    import cv2
+
+    h, w = m.shape
     best = None
     for a in {float(angle_deg), -float(angle_deg)}:
-        rot = cv2.getRotationMatrix2D(((c1 - c0) / 2.0, (r1 - r0) / 2.0), a, 1.0)
-        mr = cv2.warpAffine(m, rot, (c1 - c0, r1 - r0), flags=cv2.INTER_LINEAR)
+        rot = cv2.getRotationMatrix2D((w / 2.0, h / 2.0), a, 1.0)
+        mr = cv2.warpAffine(m, rot, (w, h), flags=cv2.INTER_LINEAR)
         rows = np.nonzero(mr.max(axis=1) > 0.3)[0]
         height = np.ptp(rows) if rows.size else np.inf
         if best is None or height < best[0]:
             best = (height, rot, mr)
     _, rot, mr = best
-    ir = cv2.warpAffine(sub, rot, (c1 - c0, r1 - r0), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT)
+    ir = cv2.warpAffine(sub, rot, (w, h), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT)
     return (ir if ir.ndim == 3 else ir[..., None]), mr
 
 
@@ -118,7 +143,8 @@ def text_beside(y, M, alpha, color, angle_deg) -> dict | None:
         return None
     rows = np.nonzero((M > 0.05).any(axis=1))[0]
     h0 = max(int(np.ptp(rows)) + 1, 4)
-    img, m = _upright(y, M, angle_deg, pad=7 * h0)
+    shrink = _upright_height(M, angle_deg) / WORK_LINE_PX
+    img, m = _upright(*_crop(y, M, 7 * h0, shrink), angle_deg)
     on = m > 0.05
     rr = np.nonzero(on.any(axis=1))[0]
     cc = np.nonzero(on.any(axis=0))[0]
