@@ -77,6 +77,9 @@ def fonts_for(text: str, fonts: list, *, given: bool) -> list:
     ...
     odnn_sep.errors.InputError: none of the fonts tried (DejaVuSans-Bold, ...) has a glyph for '水' (U+6C34), '印' (U+5370): ...
     """
+    if not given and all(32 <= ord(c) < 127 for c in str(text)):
+        # every default face draws Basic Latin (reading their five cmaps cost a quarter second a command)
+        return list(fonts)
     keep = [f for f in fonts if not missing(text, f)]
     if keep:
         return keep
