@@ -22,6 +22,8 @@ from odnn_sep.audio.blockplan import sin2_window
 
 log = logging.getLogger(__name__)
 MAX_DRIFT_HZ = 1.6    # farthest the fundamental is followed from where the spectrum puts it (+ 1 %)
+BASELINE_CHUNKS = 100  # the input's baseline, taken out of the chunk sums: a mean over 1 s (_remove_baseline)
+BASELINE_MIN = 10.0    # ... when it is this many times what the input's own fluctuation gives
 
 
 @dataclass
@@ -144,6 +146,7 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
             X[nfull] = 0.0
             X[nfull, :, : nx - nfull * m] = x[nfull * m:].T
         S = np.dot(X.reshape(nj * C, m), E).reshape(nj, C, 2 * K)
+        _remove_baseline(S, X, E, nx - nfull * m)
         j = np.arange(start // m, start // m + nj, dtype=float)
         # reference phase at each chunk start, reduced modulo one cycle before scaling (precision)
         cyc = np.outer(j * (m / sr), kf)
@@ -164,6 +167,42 @@ def demodulate(source, f_ref: float, ks, *, read_frames: int = 1 << 20, progress
         if progress is not None:
             progress(nx)
     return D
+
+
+def _remove_baseline(S, X, E, short):
+    """Take the input's baseline (its mean over ``BASELINE_CHUNKS`` chunks around each chunk) out of
+    the chunk sums ``S`` (chunks, channels, 2K), in place; ``short``: samples in a short last chunk.
+
+    A constant ``a`` gives every chunk the sum ``a sum_tau E[tau]``, which is not zero unless the
+    chunk holds whole periods of ``k f_ref``: in the baseband it is a line at ``-k f_ref`` aliased by
+    the 100 Hz chunk rate, perfectly steady and locked to the comb. A DC offset of six times the
+    noise made a comb of 36 even harmonics at 49.83 Hz pass every lock test (evidence 162 against
+    the true hum's 24). The baseline averages over whole periods of 50 and 60 Hz, so the hum adds
+    next to nothing to it.
+    """
+    nj = S.shape[0]
+    m = X.shape[2]
+    counts = np.full(nj, float(m))
+    if short:
+        counts[-1] = short
+    mean = X.sum(axis=2, dtype=np.float64) / counts[:, None]           # (chunks, channels)
+    c = np.vstack([np.zeros((1, mean.shape[1])), np.cumsum(mean, axis=0)])
+    # exactly 1 s (whole periods of 50 and 60 Hz and their harmonics), half a chunk off centre
+    h = BASELINE_CHUNKS // 2
+    lo, hi = np.maximum(np.arange(nj) - h, 0), np.minimum(np.arange(nj) + h, nj)
+    base = (c[hi] - c[lo]) / (hi - lo)[:, None]
+    # only a baseline the read's own fluctuation cannot make: a noise of the same spread gives 1-s
+    # means of about sd / sqrt(1 s of samples); below BASELINE_MIN times that the chunk sums are
+    # left exactly as they are (the correction would only move them within their noise)
+    sd = np.sqrt(np.maximum(np.mean(np.square(X, dtype=np.float64), axis=(0, 2)) - np.mean(mean, axis=0) ** 2, 0.0))
+    real = np.sqrt(np.mean(base ** 2, axis=0)) > BASELINE_MIN * sd / np.sqrt(BASELINE_CHUNKS * m)
+    if not real.any():
+        return
+    base[:, ~real] = 0.0
+    G = np.broadcast_to(E.sum(axis=0, dtype=np.float64), (nj, E.shape[1])).copy()
+    if short:
+        G[-1] = E[:short].sum(axis=0, dtype=np.float64)
+    S -= (base[:, :, None] * G[:, None, :]).astype(np.float32)
 
 
 def _energy(A, tau, ks, grid):
