@@ -138,16 +138,21 @@ def file_cases(d: Path):
     return rows
 
 
+def print_rows(rows, header, t0) -> None:
+    """The rows as a Markdown table under ``header`` (three column names), and the time on stderr."""
+    print("| " + " | ".join(header) + " |")
+    print("|---|---|---|")
+    for a, b, c in rows:
+        print(f"| {a} | {b} | {c.replace('|', '/')} |")
+    print(f"\n{len(rows)} cases in {time.time() - t0:.0f} s", file=sys.stderr)
+
+
 def main() -> int:
     t0 = time.time()
     rows = mismatch_cases()
     with tempfile.TemporaryDirectory() as d:
         rows += file_cases(Path(d))
-    print("| input | truth | what the tool says |")
-    print("|---|---|---|")
-    for a, b, c in rows:
-        print(f"| {a} | {b} | {c.replace('|', '/')} |")
-    print(f"\n{len(rows)} cases in {time.time() - t0:.0f} s", file=sys.stderr)
+    print_rows(rows, ("input", "truth", "what the tool says"), t0)
     return 0
 
 
