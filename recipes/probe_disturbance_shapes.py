@@ -6,7 +6,8 @@ the tool answered; run it with another version on ``PYTHONPATH`` to compare.
 
 - mismatch, null records (nothing missing from the model) under a square-wave, sawtooth, amplitude-
   modulated or two-line pickup, a chirp, a step of the sensor's level, a drift plus a line, a burst;
-  on an oscillator, a cooling curve (HVAC cycles) and a pendulum (a line with its harmonic);
+  on an oscillator, a cooling curve (HVAC cycles) and a pendulum (a line with its harmonic); then
+  four of these shapes over records that do miss an effect (cubic stiffness, radiation, large angle);
 - denoise: 50 Hz hum over a pink-noise and note host with a DC offset, a splice (phase jump), a step
   of the mains frequency, a clipped 60 Hz sine, amplitude modulation at 0.05-2 Hz (the gain is the
   hum's power over the power of what the output has wrong).
@@ -59,6 +60,20 @@ def mismatch_rows():
                       0.01 * np.cos(2 * np.pi * 6 * tp) + 0.005 * np.cos(2 * np.pi * 12 * tp + 1)),
                      ("square wave 7.1 Hz, 0.01 rad", 0.01 * square(2 * np.pi * 7.1 * tp))):
         rows.append(("pendulum, nothing missing", label, _mismatch("pendulum", tp, pend + d)))
+    # the same shapes over a record that does miss an effect: it should be named, the shape absorbed
+    duff = make_model("oscillator", {"k": 4.0, "c": 0.1, "x0": 1.0}).with_effect(
+        "cubic_stiffness", {"beta": 0.5}).predict(t) + 0.01 * rng.normal(size=t.size)
+    rows.append(("oscillator, cubic stiffness missing", "square wave 3.7 Hz, 0.05",
+                 _mismatch("oscillator", t, duff + 0.05 * square(2 * np.pi * 3.7 * t + 1))))
+    rad = make_model("cooling", {"h": 0.002}).with_effect("radiation", {"r_rad": 0.002}).predict(tc) + \
+        0.05 * rng.normal(size=tc.size)
+    rows.append(("cooling, radiation missing", "HVAC square wave, 120 s, 0.2 K",
+                 _mismatch("cooling", tc, rad + 0.2 * square(2 * np.pi * tc / 120))))
+    rows.append(("cooling, radiation missing", "sensor step 0.3 K at 900 s", _mismatch("cooling", tc, rad + 0.3 * (tc > 900))))
+    big = make_model("pendulum", {"w2": 9.0, "c": 0.05, "theta0": 0.8}).with_effect(
+        "large_angle", {"s_angle": 1.0}).predict(tp) + 0.002 * rng.normal(size=tp.size)
+    rows.append(("pendulum, large angle missing", "6 Hz line with its 12 Hz harmonic",
+                 _mismatch("pendulum", tp, big + 0.01 * np.cos(2 * np.pi * 6 * tp) + 0.005 * np.cos(2 * np.pi * 12 * tp + 1))))
     return rows
 
 
