@@ -113,6 +113,7 @@ class FileSource:
             self.f.close()
             raise FormatError(f"input audio file {self.name!r} has no samples (0 frames)")
         self.truncated = None
+        self._decoded = self._decode_whole() if not self.f.seekable() else None
         self.reset_read_ahead()
         declared = wav_declared_frames(self.path, self.channels, self.subtype) if self.format == "WAV" else None
         if declared is not None and declared > self.frames:
@@ -122,6 +123,26 @@ class FileSource:
                 f"({self.frames / self.sr:.2f} s); it ends at {self.frames / self.sr:.2f} s and only that much is "
                 f"processed")
             log.warning(self.truncated)
+
+    def _decode_whole(self) -> np.ndarray:
+        """The whole file as float32 (frames, channels), for a coding libsndfile cannot seek in (GSM
+        6.10 in WAV, a telephone format): every pass reads the input again from a frame it names,
+        which such a file cannot give (the read failed with "Seek attempted on unseekable file
+        type", called a corrupt file). At most ``MAX_UNSEEKABLE_SAMPLES`` samples (memory)."""
+        import soundfile as sf
+
+        if self.frames * self.channels > MAX_UNSEEKABLE_SAMPLES:
+            self.f.close()
+            raise FormatError(
+                f"input audio file {self.name!r} is coded as {self.subtype}, which cannot be read in blocks, and "
+                f"holds {self.frames / self.sr / 60:.0f} min, more than "
+                f"{MAX_UNSEEKABLE_SAMPLES / self.channels / self.sr / 60:.0f} min read whole; convert it to WAV "
+                f"(PCM) or FLAC first, e.g. sox in.wav -e signed-integer out.wav")
+        try:
+            return self.f.read(self.frames, dtype="float32", always_2d=True)
+        except (sf.LibsndfileError, RuntimeError) as exc:
+            raise FormatError(f"could not read input audio file {self.name!r}: {str(exc).splitlines()[0]} "
+                              f"(the file may be truncated or corrupt)") from None
 
     def read(self, start: int, n: int) -> np.ndarray:
         """Samples ``start .. start + n`` (clipped to the file), float64 (m, channels); reads that
@@ -163,14 +184,22 @@ class FileSource:
         import soundfile as sf
 
         try:
-            self.f.seek(start)
-            if self.subtype == "PCM_16":
-                # libsndfile's own float conversion of 16-bit samples is x / 32768, done here on the
-                # int16 read instead: the same values, at a tenth of the read's time
-                raw = self.f.read(n, dtype="int16", always_2d=True)
-                out = np.multiply(raw, 1.0 / 32768.0, out=out[: raw.shape[0]] if out is not None else None)
+            if self._decoded is not None:      # a coding without seeking, read whole at the opening
+                part = self._decoded[start: start + n]
+                if out is None:
+                    out = part.astype(np.float64)
+                else:
+                    out = out[: part.shape[0]]
+                    out[...] = part
             else:
-                out = self.f.read(n, dtype="float64", always_2d=True, out=out)
+                self.f.seek(start)
+                if self.subtype == "PCM_16":
+                    # libsndfile's own float conversion of 16-bit samples is x / 32768, done here on the
+                    # int16 read instead: the same values, at a tenth of the read's time
+                    raw = self.f.read(n, dtype="int16", always_2d=True)
+                    out = np.multiply(raw, 1.0 / 32768.0, out=out[: raw.shape[0]] if out is not None else None)
+                else:
+                    out = self.f.read(n, dtype="float64", always_2d=True, out=out)
         except (sf.LibsndfileError, RuntimeError) as exc:
             raise FormatError(f"could not read input audio file {self.name!r} at frame {start}: "
                               f"{str(exc).splitlines()[0]} (the file may be truncated or corrupt)") from None
@@ -256,6 +285,12 @@ def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str
 
 
 # Subtypes that re-encode with a perceptual coder: what is written is not the cleaned samples.
+# Codings that lose detail at every encode, written without a quality option (lossy_note warns).
+CODED_SUBTYPES = frozenset({"GSM610", "IMA_ADPCM", "MS_ADPCM", "VOX_ADPCM", "G721_32", "G723_24", "G723_40",
+                            "NMS_ADPCM_16", "NMS_ADPCM_24", "NMS_ADPCM_32"})
+# Samples of a file whose coding cannot be read in blocks, read whole instead (float32: 160 MB,
+# 83 min of 8 kHz mono telephone audio).
+MAX_UNSEEKABLE_SAMPLES = 40_000_000
 LOSSY_SUBTYPES = frozenset({"VORBIS", "OPUS", "MPEG_LAYER_I", "MPEG_LAYER_II", "MPEG_LAYER_III"})
 
 
@@ -304,7 +339,12 @@ def lossy_note(fmt: str, subtype: str) -> str | None:
     True
     >>> lossy_note("OGG", "VORBIS").split(":")[0]
     'OGG/VORBIS is a lossy format'
+    >>> lossy_note("WAV", "GSM610").split(":")[0]
+    'WAV/GSM610 is a lossy coding (telephone or ADPCM)'
     """
+    if subtype in CODED_SUBTYPES:
+        return (f"{fmt}/{subtype} is a lossy coding (telephone or ADPCM): the cleaned audio was re-encoded, and "
+                f"its coding error stays in the file; give --subtype PCM_16 (or write .flac) for the exact result")
     if subtype not in LOSSY_SUBTYPES:
         return None
     return (f"{fmt}/{subtype} is a lossy format: the cleaned audio was re-encoded (at the highest quality), and "
