@@ -102,6 +102,59 @@ def separator_of(header, first_row=None):
     return None
 
 
+def table_rows(path) -> tuple[list[list[str]], str | None]:
+    """The non-empty rows of a text table, split at its separator, with decimal commas made points.
+
+    Commas, or what the header shows (:func:`separator_of`): ``;`` (a spreadsheet saved in a locale
+    with decimal commas, ``t;T`` over ``0,5;80,1``), tabs (an instrument's export) or spaces. Cells
+    that read as numbers once their one comma is a point get the point; other cells are kept.
+
+    Parameters
+    ----------
+    path : str or Path
+        A text file.
+
+    Returns
+    -------
+    rows : list of list of str
+        The rows with at least one non-blank cell, comment lines included.
+    note : str or None
+        How the file was read when not comma-separated (for the report), else None.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> p = os.path.join(tempfile.mkdtemp(), "excel.csv")
+    >>> with open(p, "w") as fh:
+    ...     _ = fh.write("t;T\\n0;80,5\\n1,5;79\\n")
+    >>> table_rows(p)
+    ([['t', 'T'], ['0', '80.5'], ['1.5', '79']], "read as ';'-separated with decimal commas")
+    """
+    import csv
+    import io
+
+    with open(path, newline="") as fh:
+        text = fh.read()
+    rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)]
+    k = leading_comments(rows)
+    if len(rows) < k + 2:
+        return rows, None
+    sep = separator_of(rows[k], rows[k + 1])
+    if sep is None:
+        return rows, None
+    name, decimal = sep
+    if name == "spaces":
+        rows = [ln.split() for ln in text.splitlines() if ln.strip()]
+    else:
+        rows = [r for r in csv.reader(io.StringIO(text), delimiter=";" if name == "';'" else "\t")
+                if r and any(c.strip() for c in r)]
+    if decimal:
+        rows = [[c.replace(",", ".") if c.count(",") == 1 and _is_number(c.strip().replace(",", ".")) else c
+                 for c in r] for r in rows]
+    what = {"';'": "';'-separated", "tabs": "tab-separated", "spaces": "space-separated"}[name]
+    return rows, f"read as {what}" + (" with decimal commas" if decimal else "")
+
+
 def leading_comments(rows) -> int:
     """How many rows at the top of a CSV are comments (first cell starting with ``#``) before its header.
 

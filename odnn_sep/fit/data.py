@@ -18,6 +18,8 @@ from odnn_sep.io_read import (
     looks_binary,
     pick_column,
     row_index_column,
+    separator_of,
+    table_rows,
 )
 
 log = logging.getLogger(__name__)
@@ -105,11 +107,14 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
         skip = leading_comments([r for r in top if r != [""]])   # '# sensor: ...' lines above the header
         header = [h.strip() for h in top[skip]]
         first = top[skip + 1] if skip + 1 < len(top) else []
-        # another separator or decimal commas: named before the numbers are misread
-        check_header(header, path=p, first_row=first)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
-            data = np.genfromtxt(p, delimiter=",", skip_header=skip + 1, dtype=float, invalid_raise=True)
+        if separator_of(header, first) is not None:
+            # ';' with decimal commas (a spreadsheet in such a locale), tabs or spaces: read cell by cell
+            header, data = _other_separator(p)
+        else:
+            check_header(header, path=p, first_row=first)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
+                data = np.genfromtxt(p, delimiter=",", skip_header=skip + 1, dtype=float, invalid_raise=True)
     except FormatError:
         raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:
@@ -138,6 +143,25 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     if value_name is not None:
         value_name.append(label)
     return x, v, (name,), None
+
+
+def _other_separator(p):
+    """(header, float array with NaN for a cell that is not a number) of a table that is not
+    comma-separated (``io_read.table_rows``); how it was read goes to the log."""
+    rows, note = table_rows(p)
+    rows = rows[leading_comments(rows):]
+    check_header(rows[0], path=p, first_row=rows[1] if len(rows) > 1 else None)
+    width = len(rows[0])
+    if any(len(r) != width for r in rows[1:]):
+        raise FormatError(f"could not read {str(p)!r} as a table: its rows do not all have {width} cells")
+    log.warning("%s %s", p.name, note)
+
+    def num(c):
+        try:
+            return float(c)
+        except ValueError:
+            return np.nan
+    return [h.strip() for h in rows[0]], np.array([[num(c) for c in r] for r in rows[1:]], dtype=float)
 
 
 def write_components(out, x, y, res) -> None:

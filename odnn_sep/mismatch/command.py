@@ -152,6 +152,7 @@ def _frame_params(args, params, model, info):
 
 def _load_series(args, params, model):
     """The data of one file with its aux channels, inputs and temperature unit (degC for the physics)."""
+    import os
     import sys
 
     from odnn_sep.mismatch.io import load_data
@@ -163,6 +164,8 @@ def _load_series(args, params, model):
     if "row_index_column" in info and not args.quiet:
         print(f"Note: the first column ({info['row_index_column']!r}) counts the rows (a table's index): left out; "
               f"time is column {info['time']!r}", file=sys.stderr)
+    if info.get("read_as") and not args.quiet:
+        print(f"Note: {os.path.basename(str(args.data))} {info['read_as']}", file=sys.stderr)
     if info.get("time_origin") and not args.quiet:
         print(f"Note: column {info['time']!r} holds date-times: time is in seconds since {info['time_origin']}",
               file=sys.stderr)

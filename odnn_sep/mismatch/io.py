@@ -1,7 +1,6 @@
 """Reading mismatch-finder inputs: CSV (time + value column), WAV (audio), NPZ (2D field x, y, z)."""
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
@@ -75,10 +74,8 @@ def read_csv(path, column=None, *, aux=False):
     >>> t.tolist(), y.tolist(), info["column"], list(others)
     ([0.0, 1.0], [90.0, 85.0], 'T', ['ref'])
     """
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
-    rows = [r for r in rows if r and any(c.strip() for c in r)]
-    from odnn_sep.io_read import check_header, leading_comments, row_index_column
+    from odnn_sep.io_read import check_header, leading_comments, row_index_column, table_rows
+    rows, read_as = table_rows(path)         # commas, or the ';' / tabs / spaces its header shows
     rows = rows[leading_comments(rows):]     # '# sensor: ...' lines above the header
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
@@ -106,6 +103,8 @@ def read_csv(path, column=None, *, aux=False):
     # seconds, or date-times read as seconds since the first (the origin goes in the report)
     t, origin = time_values([r[0] for r in rows[1:]], path=path, name=header[0].strip())
     info = {"format": "csv", "column": header[j].strip(), "time": header[0].strip()}
+    if read_as is not None:
+        info["read_as"] = read_as
     if dropped is not None:
         info["row_index_column"] = dropped
     if origin is not None:

@@ -1,7 +1,6 @@
 """Reading several series for a joint fit: a CSV with a series column, or one file per series."""
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
@@ -44,10 +43,9 @@ def read_series_csv(path, series, column=None):
     >>> {k: (t.tolist(), y.tolist()) for k, (t, y) in read_series_csv(path, "mug").items()}
     {'A': ([0.0, 1.0], [90.0, 85.0]), 'B': ([0.0, 1.0], [80.0, 76.0])}
     """
+    from odnn_sep.io_read import leading_comments, table_rows
     from odnn_sep.mismatch.model import suggest_name
-    with open(path, newline="") as fh:
-        rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
-    from odnn_sep.io_read import leading_comments
+    rows, _ = table_rows(path)               # commas, or the ';' / tabs / spaces its header shows
     rows = rows[leading_comments(rows):]     # '# sensor: ...' lines above the header
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")

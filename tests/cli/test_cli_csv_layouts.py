@@ -50,11 +50,14 @@ def test_comment_lines_above_the_header(tmp_path, capsys):
     assert main(["separate", str(g), "--basis", "sin(1.3*x)", "--quiet"]) == 0
 
 
-def test_space_separated_table_is_named(tmp_path, capsys):
+def test_space_separated_table_is_read(tmp_path, capsys):
+    import json
+
     from odnn_sep.cli import main
     t, T = _cooling(50)
     f = tmp_path / "ws.csv"
     f.write_text("t T\n" + "".join(f"{a} {b}\n" for a, b in zip(t, T, strict=True)))
-    assert main(["mismatch", str(f), "--model", "cooling"]) == 1
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "spaces as separator" in err[0]
+    rep = tmp_path / "r.json"
+    assert main(["mismatch", str(f), "--model", "cooling", "--report", str(rep)]) == 0
+    assert "read as space-separated" in capsys.readouterr().err
+    assert abs(json.loads(rep.read_text())["calibration"]["parameters"]["h"]["value"] - 0.01) < 1e-3
