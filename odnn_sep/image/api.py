@@ -264,14 +264,26 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
                                                 max_marks, random_state)
     copy_box = info.pop("_copy_box", None)  # one copy's box (text mode), not a report field
     report.update(info)
-    restored, lost, report["residual_mark"] = _restore(planes, y, M, alpha, color, prior, inpaint_lost,
-                                                       random_state, step=not text and not info.get("opaque"),
-                                                       copy_box=copy_box)
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(1) as pool:
+        # the line-beside check reads the input only: on a second thread while the blend is inverted
+        # and its residual measured (mostly NumPy and OpenCV, which let go of the interpreter)
+        beside = pool.submit(_text_beside, y, M, alpha, color, report.get("angle_deg")) \
+            if text and check_beside else None
+        restored, lost, report["residual_mark"] = _restore(planes, y, M, alpha, color, prior, inpaint_lost,
+                                                           random_state, step=not text and not info.get("opaque"),
+                                                           copy_box=copy_box)
+        found = beside.result() if beside is not None else None
     report.update({"alpha": round(float(alpha), 5), **color_report(color, planes),
                    "mark_pixels": int((M > 0.05).sum()), "lost_pixels": int(lost.sum()),
                    "runtime_s": round(time.perf_counter() - t0, 3)})
-    if text and check_beside and not report["residual_mark"].get("visible"):
-        _text_beside(y, M, alpha, color, report)
+    if beside is not None and not report["residual_mark"].get("visible"):
+        report["residual_mark"]["text_beside"] = found
+        if found is not None:
+            log.warning("text of the mark's colour and opacity remains %s the line removed (another line of the "
+                        "mark?): give every line of the mark, separated by line breaks (--text $'line 1\\nline 2')",
+                        found["side"])
     score = report.get("match_score")
     if text and font is None and score is not None and score < LOW_CONFIDENCE_SCORE \
             and not report["residual_mark"].get("visible"):
@@ -281,15 +293,11 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     return UnwatermarkResult(restored, float(alpha), np.asarray(color), M, lost, report)
 
 
-def _text_beside(y, M, alpha, color, report) -> None:
-    """Warn (and report) when text of the mark's colour and opacity sits beside the line removed."""
+def _text_beside(y, M, alpha, color, angle_deg):
+    """Where text of the mark's colour and opacity sits beside the line removed (``residual_beside``)."""
     from odnn_sep.image.residual_beside import text_beside
 
-    found = text_beside(y, M, alpha, color, float(report.get("angle_deg") or 0.0))
-    report["residual_mark"]["text_beside"] = found
-    if found is not None:
-        log.warning("text of the mark's colour and opacity remains %s the line removed (another line of the mark?): "
-                    "give every line of the mark, separated by line breaks (--text $'line 1\\nline 2')", found["side"])
+    return text_beside(y, M, alpha, color, float(angle_deg or 0.0))
 
 
 __all__ = ["unwatermark", "UnwatermarkResult", "color_report", "MIN_SCORE", "WORK_MAX_PX"]
