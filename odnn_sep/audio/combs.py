@@ -143,7 +143,7 @@ def detect_extra_combs(spec: _detect.Spectrum, sr: int, nominal: float, main: li
 
 def _comb_floors(spec, nominal, ks_all, known, rel_search) -> dict:
     """Pooled local floor at each harmonic of the nominal family (inf where unknown)."""
-    pooled = spec.psd.sum(axis=1)
+    pooled = _detect.pooled_psd(spec)
     df = spec.df
     floors = {}
     spec_pooled = _detect.Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds)
@@ -156,7 +156,7 @@ def _comb_floors(spec, nominal, ks_all, known, rel_search) -> dict:
 def _best_fundamental(spec, grid, step, ks_all, floors, known, min_sep_hz) -> float:
     """The grid fundamental whose harmonics (away from the known lines) stand highest over their
     floors (sum of log(1 + level)), refined by a parabola."""
-    pooled = spec.psd.sum(axis=1)
+    pooled = _detect.pooled_psd(spec)
     df = spec.df
     score = np.zeros_like(grid)
     for k in ks_all:

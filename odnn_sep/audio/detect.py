@@ -80,6 +80,20 @@ def _median0(a: np.ndarray) -> np.ndarray:
     return s[n // 2] if n % 2 else (s[n // 2 - 1] + s[n // 2]) / 2
 
 
+def pooled_psd(spec: Spectrum) -> np.ndarray:
+    """The channels' PSDs summed; channels of uneven levels each over its own level
+    (:attr:`Spectrum.channel_weights`). Its uses are ratios to a floor of the same pooled spectrum.
+
+    Examples
+    --------
+    >>> s = Spectrum(np.arange(8) * 0.5, np.array([[1.0, 100.0]] * 8), 4, 10.0)
+    >>> pooled_psd(s).tolist()[:2]
+    [2.0, 2.0]
+    """
+    w = spec.channel_weights
+    return spec.psd.sum(axis=1) if w is None else (spec.psd * w).sum(axis=1)
+
+
 def band_halfwidth(spec: Spectrum, k: float) -> float:
     """Half-width (Hz) of the band tested for harmonic ``k``: two bins plus ``k`` times the drift
     tolerance :data:`DRIFT_TOL_HZ`.
@@ -146,7 +160,11 @@ def persistence_p_value(spec: Spectrum, f: float, bw: float, floor: np.ndarray) 
     band = np.abs(fr - f) <= bw
     if not band.any():
         return 1.0
-    bm = S[band].mean(axis=0).sum(axis=0).astype(np.float64) / max(float(np.sum(floor)), 1e-300)
+    if spec.channel_weights is None:
+        bm = S[band].mean(axis=0).sum(axis=0).astype(np.float64) / max(float(np.sum(floor)), 1e-300)
+    else:   # channels of uneven levels: each over its own floor (as line_level pools them)
+        bm = (S[band].mean(axis=0).astype(np.float64)
+              / np.maximum(np.asarray(floor, float), 1e-300)[:, None]).mean(axis=0)
     L = bm.shape[0]
     x = float(_median0(bm))
     m_eff = max(1.0, band.sum() / 1.5) * S.shape[1]
@@ -216,7 +234,12 @@ def line_level(spec: Spectrum, f: float, bw: float, exclude=()) -> dict:
     floor = np.maximum(_median0(psd[near]) / med_corr, spec.numerical_floor)
     level = psd[band].mean(axis=0)
     ratio = level / np.maximum(floor, 1e-300)
-    pooled = level.sum() / max(floor.sum(), 1e-300)
+    if spec.channel_weights is None:
+        pooled = level.sum() / max(floor.sum(), 1e-300)
+    else:
+        # channels of uneven levels: each over its own floor, then the mean (a channel whose floor
+        # is far above the others', an EEG electrode that saturated, hid every other channel's line)
+        pooled = float(np.mean(ratio))
     m = int(band.sum())
     dof = nu * spec.psd.shape[1] * max(1.0, m / 1.5)   # neighbouring Hann bins are correlated
     p = float(special.chdtrc(dof, pooled * dof))       # chi2.sf
@@ -280,7 +303,7 @@ def refine_fundamental(spec: Spectrum, nominal: float, ks, *, rel_search: float 
     >>> round(refine_fundamental(excerpt_spectrum(ArraySource(y, sr)), 50.0, [1, 2, 3]), 1)
     50.0
     """
-    pooled = spec.psd.sum(axis=1)
+    pooled = pooled_psd(spec)
     lo, hi = nominal * (1 - rel_search), nominal * (1 + rel_search)
     grid = np.arange(lo, hi, min(0.002, spec.df / 20))
     score = np.zeros_like(grid)
@@ -344,7 +367,7 @@ def strongest_line_fundamental(spec: Spectrum, nominal: float, ks, *, min_ratio:
     >>> round(strongest_line_fundamental(excerpt_spectrum(ArraySource(y, sr)), 50.0, [1, 2]), 2)
     50.0
     """
-    pooled = spec.psd.sum(axis=1)
+    pooled = pooled_psd(spec)
     return _strongest_line(Spectrum(spec.freqs, pooled[:, None], spec.n_segments, spec.seconds), nominal, ks,
                            rel_search, min_ratio=min_ratio)
 
@@ -558,7 +581,7 @@ def refine_tones(spec: Spectrum, tones) -> list[float]:
     [300.1]
     """
     tone_list = []
-    pooled = spec.psd.sum(axis=1)
+    pooled = pooled_psd(spec)
     for t in tones:
         m = np.abs(spec.freqs - t) <= 0.5
         if m.sum() >= 3:

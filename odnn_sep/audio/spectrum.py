@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 FFT_WORKERS = 2    # threads for a batch of segment transforms (each transform is computed whole by one)
+UNEVEN_CHANNELS = 10.0   # broadband levels of the channels this many times apart: each pooled over its own
 
 
 @dataclass
@@ -49,6 +50,23 @@ class Spectrum:
     def numerical_floor(self) -> float:
         # a mean over every bin: computed once (line tests ask for it hundreds of times)
         return 1e-12 * float(np.mean(self.psd)) + 1e-300
+
+    @functools.cached_property
+    def channel_weights(self) -> np.ndarray | None:
+        """Weights that put every channel over its own broadband level (its median PSD above 1 Hz)
+        when those levels differ by more than ``UNEVEN_CHANNELS`` times, else None (the channels
+        are pooled by their plain sum). One EEG electrode that saturated for 5 s of 60 raised its
+        level so far that the plain sum hid the other seven channels' line; channels that share a
+        level (the two of a stereo take) pool the same either way, and keep the plain sum."""
+        C = self.psd.shape[1]
+        if C < 2:
+            return None
+        sel = self.freqs > 1.0
+        level = np.median(self.psd[sel] if sel.sum() >= 4 else self.psd, axis=0)
+        level = np.maximum(level, 1e-300)
+        if float(level.max() / level.min()) <= UNEVEN_CHANNELS:
+            return None
+        return 1.0 / level
 
     @property
     def dof_per_bin(self) -> float:
