@@ -11,8 +11,8 @@ the tool answered; run it with another version on ``PYTHONPATH`` to compare.
 - denoise: 50 Hz hum over a pink-noise and note host with a DC offset, a splice (phase jump), a step
   of the mains frequency, a clipped 60 Hz sine, amplitude modulation at 0.05-2 Hz (the gain is the
   hum's power over the power of what the output has wrong);
-- the real EEG file of ``../shared/data/meegkit_eeg_line_noise`` with DC-coupled amplifier offsets
-  and a slow drift added (before cleaning: 50 Hz line 5.1 dB over its flanks, median channel; 12.3 worst).
+- the real EEG file of ``../shared/data/meegkit_eeg_line_noise`` with DC-coupled amplifier offsets,
+  a slow drift, or one channel at a rail for 5 s (before cleaning: 50 Hz line 5.1 dB over its flanks, median channel; 12.3 worst).
 
     python recipes/probe_disturbance_shapes.py              # both tables (about 5 minutes)
     python recipes/probe_disturbance_shapes.py --audio-only
@@ -128,8 +128,9 @@ def audio_rows():
 
 def eeg_rows():
     """The real EEG file (8 channels, 250 Hz, 50 Hz line) as recorded, with DC-coupled amplifier
-    offsets (uniform in +-2000, a few hundred times the EEG's spread) and with a slow drift (300,
-    0.02 Hz) added: the line's level over its flanks after cleaning, median and worst channel."""
+    offsets (uniform in +-2000, a few hundred times the EEG's spread), with a slow drift (300,
+    0.02 Hz) as well, and with one channel at a rail for 5 s: the line's level over its flanks after
+    cleaning (offsets and drift taken out again), median and worst channel."""
     from bench_eeg import EEG_FILE, line_levels
 
     from odnn_sep.audio import denoise
@@ -140,11 +141,16 @@ def eeg_rows():
     rng = np.random.default_rng(0)
     off = rng.uniform(-2000, 2000, size=(x.shape[0], 1))
     drift = 300 * np.sin(2 * np.pi * 0.02 * np.arange(x.shape[1]) / 250 + rng.uniform(0, 6, (x.shape[0], 1)))
+    rail = np.zeros_like(x)
+    rail[5, 5000:6250] = 300.0 - x[5, 5000:6250]      # channel 5 pinned at a rail for 5 s
     rows = []
-    for label, added in (("as recorded", 0.0), ("channel offsets", off), ("channel offsets and a slow drift", off + drift)):
+    # (label, what is added, what is taken out of the output again: the rail's stretch holds no EEG)
+    for label, added, back in (("as recorded", 0.0, 0.0), ("channel offsets", off, off),
+                               ("channel offsets and a slow drift", off + drift, off + drift),
+                               ("one channel at a rail (300) for 5 s", rail, 0.0)):
         for spatial in (False, True):
             r = denoise((x + added).T, 250, spatial=spatial)
-            lv = line_levels((r if isinstance(r, np.ndarray) else r.y).T - added, 250.0)
+            lv = line_levels((r if isinstance(r, np.ndarray) else r.y).T - back, 250.0)
             rows.append(("real EEG (meegkit), " + ("spatial" if spatial else "per channel"), label,
                          f"50 Hz line over its flanks after: median {np.median(lv):.1f} dB, worst {np.max(lv):.1f} dB"))
     return rows
