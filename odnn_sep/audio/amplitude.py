@@ -171,6 +171,9 @@ def steady_amplitudes(D: np.ndarray, f_ref: float, ks, trk, plan: BlockPlan) -> 
     for i, k in enumerate(ks):
         for ch in range(C):
             u = D[:, ch, i].astype(np.complex128)
+            if not np.any(u):      # a silent channel (a flat EEG electrode): no line, and no weights
+                out[ch, i] = np.nan
+                continue
             # weights from the mean power: they vary as slowly as the content near the line
             # does, and weights that follow every note would modulate a partial a few Hz away
             # onto the line; the variance of the block mean from the median, the power of the

@@ -110,8 +110,10 @@ def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
     s_eff = max(2.0, S / OVERLAP_VAR)
     # single-precision phasors: 1e-300 is 0 there, so a line with no scatter at all (a synthetic
     # tone without noise) divides by zero; its statistic is infinite (p = 0), as it should be
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         x = (np.abs(mean) ** 2 / np.maximum(scat / s_eff, 1e-300))   # per channel
+    # a silent channel (a flat EEG electrode: zero mean and zero scatter) shows no line
+    x = np.where(np.isnan(x), 0.0, x)
     # channels pooled: sum of the per-channel statistics, F(2C, 2 C (S_eff - 1)) approximately
     C = u.shape[1]
     xf = x.mean(axis=0)

@@ -41,3 +41,20 @@ def test_channels_of_one_level_pool_by_their_sum():
     psd[:, 1] = 300.0
     w = Spectrum(np.arange(40) * 0.5, psd, 4, 10.0).channel_weights
     assert w is not None and np.allclose(w * psd[0], 1.0)
+
+
+def test_flat_electrode_without_numeric_warnings():
+    # a disconnected electrode recorded as zeros: 0/0 in the lock test and infinite weights in the
+    # amplitude estimate printed five NumPy warnings; the channel stays zero and the others are cleaned
+    import warnings
+
+    if not EEG.exists():
+        pytest.skip(f"{EEG} is absent")
+    x = np.load(EEG)
+    x[3] = 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        r = denoise(x.T, 250)
+    assert not r.y[:, 3].any()
+    levels = _line_levels(np.delete(r.y.T, 3, axis=0))
+    assert levels.max() < 3.0
