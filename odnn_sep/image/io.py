@@ -305,7 +305,8 @@ def read_image_meta(path, *, what: str = "input image"):
         if meta.mode in ("LA", "La") and np.array_equal(img[:, :, 0], img[:, :, 1]) \
                 and np.array_equal(img[:, :, 0], img[:, :, 2]):
             img = np.ascontiguousarray(img[:, :, [0, 3]])  # grey+alpha stays grey+alpha
-    if meta.mode in ("P", "PA"):
+    if meta.mode in ("P", "PA") and what == "input image":
+        # (a mask or a reference logo is only read: its palette needs no word)
         log.warning("%s is a palette image: read as %s and written so (restored colours do not fit a palette)",
                     p.name, "RGBA" if img.ndim == 3 and img.shape[2] == 4 else "RGB")
     if meta.orientation != 1:
