@@ -177,8 +177,8 @@ def _remove_baseline(S, X, E, short):
     chunk holds whole periods of ``k f_ref``: in the baseband it is a line at ``-k f_ref`` aliased by
     the 100 Hz chunk rate, perfectly steady and locked to the comb. A DC offset of six times the
     noise made a comb of 36 even harmonics at 49.83 Hz pass every lock test (evidence 162 against
-    the true hum's 24). The baseline averages over whole periods of 50 and 60 Hz, so the hum adds
-    next to nothing to it.
+    the true hum's 24). The baseline averages over (nearly) whole periods of 50 and 60 Hz, so the
+    hum adds next to nothing to it.
     """
     nj = S.shape[0]
     m = X.shape[2]
@@ -187,7 +187,10 @@ def _remove_baseline(S, X, E, short):
         counts[-1] = short
     mean = X.sum(axis=2, dtype=np.float64) / counts[:, None]           # (chunks, channels)
     c = np.vstack([np.zeros((1, mean.shape[1])), np.cumsum(mean, axis=0)])
-    # exactly 1 s (whole periods of 50 and 60 Hz and their harmonics), half a chunk off centre
+    # a hundred chunks, half a chunk off centre: 1 s at rates that are multiples of 100 Hz, whole
+    # periods of 50 and 60 Hz and their harmonics (0.8 s at 250 Hz, whole too); at other rates a chunk
+    # is sr/100 samples rounded and the window is off whole periods by a fraction of one (1.11 s at
+    # 360 Hz: a window of exactly 1 s changed no line of the ECG record there)
     h = BASELINE_CHUNKS // 2
     lo, hi = np.maximum(np.arange(nj) - h, 0), np.minimum(np.arange(nj) + h, nj)
     base = (c[hi] - c[lo]) / (hi - lo)[:, None]
