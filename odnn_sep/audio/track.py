@@ -22,7 +22,7 @@ from odnn_sep.audio.blockplan import sin2_window
 
 log = logging.getLogger(__name__)
 MAX_DRIFT_HZ = 1.6    # farthest the fundamental is followed from where the spectrum puts it (+ 1 %)
-BASELINE_CHUNKS = 100  # the input's baseline, taken out of the chunk sums: a mean over 1 s (_remove_baseline)
+BASELINE_CHUNKS = 100  # the input's baseline, taken out of the chunk sums: a mean over 100 chunks, ~1 s (_remove_baseline)
 BASELINE_MIN = 10.0    # ... when it is this many times what the input's own fluctuation gives
 
 
