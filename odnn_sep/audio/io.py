@@ -285,13 +285,13 @@ def output_subtype(src: FileSource, out: Path, subtype: str | None) -> tuple[str
 
 
 # Subtypes that re-encode with a perceptual coder: what is written is not the cleaned samples.
+LOSSY_SUBTYPES = frozenset({"VORBIS", "OPUS", "MPEG_LAYER_I", "MPEG_LAYER_II", "MPEG_LAYER_III"})
 # Codings that lose detail at every encode, written without a quality option (lossy_note warns).
 CODED_SUBTYPES = frozenset({"GSM610", "IMA_ADPCM", "MS_ADPCM", "VOX_ADPCM", "G721_32", "G723_24", "G723_40",
                             "NMS_ADPCM_16", "NMS_ADPCM_24", "NMS_ADPCM_32"})
 # Samples of a file whose coding cannot be read in blocks, read whole instead (float32: 160 MB,
 # 83 min of 8 kHz mono telephone audio).
 MAX_UNSEEKABLE_SAMPLES = 40_000_000
-LOSSY_SUBTYPES = frozenset({"VORBIS", "OPUS", "MPEG_LAYER_I", "MPEG_LAYER_II", "MPEG_LAYER_III"})
 
 
 def lossy_write_options(subtype: str) -> dict:
