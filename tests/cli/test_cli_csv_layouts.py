@@ -3,7 +3,7 @@
 Before, a pandas index was taken for the time and the time column for the values (a cooling record
 read as temperatures "up to 300, looking like degF" and a nonsense verdict); '# sensor: ...' lines
 above the header were read as the header ("needs at least two columns"); a space-separated table was
-refused as "one column".
+refused as "one column", then named as space-separated, and is now read as such.
 """
 import json
 
