@@ -10,28 +10,24 @@ from pathlib import Path
 from odnn_sep.errors import FormatError, InputError
 
 
-def check_header(header, *, path, first_row=None) -> None:
-    """Refuse a CSV that is not comma-separated, or whose first row holds only numbers.
+def check_header(header, *, path) -> None:
+    """Refuse a CSV whose first row holds only numbers.
 
-    A header that is one cell holding ``;`` or a tab (``t;x``) comes from a file with another
-    separator (a spreadsheet saved in a locale with decimal commas): it is named in one line, with
-    the decimal commas when the first data row has them, instead of the errors of a misread file.
     A first row of numbers is data, not a header: reading it as one would drop that row and name
-    the columns by its values.
+    the columns by its values. (A file with ``;``, tabs or spaces between its cells is split at
+    them first: :func:`table_rows`.)
 
     Parameters
     ----------
     header : list of str
-        The first row's cells (split at commas).
+        The first row's cells.
     path : str or Path
         The file (for the message).
-    first_row : list of str, optional
-        The first data row's cells (split at commas), to recognise decimal commas.
 
     Raises
     ------
     FormatError
-        When the file uses another separator, or every cell of the first row is a number.
+        When every cell of the first row is a number.
 
     Examples
     --------
@@ -40,17 +36,7 @@ def check_header(header, *, path, first_row=None) -> None:
     Traceback (most recent call last):
     ...
     odnn_sep.errors.FormatError: 'a.csv' has no header row (its first row, ['0.0', '90.1'], holds only numbers); add a first line naming the columns, e.g. t,y
-    >>> check_header(["t;x"], path="b.csv", first_row=["0", "5;1", "25"])
-    Traceback (most recent call last):
-    ...
-    odnn_sep.errors.FormatError: 'b.csv' seems to use ';' as separator (and ',' as decimal mark); save it as comma-separated with '.' decimals
     """
-    sep = separator_of(header, first_row)
-    if sep is not None:
-        name, decimal = sep
-        also = " (and ',' as decimal mark)" if decimal else ""
-        raise FormatError(f"{str(path)!r} seems to use {name} as separator{also}; save it as comma-separated "
-                          f"with '.' decimals")
     cells = [str(c).strip() for c in header]
     if not cells or not any(cells):
         return

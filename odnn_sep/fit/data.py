@@ -111,7 +111,7 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
             # ';' with decimal commas (a spreadsheet in such a locale), tabs or spaces: read cell by cell
             header, data = _other_separator(p)
         else:
-            check_header(header, path=p, first_row=first)
+            check_header(header, path=p)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
                 data = np.genfromtxt(p, delimiter=",", skip_header=skip + 1, dtype=float, invalid_raise=True)
@@ -150,7 +150,7 @@ def _other_separator(p):
     comma-separated (``io_read.table_rows``); how it was read goes to the log."""
     rows, note = table_rows(p)
     rows = rows[leading_comments(rows):]
-    check_header(rows[0], path=p, first_row=rows[1] if len(rows) > 1 else None)
+    check_header(rows[0], path=p)
     width = len(rows[0])
     if any(len(r) != width for r in rows[1:]):
         raise FormatError(f"could not read {str(p)!r} as a table: its rows do not all have {width} cells")

@@ -80,7 +80,7 @@ def read_csv(path, column=None, *, aux=False):
     if len(rows) < 2:
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = rows[0]
-    check_header(header, path=path, first_row=rows[1])
+    check_header(header, path=path)
     dropped = None
     if row_index_column(header, [[r[k] if k < len(r) else "" for r in rows[1:]] for k in range(2)]):
         # a table library's row counter (pandas' unnamed index): time is the next column

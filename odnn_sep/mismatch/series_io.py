@@ -51,7 +51,7 @@ def read_series_csv(path, series, column=None):
         raise FormatError(f"CSV {str(path)!r} has no data rows below the header")
     header = [h.strip() for h in rows[0]]
     from odnn_sep.io_read import check_header, row_index_column
-    check_header(header, path=path, first_row=rows[1])
+    check_header(header, path=path)
     if series != header[0] and row_index_column(header, [[r[k] if k < len(r) else "" for r in rows[1:]]
                                                          for k in range(2)]):
         rows = [r[1:] for r in rows]     # a table library's row counter (see row_index_column)

@@ -60,7 +60,7 @@ def test_comma_files_and_text_cells_are_not_changed(tmp_path):
     assert separator_of(["t", "x"], ["0", "1"]) is None
     assert separator_of(["temperature"], ["20.5"]) is None            # one column: other checks say so
     assert separator_of(["t;x"], ["0.5;a"]) == ("';'", False)          # ';' without decimal commas
-    check_header(["t", "note;x"], path="a.csv", first_row=["0", "a;b"])   # ';' inside a comma-separated cell
+    check_header(["t", "note;x"], path="a.csv")                       # ';' inside a comma-separated cell
     p = tmp_path / "a.csv"
     p.write_text("t,note\n0,\"a;b\"\n1,\"c,d\"\n")
     assert table_rows(p) == ([["t", "note"], ["0", "a;b"], ["1", "c,d"]], None)
