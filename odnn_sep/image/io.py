@@ -290,6 +290,12 @@ def read_image_meta(path, *, what: str = "input image"):
 
     def _read(q):
         data = np.fromfile(str(q), dtype=np.uint8)
+        if meta.orientation != 1:
+            # OpenCV turns a TIFF upright itself; the stored pixels are turned below, as for every format
+            from odnn_sep.image.io_tiff import orientation_cleared
+
+            cleared = orientation_cleared(data.tobytes())
+            data = data if cleared is None else np.frombuffer(cleared, np.uint8)
         img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
         if img is None:
             raise FormatError("not a readable PNG/JPEG/TIFF/WebP/BMP image")
