@@ -219,9 +219,13 @@ def _checked_paths(args):
 
     from odnn_sep.errors import InputError
     from odnn_sep.image.io import EXTENSIONS
-    from odnn_sep.io_paths import check_input_path, check_output_path
+    from odnn_sep.io_paths import check_input_path, check_output_path, check_run_paths
 
     inp = check_input_path(args.input, what="input image")
+    # the logo and a font file are inputs too: a report or figure written over one destroyed it
+    font_file = args.font if args.font and Path(args.font).is_file() else None
+    check_run_paths({"the input": inp, "--mask": args.mask, "--reference": args.reference, "--font": font_file},
+                    {"--output": args.output, "--report": args.report, "--plot": args.plot})
     if Path(args.output).suffix.lower() not in EXTENSIONS:
         raise InputError(f"output {args.output!r} must end in one of {', '.join(EXTENSIONS)}")
     check_output_path(args.output, inp, args.mask, args.reference)
