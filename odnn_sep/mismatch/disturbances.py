@@ -70,6 +70,28 @@ def parse_disturbance(spec):
     return cls, freqs, lines
 
 
+class NyquistError(InputError):
+    """A declared line at or above the Nyquist frequency; ``in_unit`` words it for another time unit.
+
+    The finder may analyse a record on ``t / scale`` (:mod:`~odnn_sep.mismatch.timescale`), where the
+    line and the Nyquist frequency are ``scale`` times the caller's: the message must give the caller's.
+
+    Examples
+    --------
+    >>> str(NyquistError(1000.0, 100.0).in_unit(1e3))
+    '--disturbance periodic:1: the frequency is above the Nyquist frequency 0.1 Hz of the data'
+    """
+
+    def __init__(self, freq: float, nyquist: float):
+        self.freq, self.nyquist = float(freq), float(nyquist)
+        super().__init__(f"--disturbance periodic:{freq:g}: the frequency is above the Nyquist frequency "
+                         f"{nyquist:g} Hz of the data")
+
+    def in_unit(self, scale: float) -> NyquistError:
+        """The same error with frequencies per ``scale`` times the time unit (Hz of the caller's time)."""
+        return NyquistError(self.freq / scale, self.nyquist / scale)
+
+
 def periodic_columns(t, freqs):
     """cos/sin columns at each frequency (Hz) that lies below the Nyquist frequency. Shape (n, 2k).
 
@@ -97,8 +119,7 @@ def periodic_columns(t, freqs):
     cols = []
     for f in freqs:
         if f >= nyq:
-            raise InputError(f"--disturbance periodic:{f:g}: the frequency is above the Nyquist frequency "
-                             f"{nyq:g} Hz of the data")
+            raise NyquistError(f, nyq)
         cols += [np.cos(2 * np.pi * f * t), np.sin(2 * np.pi * f * t)]
     return np.column_stack(cols) if cols else None
 

@@ -13,6 +13,7 @@ from dataclasses import replace
 import numpy as np
 
 from odnn_sep.mismatch import timescale as ts
+from odnn_sep.mismatch.disturbances import NyquistError
 
 
 def explain_in_caller_units(model, t, y, options):
@@ -58,7 +59,10 @@ def explain_in_caller_units(model, t, y, options):
     opts["inputs"] = ts.inward_inputs(opts.get("inputs"), scale)
     t = np.asarray(t, float)
     y_in = np.asarray(y, float) / vscale if vscale != 1.0 else y
-    res = explain(ts.internal_model(model, units), t / scale, y_in, **opts)
+    try:
+        res = explain(ts.internal_model(model, units), t / scale, y_in, **opts)
+    except NyquistError as exc:
+        raise exc.in_unit(scale) from None
     return _caller_result(res, t, units, options.get("alpha", 0.05))
 
 
@@ -103,7 +107,10 @@ def explain_joint_in_caller_units(name, series, params, shared, options):
     opts = dict(options)
     opts["disturbance"] = ts.inward_disturbance(opts.get("disturbance", "auto"), scale)
     inner = {n: (np.asarray(t, float) / scale, y) for n, (t, y) in series.items()}
-    res = explain_joint(name, inner, params=units.inward(params) if params else params, shared=shared, **opts)
+    try:
+        res = explain_joint(name, inner, params=units.inward(params) if params else params, shared=shared, **opts)
+    except NyquistError as exc:
+        raise exc.in_unit(scale) from None
     jp = res.joint
     units.aliases = {f"{k}_{lab}": k for k in jp.own for lab in jp.labels}
     return _caller_result(res, np.asarray(res.t, float) * scale, units, opts.get("alpha", 0.05), float(np.ptp(longest)))
