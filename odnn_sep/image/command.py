@@ -32,6 +32,12 @@ but is still visible (the report's residual_mark says how much; no output unless
 # Exit code when the mark was found and inverted but is still visible in the output.
 EXIT_MARK_VISIBLE = 3
 
+# What to try when the mark is still visible, by mode (--font and --mask do not go with --reference).
+ADVICE = {"text": "; try --font with the mark's font file, or --mask over the mark",
+          "mask": "; try a mask that follows the mark's strokes more closely",
+          "reference": "; try a --reference image of the mark's own artwork (with its alpha channel), or --mask "
+                       "over the mark instead of --reference"}
+
 
 def register(subparsers) -> None:
     """Add the ``unwatermark`` subcommand and its options to ``subparsers``.
@@ -149,8 +155,7 @@ def run(args) -> int:
         print(f"mark still visible after removal: {_residual_text(residual)}; "
               + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
                  "writes it)")
-              + ("; try a mask that follows the mark's strokes more closely" if report.get("mode") == "mask"
-                 else "; try --font with the mark's font file, or --mask over the mark"), file=sys.stderr)
+              + ADVICE.get(report.get("mode"), ADVICE["text"]), file=sys.stderr)
         return EXIT_MARK_VISIBLE
     if not args.quiet:
         where = f"font {_font_text(report['font'])} {report['font_size_px']:.1f} px, angle " \
