@@ -132,6 +132,8 @@ def run(args) -> int:
     img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
     from odnn_sep.image.api import unwatermark
     mask = read_image(args.mask, what="--mask image") if args.mask else None  # its size is checked by unwatermark
+    if args.reference:
+        _check_reference_size(args.reference, img.shape[:2])
     reference = read_image(args.reference, what="--reference image") if args.reference else None
     res = unwatermark(img, text=args.text, font=args.font, mask=mask,
                       min_score=args.min_score,  # None: the default threshold
@@ -245,6 +247,38 @@ def _checked_paths(args):
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg", ".jpg", ".jpeg"):
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
     return inp
+
+
+def _check_reference_size(path, photo_shape) -> None:
+    """Refuse a --reference logo with more pixels than the photo from its header, before it is decoded.
+
+    A logo must fit inside the photo (``logo.py`` checks its sides once decoded); a logo file whose
+    header claims 15000x15000 pixels was decoded first (half a gigabyte) to be refused. The areas
+    are compared, which an EXIF turn does not change.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from PIL import Image
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     Image.new("L", (400, 300)).save(os.path.join(d, "logo.png"))
+    ...     _check_reference_size(os.path.join(d, "logo.png"), (240, 360))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --reference image '...logo.png' is 400x300, more pixels than the photo (360x240); crop ...
+    """
+    from odnn_sep.errors import InputError
+    from odnn_sep.validate import image_megapixels
+
+    mp = image_megapixels(path)  # header only; None when Pillow cannot read it (the decoder then reports)
+    H, W = photo_shape
+    if mp is not None and round(mp * 1e6) > H * W:
+        from PIL import Image
+
+        with Image.open(path) as im:
+            w, h = im.size
+        raise InputError(f"--reference image {str(path)!r} is {w}x{h}, more pixels than the photo ({W}x{H}); crop "
+                         f"or scale the logo to at most the photo's size")
 
 
 def _residual_text(residual: dict) -> str:
