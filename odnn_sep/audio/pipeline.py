@@ -32,7 +32,9 @@ from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import envelope as _envelope
 from odnn_sep.audio import finetrack as _finetrack
+from odnn_sep.audio import humspans as _humspans
 from odnn_sep.audio import lockcomb as _lockcomb
+from odnn_sep.audio import silence as _silence
 from odnn_sep.audio import spanrun as _spanrun
 from odnn_sep.audio import steadypath as _steadypath
 from odnn_sep.audio import track as _track
@@ -118,6 +120,11 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
     if N < MIN_S * sr:
         raise InputError(f"input is too short ({N} samples = {N / sr:.3f} s at {sr} Hz) to resolve mains hum; "
                          f"pass at least {MIN_S:g} s of audio")
+    sink = _silence.KeepSilence(source, sink)
+    a, n = _silence.sounding_extent(source, int(MIN_S * sr))
+    if (a, n) != (0, N):
+        # silent ends (exact zeros) hold no hum: the sounding stretch is the input analysed
+        return _run_sounding(source, sink, opts, after_source_fn, a, n)
     found, bar = _analyse(source, opts)
     tick = (lambda k: bar.update(k)) if bar is not None else None
     parts = (_spanrun.span_parts(source, opts, found, _analyse) if _nothing_found(found)
@@ -132,6 +139,28 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
     if bar is not None:
         bar.close()
     return _result(found, opts, after_source_fn, amps, phs, valid, overall, source)
+
+
+def _run_sounding(source, sink, opts: DenoiseOptions, after_source_fn, a: int, n: int):
+    """The passes on the input's frames ``a .. a + n`` (between its silent ends, silence.py), the
+    silent ends written as read; the report's spans, track and levels on the input's clock."""
+    sub = _humspans.SliceSource(source, a, n)
+    found, bar = _analyse(sub, opts)
+    tick = (lambda k: bar.update(k)) if bar is not None else None
+    parts = (_spanrun.span_parts(sub, opts, found, _analyse) if _nothing_found(found)
+             else _spanrun.lone_line_part(sub, opts, found, _analyse))
+    parts = [(a + a2, n2, f2) for a2, n2, f2 in parts] or [(a, n, found)]
+    if _nothing_found(parts[0][2]):
+        _warn_none(source, opts)
+    amps, phs, valid, overall = _spanrun.fit_parts(source, sink, opts, parts, tick, _fit)
+    if not _nothing_found(parts[0][2]):
+        found = _spanrun.with_spans(found, parts)
+    if bar is not None:
+        bar.close()
+    log.info("silent ends: the input sounds over %.2f-%.2f s only; the zeros around it are written as read",
+             a / source.sr, (a + n) / source.sr)
+    return _result(found, opts, lambda: _humspans.SliceSource(after_source_fn(), a, n), amps, phs, valid,
+                   overall, sub)
 
 
 def _nothing_found(found) -> bool:

@@ -1,0 +1,121 @@
+"""Digital silence at the ends of the input: the stretch between is what the hum is looked for in.
+
+A take that starts or ends in exact zeros (pre-roll, padding, a recorder's first second) has no
+hum there, whatever the rest holds. Analysed as part of the input, those zeros read as hum whose
+level steps, and the shared level and the block fit spread the hum into them: 5 s of zeros before
+15 s of hummed music came out with hum at -29 dB under the hum's level written into the silence,
+and the hum under the music removed by 23 dB instead of 41 dB. The pipeline analyses and fits the
+sounding stretch as an input of its own and writes the silent ends as read. Zeros inside the
+input (a gap inserted by an editor, a dropout) are analysed with the rest, but nothing is taken out
+of them (:class:`KeepSilence`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+SILENT_END_S = 0.1     # zeros at an end shorter than this stay part of the input (a few cycles at most)
+_STEP = 1 << 15        # frames read at a time while looking for the first and last sound
+
+
+def sounding_extent(source, min_frames: int) -> tuple[int, int]:
+    """``(first frame, frames)`` of the input between its silent ends: runs of exact zeros on
+    every channel, at least :data:`SILENT_END_S` long, at its start and end. ``(0, frames)``
+    where there are none, or where what sounds is shorter than ``min_frames`` (too little to
+    analyse: the input is then taken whole, as before).
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input (read from each end until the first sample that is not zero).
+    min_frames : int
+        Shortest sounding stretch analysed on its own.
+
+    Returns
+    -------
+    tuple of int
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> y = np.r_[np.zeros(8000), np.ones(16000), np.zeros(400)]
+    >>> sounding_extent(ArraySource(y, 8000), 1600)       # 1 s of zeros first; 0.05 s at the end stay
+    (8000, 16400)
+    >>> sounding_extent(ArraySource(np.r_[np.zeros(8000), np.ones(800)], 8000), 1600)
+    (0, 8800)
+    """
+    N, sr = source.frames, source.sr
+    first = _first_sound(source, range(0, N, _STEP), forward=True)
+    if first is None:               # all zeros: nothing to cut out
+        return 0, N
+    last = _first_sound(source, range(max(N - _STEP, 0), -_STEP, -_STEP), forward=False)
+    least = int(np.ceil(SILENT_END_S * sr))
+    a = first if first >= least else 0
+    b = last + 1 if N - (last + 1) >= least else N
+    if (a, b) == (0, N) or b - a < min_frames:
+        return 0, N
+    return a, b - a
+
+
+def _first_sound(source, starts, *, forward: bool) -> int | None:
+    """The first (or, reading backwards, the last) frame with a sample that is not zero."""
+    for s in starts:
+        s = max(s, 0)
+        piece = source.read(s, min(_STEP, source.frames - s))
+        loud = np.flatnonzero((piece != 0).any(axis=1))
+        if loud.size:
+            return s + int(loud[0] if forward else loud[-1])
+    return None
+
+
+class KeepSilence:
+    """A sink (``sink(piece, removed)``, pieces in order from the input's first frame) that
+    passes nothing of the hum fitted where the input is digitally silent: runs of exact zeros on
+    every channel at least :data:`SILENT_END_S` long stay zeros in the output.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input (read for a run's length beyond each piece's ends, to see the runs crossing them).
+    sink : callable
+        The sink to pass the pieces on to.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> y = np.r_[np.ones(100), np.zeros(1000), np.ones(100), np.zeros(5)][:, None]
+    >>> got = []
+    >>> keep = KeepSilence(ArraySource(y, 8000), lambda piece, removed: got.append(removed))
+    >>> keep(y[:600], np.full((600, 1), 0.5)); keep(y[600:], np.full((605, 1), 0.5))
+    >>> r = np.concatenate(got)[:, 0]
+    >>> float(r[:100].min()), float(r[100:1100].max()), float(r[1100:].min())    # 5 zeros are not a run
+    (0.5, 0.0, 0.5)
+    """
+
+    def __init__(self, source, sink):
+        self.source, self.sink, self.pos = source, sink, 0
+        self.least = int(np.ceil(SILENT_END_S * source.sr))
+
+    def __call__(self, piece, removed):
+        n, L = piece.shape[0], self.least
+        lo = max(self.pos - L, 0)
+        silent = ~(self.source.read(lo, self.pos - lo) != 0).any(axis=1)
+        silent = np.r_[silent, ~(piece != 0).any(axis=1)]
+        silent = np.r_[silent, ~(self.source.read(self.pos + n, L) != 0).any(axis=1)]
+        if silent.any():
+            keep = _long_runs(silent, L)[self.pos - lo: self.pos - lo + n]
+            if keep.any():
+                removed = np.where(keep[:, None], 0.0, removed)
+        self.pos += n
+        self.sink(piece, removed)
+
+
+def _long_runs(mask: np.ndarray, least: int) -> np.ndarray:
+    """``mask`` with its runs of True shorter than ``least`` set False."""
+    d = np.diff(np.r_[0, mask.astype(np.int8), 0])
+    starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    long = ends - starts >= least
+    # +1 where a long run starts, -1 where it ends (quiet 16-bit audio has many short runs)
+    edges = np.zeros(mask.size + 1, np.int32)
+    edges[starts[long]] += 1
+    edges[ends[long]] -= 1
+    return np.cumsum(edges[:-1]) > 0
