@@ -119,7 +119,9 @@ def table_rows(path) -> tuple[list[list[str]], str | None]:
     import csv
     import io
 
-    with open(path, newline="") as fh:
+    # 'utf-8-sig': a spreadsheet's "CSV UTF-8" (and pandas' encoding="utf-8-sig") starts with a byte-order
+    # mark, which would stay in the first header cell: an unnamed index column was then not seen as one
+    with open(path, newline="", encoding="utf-8-sig") as fh:
         text = fh.read()
     rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)]
     k = leading_comments(rows)

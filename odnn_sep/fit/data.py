@@ -102,7 +102,8 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     limits.check("points", max(rows - 1, 0), f"the row count of {str(p)!r}",
                  hint="decimate the data")
     try:
-        with open(p, newline="", encoding="utf-8") as fh:
+        # 'utf-8-sig': a byte-order mark (a spreadsheet's "CSV UTF-8") is not part of the first column's name
+        with open(p, newline="", encoding="utf-8-sig") as fh:
             top = [fh.readline().strip().split(",") for _ in range(MAX_COMMENT_LINES + 2)]
         skip = leading_comments([r for r in top if r != [""]])   # '# sensor: ...' lines above the header
         header = [h.strip() for h in top[skip]]
