@@ -22,6 +22,8 @@ from odnn_sep.errors import FormatError, InputError
 log = logging.getLogger(__name__)
 
 EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".bmp")
+# How far a float image may stray outside [0, 1] (rounding of the caller's arithmetic) before it is refused.
+FLOAT_SLACK = 1e-6
 
 
 class FloatView:
@@ -131,7 +133,8 @@ def split(image) -> Planes:
     Raises
     ------
     InputError
-        For an empty image, an unsupported shape or dtype, or non-finite float values.
+        For an empty image, an unsupported shape or dtype, or float values that are not finite or
+        lie outside [0, 1].
 
     Examples
     --------
@@ -140,6 +143,10 @@ def split(image) -> Planes:
     >>> p = split(np.full((32, 48), 1000, np.uint16))
     >>> p.grey, p.levels, p.alpha is None, round(float(p.view[0, 0, 0]), 4)
     (True, 65535, True, 0.0153)
+    >>> split(np.full((32, 48, 3), 255.0))
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: a float image must hold values in [0, 1]; got 255 to 255; for 0-255 values pass uint8 or divide by 255
     """
     a = np.asarray(image)
     if a.size == 0 or a.ndim < 2 or 0 in a.shape[:2]:
@@ -158,6 +165,11 @@ def split(image) -> Planes:
         from odnn_sep.errors import check_finite
 
         check_finite("image", a)
+        lo, hi = float(a.min()), float(a.max())
+        if lo < -FLOAT_SLACK or hi > 1 + FLOAT_SLACK:
+            # clipped silently, 0-255 floats read as white: the mark was "not found" or its opacity wrong
+            hint = "; for 0-255 values pass uint8 or divide by 255" if hi > 2 else ""
+            raise InputError(f"a float image must hold values in [0, 1]; got {lo:.6g} to {hi:.6g}{hint}")
     else:
         raise InputError(f"image dtype must be uint8, uint16 or float in [0, 1]; got {a.dtype}")
     grey = a.ndim == 2 or a.shape[2] == 2
