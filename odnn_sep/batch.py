@@ -137,8 +137,10 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     out_opt = TARGETS[target][0]
     args = [target, src, out_opt, dst, *extra, "--quiet"]  # one progress bar for the batch
     report = dst if out_opt == "--report" else None
+    if report is None and "--report" in extra[:-1]:
+        report = extra[extra.index("--report") + 1]     # a report of each file asked for after --
     tmp_dir = None
-    if report is None and "--report" not in extra:
+    if report is None:
         # the report says what happened (batch_outcome.py): --quiet silences the summary line
         tmp_dir = tempfile.TemporaryDirectory(prefix="odnn-sep-batch-")
         report = str(Path(tmp_dir.name) / "report.json")
@@ -230,6 +232,8 @@ def plan_outputs(files, in_dir, out_dir, suffix):
     >>> files = [Path("in/a.csv"), Path("in/a.wav"), Path("in/b.csv")]
     >>> [str(p) for p in plan_outputs(files, Path("in"), Path("out"), ".json")]
     ['out/a.csv.json', 'out/a.wav.json', 'out/b.json']
+    >>> [str(p) for p in plan_outputs(files + [Path("in/a.csv.npz")], Path("in"), Path("out"), ".json")]
+    ['out/a.csv.json', 'out/a.wav.json', 'out/b.json', 'out/a.csv.npz.json']
     """
     from collections import Counter
 
@@ -237,15 +241,34 @@ def plan_outputs(files, in_dir, out_dir, suffix):
 
     rels = [f.relative_to(in_dir) for f in files]
     dsts = [out_dir / (r.with_suffix(suffix) if suffix else r) for r in rels]
-    counts = Counter(str(d).lower() for d in dsts)
-    dsts = [out_dir / r.parent / (r.name + suffix) if suffix and counts[str(d).lower()] > 1 else d
-            for r, d in zip(rels, dsts)]
+    full = [False] * len(dsts)
+    while suffix:
+        # a full name can meet another input's short one ('a.csv' and 'a.wav' -> 'a.csv.json', the
+        # short name of 'a.csv.npz'): that one takes its full name too, until no two outputs meet
+        counts = Counter(str(d).lower() for d in dsts)
+        clash = [k for k, d in enumerate(dsts) if counts[str(d).lower()] > 1 and not full[k]]
+        if not clash:
+            break
+        for k in clash:
+            dsts[k], full[k] = out_dir / rels[k].parent / (rels[k].name + suffix), True
     inputs = {f.resolve() for f in files}
     for f, d in zip(files, dsts):
         if d.resolve() in inputs:
             raise InputError(f"output {str(d)!r} for {str(f)!r} would overwrite an input; choose an --out-dir "
                              "outside the input folder")
     return dsts
+
+
+def _check_distinct(paths) -> None:
+    """Refuse two files of one batch written to the same path (a figure named like another file's output)."""
+    from collections import Counter
+
+    from odnn_sep.errors import InputError
+
+    counts = Counter(str(p.resolve()) for p in paths)
+    same = next((p for p in paths if counts[str(p.resolve())] > 1), None)
+    if same is not None:
+        raise InputError(f"two files of this batch would be written to {str(same)!r}; rename one of the inputs")
 
 
 def _check_not_inputs(files, outputs) -> None:
@@ -303,6 +326,7 @@ def run(args) -> int:
     import sys
     from pathlib import Path
 
+    from odnn_sep.batch_options import per_file_options
     from odnn_sep.errors import InputError
     from odnn_sep.io_paths import check_output_target
 
@@ -320,14 +344,18 @@ def run(args) -> int:
     if not files:
         raise InputError(f"no files matching {','.join(patterns)} in {str(in_dir)!r}; check the folder or --pattern")
     dsts = plan_outputs(files, in_dir, out_dir, TARGETS[args.target][1])
+    # a --plot or --report after -- is written per file, beside its output
+    options, side = per_file_options(args.target, extra, dsts, own_output=TARGETS[args.target][0])
+    _check_distinct([*dsts, *side])
     summary = Path(args.summary) if args.summary else out_dir / "batch_summary.json"
-    _check_not_inputs(files, [(f"output of {f}", d) for f, d in zip(files, dsts)] + [("--summary", summary)])
-    if any(d.resolve() == summary.resolve() for d in dsts):
+    _check_not_inputs(files, [(f"output of {f}", d) for f, d in zip(files, dsts)] + [("--summary", summary)]
+                      + [("figure or report", p) for p in side])
+    if any(d.resolve() == summary.resolve() for d in [*dsts, *side]):
         raise InputError(f"--summary {str(summary)!r} is the output of an input file; choose another path")
     if args.summary:
         check_output_target(summary, "--summary")
     created = _make_dirs([out_dir, *sorted({d.parent for d in dsts})])
-    jobs = [(args.target, str(f), str(d), extra) for f, d in zip(files, dsts)]
+    jobs = [(args.target, str(f), str(d), o) for f, d, o in zip(files, dsts, options)]
     from odnn_sep.batch_runner import run_jobs
     from odnn_sep.io_utils import remove_temporaries_of
 
