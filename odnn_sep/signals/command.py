@@ -167,5 +167,6 @@ def _write_system(ds, out, args) -> int:
              **ds.truth()}
     if args.truth:
         write_json(args.truth, truth)
-    print(ds.description)
+    if not getattr(args, "quiet", False):
+        print(ds.description)
     return 0
