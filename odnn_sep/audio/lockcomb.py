@@ -11,6 +11,7 @@ family is dropped. Hum-free input then leaves with no line at all.
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -89,6 +90,7 @@ class Comb:
     jumps: list = field(default_factory=list)
     lock_w: dict = field(default_factory=dict)   # harmonic -> p of the weighted lock test, where run
     host_lines: list = field(default_factory=list)  # lines of a periodic host, dropped: not added back
+    second_hum: dict | None = None  # a comb of the other mains family that locks too (_second_hum)
 
 
 def _weights(spec, f_ref, ks, det_floors):
@@ -318,6 +320,7 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
     # line is, not how much of the input it holds: seven weak lines of a drum loop on the 60 Hz
     # grid outvoted a 50 Hz hum louder than the music)
     best = max(fams, key=coherent_power)
+    best.second_hum = _second_hum(fams, best, spec)
     if test:
         _extend_high(source, spec, best, alpha=alpha, max_hz=max_hz, n_first=n_first)
         _add_pattern_lines(source, spec, best, alpha=alpha)
@@ -396,6 +399,53 @@ def _keep_columns(comb: Comb, ks) -> None:
     comb.D = comb.D[:, :, cols] if cols else None
     comb.weights = comb.weights[:, cols] if cols else None
     comb.harmonics = list(ks)
+
+
+SECOND_HUM_LINES = 3   # lines of the other family's comb, none shared with the hum removed, that tell a second hum
+
+
+def _second_hum(fams, best: Comb, spec) -> dict | None:
+    """The strongest comb of the other mains family among the locked ``fams`` when it holds
+    :data:`SECOND_HUM_LINES` or more lines that no line of ``best`` shares (300 Hz is 5 x 60 and
+    6 x 50), not all multiples of one number: a second hum (50 and 60 Hz sources in one take), which one run does not remove. It
+    is named in a warning with the run that removes it.
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.detect import Spectrum
+    >>> spec = Spectrum(np.arange(4000) * 0.25, np.ones((4000, 1)), 4, 10.0)
+    >>> hum50 = Comb(50.0, 49.99, [1, 2, 3, 4, 5, 6], None, None, None, lock={k: (1e-9, 0.9, 9.0) for k in range(1, 7)})
+    >>> hum60 = Comb(60.0, 60.01, [1, 2, 5, 7], None, None, None, lock={k: (1e-9, 0.9, 3.0) for k in (1, 2, 5, 7)})
+    >>> _second_hum([hum50, hum60], hum50, spec)
+    {'fundamental_hz': 60.01, 'harmonics': [1, 2, 7], 'power_db': -11.3}
+    >>> hum60.harmonics = [1, 5]                      # one line of its own
+    >>> _second_hum([hum50, hum60], hum50, spec) is None
+    True
+    >>> hum60.harmonics, hum60.lock = [10, 15, 20], {k: (1e-9, 0.9, 3.0) for k in (10, 15, 20)}
+    >>> _second_hum([hum50, hum60], hum50, spec) is None  # the partials of a 300 Hz note
+    True
+    """
+    found = None
+    for fam in fams:
+        if fam.nominal_hz == best.nominal_hz or not fam.harmonics:
+            continue
+        own = [k for k in fam.harmonics if min(abs(k * fam.f_ref - j * best.f_ref) for j in best.harmonics)
+               > _detect.band_halfwidth(spec, k)]
+        # lines that are all multiples of one number (10, 15, 20, ... of 59.94 Hz) are the partials
+        # of a note at that multiple (299.7 Hz), not a hum of this family
+        if len(own) < SECOND_HUM_LINES or math.gcd(*own) > 1:
+            continue
+        if found is None or coherent_power(fam) > found[1]:
+            found = (fam, coherent_power(fam), own)
+    if found is None:
+        return None
+    fam, power, own = found
+    ratio = power / max(coherent_power(best), 1e-300)
+    log.warning("a second hum locks on the %g Hz grid as well (%.3f Hz; harmonics %s; %.0f dB under the %g Hz "
+                "hum removed); one run removes one hum: run denoise again on the output with --mains %g to remove it",
+                fam.nominal_hz, fam.f_ref, ", ".join(map(str, own)), -10 * np.log10(max(ratio, 1e-30)),
+                best.nominal_hz, fam.nominal_hz)
+    return {"fundamental_hz": float(fam.f_ref), "harmonics": own, "power_db": round(float(10 * np.log10(ratio)), 1)}
 
 
 def coherent_power(comb: Comb) -> float:

@@ -112,6 +112,7 @@ class _Found:
     main_amps: object = None
     envelope: object = None
     hum_spans: list | None = None   # hum over part of the input only (humspans.py)
+    second_hum: dict | None = None  # a weaker hum of the other mains family, left in (lockcomb._second_hum)
 
 
 def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
@@ -211,7 +212,9 @@ def _analyse(source, opts: DenoiseOptions):
             combs, f_med, spec_fine = _further_combs(source, opts, det, trk, plan, ks, ks_spec, fine.result())
     tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
     lines = LineSet(harmonics=ks, tones=tones, combs=combs)
-    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env), bar
+    second = comb.second_hum if ks else None
+    return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env,
+                  second_hum=second), bar
 
 
 SHORT_HINT_S = 1.0   # under this, the lock tests cannot tell hum from a held note (the hint says so)
@@ -388,7 +391,7 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
                     "it: a steady tone at a multiple of the mains frequency cannot be told from hum, and it was "
                     "removed; if it is content (a test tone, a note), keep it with --harmonics %s",
                     k, k * f_med, db, others or "(none)")
-    return DenoiseResult(
+    res = DenoiseResult(
         y=None, hum=None, sr=sr, mains_hz=f_med, nominal_hz=det.nominal_hz, harmonics=ks, tones=lines.tones,
         extra_combs=[{"fundamental_hz": c.fundamental_hz, "harmonics": c.harmonics} for c in lines.combs],
         line_freqs=line_f,
@@ -408,6 +411,10 @@ def _result(found: _Found, opts: DenoiseOptions, after_source_fn, amps, phs, val
                               for a, d in getattr(getattr(trk, "phase", None), "jumps", None) or []]},
         spectra={"freqs": found.spec_before.freqs, "before": found.spec_before.psd, "after": spec_after.psd},
     )
+    if found.second_hum:
+        # a weaker hum of the other mains family, locked too and left in (a second run removes it)
+        res.info["second_hum"] = found.second_hum
+    return res
 
 
 def _peak_amplitudes(spec, ks, f0) -> dict:
