@@ -407,8 +407,8 @@ SECOND_HUM_LINES = 3   # lines of the other family's comb, none shared with the 
 def _second_hum(fams, best: Comb, spec) -> dict | None:
     """The strongest comb of the other mains family among the locked ``fams`` when it holds
     :data:`SECOND_HUM_LINES` or more lines that no line of ``best`` shares (300 Hz is 5 x 60 and
-    6 x 50), not all multiples of one number: a second hum (50 and 60 Hz sources in one take), which one run does not remove. It
-    is named in a warning with the run that removes it.
+    6 x 50), not all multiples of one number: a second hum (50 and 60 Hz sources in one take), which one run does not remove
+    (``denoise`` names it in a warning with the run that removes it).
 
     Examples
     --------
@@ -417,7 +417,7 @@ def _second_hum(fams, best: Comb, spec) -> dict | None:
     >>> hum50 = Comb(50.0, 49.99, [1, 2, 3, 4, 5, 6], None, None, None, lock={k: (1e-9, 0.9, 9.0) for k in range(1, 7)})
     >>> hum60 = Comb(60.0, 60.01, [1, 2, 5, 7], None, None, None, lock={k: (1e-9, 0.9, 3.0) for k in (1, 2, 5, 7)})
     >>> _second_hum([hum50, hum60], hum50, spec)
-    {'fundamental_hz': 60.01, 'harmonics': [1, 2, 7], 'power_db': -11.3}
+    {'nominal_hz': 60.0, 'fundamental_hz': 60.01, 'harmonics': [1, 2, 7], 'power_db': -11.3}
     >>> hum60.harmonics = [1, 5]                      # one line of its own
     >>> _second_hum([hum50, hum60], hum50, spec) is None
     True
@@ -440,12 +440,9 @@ def _second_hum(fams, best: Comb, spec) -> dict | None:
     if found is None:
         return None
     fam, power, own = found
-    ratio = power / max(coherent_power(best), 1e-300)
-    log.warning("a second hum locks on the %g Hz grid as well (%.3f Hz; harmonics %s; %.0f dB under the %g Hz "
-                "hum removed); one run removes one hum: run denoise again on the output with --mains %g to remove it",
-                fam.nominal_hz, fam.f_ref, ", ".join(map(str, own)), -10 * np.log10(max(ratio, 1e-30)),
-                best.nominal_hz, fam.nominal_hz)
-    return {"fundamental_hz": float(fam.f_ref), "harmonics": own, "power_db": round(float(10 * np.log10(ratio)), 1)}
+    ratio = max(power / max(coherent_power(best), 1e-300), 1e-30)
+    return {"nominal_hz": float(fam.nominal_hz), "fundamental_hz": float(fam.f_ref), "harmonics": own,
+            "power_db": round(float(10 * np.log10(ratio)), 1)}
 
 
 def coherent_power(comb: Comb) -> float:

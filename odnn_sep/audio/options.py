@@ -54,6 +54,8 @@ class DenoiseOptions:
             # every line would be cut off: "no hum found" would be the option's doing, not the data's
             raise InputError(f"max_hz={max_hz:g} Hz is below the mains fundamental ({lowest / 0.99:g} Hz): no line "
                              f"could be removed; raise it (it is the highest harmonic frequency to consider)")
+        if not tones:
+            check_testable(mains, harmonics, max_hz, sr)
         check_type("alpha", self.alpha, numbers.Real, "a number between 0 and 1")
         if not 0 < float(self.alpha) < 1:
             raise InputError(f"alpha must be between 0 and 1 (a significance level); got {self.alpha!r}")
@@ -63,6 +65,72 @@ class DenoiseOptions:
     def auto_block(self) -> bool:
         """Whether the block length is the data's choice."""
         return self.block_s == "auto"
+
+
+def families_in_reach(mains, harmonics, max_hz, sr) -> list[float]:
+    """The hum fundamentals asked for (50 and 60 Hz for ``'auto'``) with a line the detection
+    can test at ``sr`` under ``max_hz`` (:func:`~odnn_sep.audio.detect.candidate_harmonics`).
+
+    Examples
+    --------
+    >>> families_in_reach("auto", "auto", None, 8000), families_in_reach("auto", "auto", None, 128)
+    ([50.0, 60.0], [50.0])
+    """
+    from odnn_sep.audio import detect as _detect
+
+    fams = (50.0, 60.0) if mains == "auto" else (float(mains),)
+    return [f for f in fams if _detect.candidate_harmonics(f, sr, harmonics, max_hz)]
+
+
+def check_testable(mains, harmonics, max_hz, sr) -> None:
+    """InputError when no line of the hum asked for can be tested at ``sr`` (a line needs a few Hz
+    under the Nyquist frequency) or under ``max_hz``: "no hum found" would then be the rate's or
+    the option's doing, not the data's (it said "tested 60 Hz" of a 128 Hz recording, where the
+    line at 60 Hz is never looked at). Names the alias of 50 and 60 Hz hum where that can be tested.
+
+    Parameters
+    ----------
+    mains, harmonics, max_hz
+        As validated (``'auto'`` or Hz; ``'auto'``, N or a list; Hz or None).
+    sr : int
+        Sample rate (Hz).
+
+    Raises
+    ------
+    InputError
+        When no harmonic of ``mains`` (of 50 or of 60 Hz for ``'auto'``) can be tested.
+
+    Examples
+    --------
+    >>> check_testable("auto", "auto", None, 250)
+    >>> check_testable("auto", "auto", None, 100)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: no line of 50 or 60 Hz hum can be tested at sr=100: ... 60 Hz hum folds to 40 Hz here (--mains 40 removes it)
+    >>> check_testable(50.0, "auto", 51.0, 8000)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: no line of 50 Hz hum can be tested under max_hz=51 Hz ... raise max_hz ...
+    """
+    from odnn_sep.audio import detect as _detect
+
+    if families_in_reach(mains, harmonics, max_hz, sr):
+        return
+    what = "50 or 60 Hz" if mains == "auto" else f"{mains:g} Hz"
+    if isinstance(harmonics, list):
+        what += f" (harmonics {', '.join(map(str, harmonics))})"
+    if max_hz is not None and max_hz < _detect.top_hz(sr):
+        raise InputError(f"no line of {what} hum can be tested under max_hz={max_hz:g} Hz (a line needs about "
+                         f"2 Hz of room under it): raise max_hz (the highest harmonic frequency to consider)")
+    # where the hum shows at this rate, folded about the Nyquist frequency: a line the user can name
+    folds = []
+    for f in ((50.0, 60.0) if mains == "auto" else (float(mains),)):
+        a = round(abs(f - sr * round(f / sr)), 3)
+        if a != f and a > 0 and families_in_reach(a, "auto", None, sr):
+            folds.append(f"{f:g} Hz hum folds to {a:g} Hz here (--mains {a:g} removes it)")
+    hint = "; ".join(folds) or "a line there needs an input sampled at a higher rate"
+    raise InputError(f"no line of {what} hum can be tested at sr={sr}: the highest line tested is "
+                     f"{_detect.top_hz(sr):g} Hz, a little under the Nyquist frequency ({sr / 2:g} Hz); {hint}")
 
 
 def parse_block_s(block_s):

@@ -41,7 +41,7 @@ from odnn_sep.audio import track as _track
 from odnn_sep.audio.background import Background
 from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.lines import LineSet
-from odnn_sep.audio.options import DenoiseOptions, progress_bar
+from odnn_sep.audio.options import DenoiseOptions, families_in_reach, progress_bar
 from odnn_sep.audio.result import DenoiseResult
 from odnn_sep.errors import InputError
 
@@ -169,10 +169,17 @@ def _nothing_found(found) -> bool:
 
 
 def _warn_none(source, opts: DenoiseOptions):
+    # only the families with a line under the highest one tested at this rate were looked for
+    # (at 128 Hz the 60 Hz line is never tested)
+    asked = (50.0, 60.0) if opts.mains == "auto" else (opts.mains,)
+    fams = families_in_reach(opts.mains, opts.harmonics, opts.max_hz, source.sr)
+    tested = " and ".join(f"{f:g}" for f in fams) + " Hz" if fams else "no mains family"
+    out = [f"{f:g}" for f in asked if f not in fams]
+    if out:
+        tested += (f"; {' and '.join(out)} Hz {'lies' if len(out) == 1 else 'lie'} above the highest line tested "
+                   f"at sr={source.sr}")
     log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
-                "persist); the output equals the input%s",
-                "50 and 60 Hz" if opts.mains == "auto" else f"{opts.mains:g} Hz",
-                _short_hint(source.frames / source.sr, opts))
+                "persist); the output equals the input%s", tested, _short_hint(source.frames / source.sr, opts))
 
 
 def _analyse(source, opts: DenoiseOptions):
@@ -213,6 +220,11 @@ def _analyse(source, opts: DenoiseOptions):
     tones = _combs.refine_combs(source, sr, combs, f_med, spec_fine, tones=det.tones)
     lines = LineSet(harmonics=ks, tones=tones, combs=combs)
     second = comb.second_hum if ks else None
+    if second:
+        log.warning("a second hum locks on the %g Hz grid as well (%.3f Hz; harmonics %s; %.0f dB under the %g Hz "
+                    "hum removed); one run removes one hum: run denoise again on the output with --mains %g to "
+                    "remove it", second["nominal_hz"], second["fundamental_hz"], ", ".join(map(str, second["harmonics"])),
+                    -second["power_db"], comb.nominal_hz, second["nominal_hz"])
     return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env,
                   second_hum=second), bar
 
