@@ -2,6 +2,7 @@
 once (:meth:`DenoiseOptions.validated`) with one-line errors naming the option."""
 from __future__ import annotations
 
+import logging
 import numbers
 import sys
 from dataclasses import dataclass, replace
@@ -115,6 +116,8 @@ def check_testable(mains, harmonics, max_hz, sr) -> None:
     from odnn_sep.audio import detect as _detect
 
     if families_in_reach(mains, harmonics, max_hz, sr):
+        if isinstance(harmonics, list):
+            _warn_named_out_of_reach(mains, harmonics, max_hz, sr)
         return
     what = "50 or 60 Hz" if mains == "auto" else f"{mains:g} Hz"
     if isinstance(harmonics, list):
@@ -129,8 +132,25 @@ def check_testable(mains, harmonics, max_hz, sr) -> None:
         if a != f and a > 0 and families_in_reach(a, "auto", None, sr):
             folds.append(f"{f:g} Hz hum folds to {a:g} Hz here (--mains {a:g} removes it)")
     hint = "; ".join(folds) or "a line there needs an input sampled at a higher rate"
-    raise InputError(f"no line of {what} hum can be tested at sr={sr}: the highest line tested is "
+    raise InputError(f"no line of {what} hum can be tested at sr={sr:g}: the highest line tested is "
                      f"{_detect.top_hz(sr):g} Hz, a little under the Nyquist frequency ({sr / 2:g} Hz); {hint}")
+
+
+OUT_OF_REACH = "lie above the highest line tested"   # the warning of _warn_named_out_of_reach
+
+
+def _warn_named_out_of_reach(mains, harmonics: list, max_hz, sr) -> None:
+    """A warning naming the harmonics of the list given that lie above the highest line tested
+    (they are left out: --harmonics 1,2,190 at 16 kHz removed h1 and h2 without a word on h190)."""
+    from odnn_sep.audio import detect as _detect
+
+    f0 = 50.0 if mains == "auto" else float(mains)     # out of reach of 50 Hz: of 60 Hz as well
+    kept = set(_detect.candidate_harmonics(f0, sr, harmonics, max_hz))
+    out = [k for k in harmonics if k not in kept]
+    if out:
+        logging.getLogger("odnn_sep.audio").warning(
+            "harmonic(s) %s of %g Hz " + OUT_OF_REACH + " (%g Hz at sr=%g%s): left out",
+            ", ".join(map(str, out)), f0, _detect.top_hz(sr, max_hz), sr, " and max_hz" if max_hz else "")
 
 
 def parse_block_s(block_s):

@@ -49,3 +49,13 @@ def test_no_hum_found_names_the_family_out_of_reach(caplog):
         denoise(host, 128)
     said = " ".join(rec.getMessage() for rec in caplog.records)
     assert "tested 50 Hz; 60 Hz lies above the highest line tested at sr=128" in said
+
+
+def test_named_harmonics_above_the_highest_line_are_named_once(caplog):
+    host, hum = _hummed(500, f0=50.0, seconds=10.0)
+    x = np.stack([host + hum * g for g in (1.0, 0.8, 0.6, 0.4)])        # channels first, EEG-like
+    with caplog.at_level(logging.WARNING, logger="odnn_sep.audio"):
+        denoise(x, sfreq=500.0, harmonics=[1, 2, 30])
+    said = [rec.getMessage() for rec in caplog.records if "harmonic(s) 30 of 50 Hz" in rec.getMessage()]
+    # before: h30 (1500 Hz, over the 250 Hz Nyquist frequency) left out without a word
+    assert len(said) == 1 and "left out" in said[0]
