@@ -33,6 +33,7 @@ from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import envelope as _envelope
 from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import humspans as _humspans
+from odnn_sep.audio import inputclip as _inputclip
 from odnn_sep.audio import lockcomb as _lockcomb
 from odnn_sep.audio import silence as _silence
 from odnn_sep.audio import spanrun as _spanrun
@@ -88,12 +89,20 @@ def run(source, sink, opts: DenoiseOptions, *, after_source_fn):
     """
     # Many small matrix products: BLAS threads only add spin-wait overhead here (and collapse
     # when the machine is busy), so run them single-threaded.
+    # pass 2 sees every input sample: it counts the clipped ones on the way
+    watch = _inputclip.ClipWatch(sink, _inputclip.full_scale(source))
     try:
         from threadpoolctl import threadpool_limits  # present through librosa -> scikit-learn
     except ImportError:  # pragma: no cover
-        return _run_inner(source, sink, opts, after_source_fn)
-    with threadpool_limits(limits=1, user_api="blas"):
-        return _run_inner(source, sink, opts, after_source_fn)
+        res = _run_inner(source, watch, opts, after_source_fn)
+    else:
+        with threadpool_limits(limits=1, user_api="blas"):
+            res = _run_inner(source, watch, opts, after_source_fn)
+    clipped = watch.message()
+    if clipped:
+        log.warning(clipped)
+        res.info["input_clipped"] = round(watch.share, 6)
+    return res
 
 
 @dataclass
