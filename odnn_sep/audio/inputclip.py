@@ -12,45 +12,47 @@ CLIP_RUN = 3         # samples in a row at full scale that count as clipped (a p
 CLIP_SHARE = 1e-3    # share of the samples clipped from which the result is warned of
 
 
-def full_scale(source) -> float | None:
-    """The level at and above which a sample of ``source`` sits at its full scale: just under the
-    largest value of an integer file's subtype, 1.0 for a float file, the largest magnitude of an
-    array (arrays have no full scale of their own); None for an array of zeros.
+def full_scale(source) -> tuple[float, float] | None:
+    """The band of magnitudes at which a sample of ``source`` sits at its full scale: from just
+    under the largest value of an integer file's subtype up, up to 1.0 for a float file (a float
+    file may hold larger values, which are not clipped), the largest magnitude of an array (arrays
+    have no full scale of their own); None for an array of zeros.
 
     Examples
     --------
     >>> from odnn_sep.audio.io import ArraySource
-    >>> full_scale(ArraySource(np.array([0.1, -0.4, 0.2]), 8000))
-    0.4
+    >>> [round(v, 6) for v in full_scale(ArraySource(np.array([0.1, -0.4, 0.2]), 8000))]
+    [0.4, 0.4]
     """
     subtype = getattr(source, "subtype", None)
     if subtype is None:
         peak = float(np.max(np.abs(source.data))) if source.data.size else 0.0
-        return peak if peak > 0 else None
+        return (peak * (1 - 1e-9), peak) if peak > 0 else None
     from odnn_sep.audio.io import is_integer_subtype
 
     if not is_integer_subtype(subtype):
-        return 1.0
+        # (from just under 1: a float file written from a clipped 16-bit one tops at 1 - 2^-15)
+        return 1.0 - 2.0 ** -14, 1.0 + 1e-9
     # the largest 8-bit value is 127/128; every wider integer subtype reaches above 1 - 2^-14
-    return 1.0 - 2.0 ** -7 if subtype in ("PCM_S8", "PCM_U8") else 1.0 - 2.0 ** -14
+    return (1.0 - 2.0 ** -7 if subtype in ("PCM_S8", "PCM_U8") else 1.0 - 2.0 ** -14), 1.0
 
 
 class ClipWatch:
     """A sink (``sink(piece, removed)``) that counts the input's samples in runs of
-    :data:`CLIP_RUN` or more at ``level`` or beyond (runs cut by a piece's edge are counted in
+    :data:`CLIP_RUN` or more at full scale (runs cut by a piece's edge are counted in
     their parts), then passes the piece on.
 
     Parameters
     ----------
     sink : callable
         The sink to pass the pieces on to.
-    level : float or None
-        Full scale (:func:`full_scale`); None counts nothing.
+    level : (float, float) or None
+        The band of magnitudes at full scale (:func:`full_scale`); None counts nothing.
 
     Examples
     --------
     >>> got = []
-    >>> watch = ClipWatch(lambda piece, removed: got.append(piece), 1.0)
+    >>> watch = ClipWatch(lambda piece, removed: got.append(piece), (1.0, 1.0))
     >>> x = np.r_[np.zeros(1000), np.ones(5), np.zeros(3), -np.ones(2), np.zeros(990)][:, None]   # 5 in a run
     >>> watch(x, np.zeros_like(x)); watch.clipped, watch.total
     (5, 2000)
@@ -65,7 +67,8 @@ class ClipWatch:
     def __call__(self, piece, removed):
         self.total += piece.size
         if self.level is not None and piece.size:
-            at = np.abs(piece) >= self.level * (1 - 1e-9)
+            mag = np.abs(piece)
+            at = (mag >= self.level[0]) & (mag <= self.level[1])
             if at.any():
                 self.clipped += _in_runs(at)
         self.sink(piece, removed)

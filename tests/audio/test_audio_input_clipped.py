@@ -37,3 +37,11 @@ def test_a_take_that_touches_full_scale_is_not_called_clipped(tmp_path):
     assert main(["denoise", str(tmp_path / "in.wav"), "-o", str(tmp_path / "out.wav"),
                  "--report", str(tmp_path / "r.json"), "--quiet"]) == 0
     assert "input_clipped" not in json.loads((tmp_path / "r.json").read_text())
+
+
+def test_a_float_file_beyond_full_scale_is_not_called_clipped(tmp_path):
+    y = 4 * _loud_hum(2.0) / np.abs(_loud_hum(2.0)).max()     # a float file may hold values over 1
+    sf.write(tmp_path / "in.wav", y, SR, subtype="FLOAT")
+    assert main(["denoise", str(tmp_path / "in.wav"), "-o", str(tmp_path / "out.wav"),
+                 "--report", str(tmp_path / "r.json"), "--quiet"]) == 0
+    assert "input_clipped" not in json.loads((tmp_path / "r.json").read_text())
