@@ -123,6 +123,9 @@ def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
     # the source holds a private copy of y, read strictly ahead of what is written: the output
     # goes into it in place (one large allocation less)
     out = src.data
+    k = unit_exponent(out)
+    if k:
+        out *= 2.0 ** -k      # a power of two: exact, and undone exactly below
     hum = np.empty_like(src.data)
     pos = [0]
 
@@ -134,9 +137,45 @@ def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
         pos[0] += n
 
     res = run(src, sink, opts, after_source_fn=lambda: ArraySource.wrap(out, sr))
+    if k:
+        _rescale(res, out, hum, 2.0 ** k)
     res.y = out[:, 0] if src.mono else out
     res.hum = hum[:, 0] if src.mono else hum
     return res
+
+
+UNIT_RANGE = (2.0 ** -40, 2.0 ** 20)   # peak magnitudes analysed as given (about 1e-12 to 1e6)
+
+
+def unit_exponent(x: np.ndarray) -> int:
+    """The power of two that brings the peak of ``x`` to about 1 where it lies outside
+    :data:`UNIT_RANGE`, else 0. The analysis keeps single-precision chunk sums and absolute
+    floors: samples of 1e20 overflowed them (hundreds of NumPy warnings, then "no hum found"),
+    samples of 1e-30 fell under them ("no hum found" in silence); the result must not depend on
+    the units.
+
+    Examples
+    --------
+    >>> unit_exponent(np.array([0.5, -0.9])), unit_exponent(np.array([3e20])), unit_exponent(np.array([1e-30]))
+    (0, 68, -100)
+    >>> unit_exponent(np.zeros(4))
+    0
+    """
+    peak = float(np.max(np.abs(x))) if x.size else 0.0
+    if peak == 0 or UNIT_RANGE[0] <= peak <= UNIT_RANGE[1]:
+        return 0
+    return int(np.round(np.log2(peak)))
+
+
+def _rescale(res: DenoiseResult, out: np.ndarray, hum: np.ndarray, g: float) -> None:
+    """Back to the input's units: the samples, the amplitudes and the spectra (levels are ratios)."""
+    out *= g
+    hum *= g
+    res.amplitudes = res.amplitudes * g
+    if res.amplitude_overall is not None:
+        res.amplitude_overall = res.amplitude_overall * g
+    with np.errstate(over="ignore"):    # the power of samples near 1e200 is past float64: inf
+        res.spectra = {k: (v * g * g if k != "freqs" else v) for k, v in res.spectra.items()}
 
 
 def denoise_file(path_in: str | os.PathLike, path_out: str | os.PathLike, *, subtype: str | None = None,
