@@ -178,6 +178,15 @@ def _restore(planes, y, M, alpha, color, prior, inpaint_lost, random_state, step
         res["copies_left"] = left
         if left is not None:
             res["visible"] = True
+        # letters of the text the input does not show, drawn in the opposite colour by the inversion
+        from odnn_sep.image.residual_drawn import drawn_parts
+
+        drawn = drawn_parts(o, np.asarray(inp, dtype=np.float64), M[b[1]:b[3], b[0]:b[2]], alpha, color)
+        for part in drawn:
+            part["at"] = (round(part["at"][0] + b[0], 1), round(part["at"][1] + b[1], 1))
+        res["drawn"] = drawn or None
+        if drawn:
+            res["visible"] = True
     if step:
         from odnn_sep.image.residual import VISIBLE_LEVELS, step_left
 

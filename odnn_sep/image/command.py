@@ -35,6 +35,7 @@ EXIT_MARK_VISIBLE = 3
 # What to try when the mark is still visible, by mode (--font and --mask do not go with --reference).
 ADVICE = {"text": "; try --font with the mark's font file, or --mask over the mark",
           "mask": "; try a mask that follows the mark's strokes more closely",
+          "drawn": "; give --text with only the characters the mark shows",
           "reference": "; try a --reference image of the mark's own artwork (with its alpha channel), or --mask "
                        "over the mark instead of --reference"}
 
@@ -154,10 +155,12 @@ def run(args) -> int:
     if visible:
         import sys
 
-        print(f"mark still visible after removal: {_residual_text(residual)}; "
+        drawn = bool(residual.get("drawn"))
+        print(("the removal drew letters the image does not show" if drawn else "mark still visible after removal")
+              + f": {_residual_text(residual)}; "
               + (f"partial result written to {args.output}" if written else "no output written (--keep-partial "
                  "writes it)")
-              + ADVICE.get(report.get("mode"), ADVICE["text"]), file=sys.stderr)
+              + (ADVICE["drawn"] if drawn else ADVICE.get(report.get("mode"), ADVICE["text"])), file=sys.stderr)
         return EXIT_MARK_VISIBLE
     if not args.quiet:
         where = f"font {_font_text(report['font'])} {report['font_size_px']:.1f} px, angle " \
@@ -288,6 +291,8 @@ def _residual_text(residual: dict) -> str:
     --------
     >>> _residual_text({"lines_not_found": ["John Doe"], "lines_still_visible": []})
     "line 'John Doe' not found (left as it was)"
+    >>> _residual_text({"drawn": [{"at": (305.0, 120.0), "input_corr": -0.14, "output_corr": -0.85}]})[:45]
+    'the part of the rendered text at x 305, y 120'
     """
     missing, left = residual.get("lines_not_found", []), residual.get("lines_still_visible", [])
     if missing or left:   # a text of several lines (textlines.py)
@@ -296,6 +301,13 @@ def _residual_text(residual: dict) -> str:
             rest = {k: v for k, v in residual.items() if k not in ("lines_not_found", "lines_still_visible")}
             parts.append(f"line {left[0]!r} still visible: {_residual_text(rest)}")
         return "; ".join(parts)
+    drawn = residual.get("drawn")
+    if drawn:  # parts of the text the input does not show (residual_drawn.py)
+        x, y = drawn[0]["at"]
+        more = f" and {len(drawn) - 1} more part(s)" if len(drawn) > 1 else ""
+        return (f"the part of the rendered text at x {x:.0f}, y {y:.0f}{more} is not in the input (correlation "
+                f"{drawn[0]['input_corr']:.2f}) and came out in the opposite colour (correlation "
+                f"{drawn[0]['output_corr']:.2f}): --text has characters the mark does not have")
     if "edge_left" in residual:
         second = residual.get("second_colour")
         beside = (f"; a second colour (outline or shadow, {second['shape']}) left beside the letters at "
