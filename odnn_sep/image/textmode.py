@@ -107,12 +107,29 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     best, best_nc, score, off, ys = find(y, text, fonts, region, angle_range, random_state, min_score, reduced)
     if best is None or score < min_score:
         raise MarkNotFoundError(f"text {text!r} not found in the image (best match score {score:.3f}, needs >= "
-                         f"{min_score:g}); check --text/--font or give --mask")
+                         f"{min_score:g}); check --text/--font or give --mask{_turn_hint(angle_range)}")
     placed = [best]
     if max_marks > 1:
         placed += _copies(y, ys, text, best, best_nc, off, max_marks, min_score,
                           dict(reduced=reduced, random_state=random_state))
     return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
+
+
+def _turn_hint(angle_range) -> str:
+    """The clause of a "not found" error on the angles searched: a vertical mark (text up the side of a
+    photo) was "not found" with no word that the search never turns the text that far.
+
+    Examples
+    --------
+    >>> _turn_hint(45.0)
+    '; the search tries angles within +-45 degrees of level: for a mark turned further (vertical text), turn the image by 90 degrees first'
+    >>> _turn_hint(0.0)
+    ''
+    """
+    if not angle_range or float(angle_range) >= 90:
+        return ""
+    return (f"; the search tries angles within +-{float(angle_range):g} degrees of level: for a mark turned further "
+            f"(vertical text), turn the image by 90 degrees first")
 
 
 def _copies(y, ys, text, best, best_nc, off, max_marks, min_score, how) -> list:
@@ -461,7 +478,7 @@ def _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, r
     if not placed:
         raise MarkNotFoundError(f"text {text!r} not found in the image (best match score {info['match_score']:.3f} on a "
                          f"reduced copy, not confirmed at full resolution, needs >= {min_score:g}); check "
-                         f"--text/--font or give --mask")
+                         f"--text/--font or give --mask{_turn_hint(angle_range)}")
     order = np.argsort(-np.asarray(scores), kind="stable")
     placed = [placed[i] for i in order]
     return _assemble(y, text, placed, float(scores[order[0]]), min_score, random_state, from_data=font is None)
