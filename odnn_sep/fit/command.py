@@ -96,6 +96,7 @@ def run(args) -> int:
     from odnn_sep.errors import InputError
     from odnn_sep.fit.data import load_signal, write_components
     from odnn_sep.fit.expr import basis_from_expressions, parse_disturbance
+    from odnn_sep.fit.size import check_shape_points
     from odnn_sep.io_utils import write_json
 
     if args.name and len(args.name) != len(args.basis):
@@ -108,6 +109,8 @@ def run(args) -> int:
     x, y, coords, grid = load_signal(args.data, args.column, value_name=value_name)
     basis = basis_from_expressions(args.basis, coords, args.name)
     dist = parse_disturbance(args.disturbance, ndim=len(coords))
+    # (the network solver's intervals come from the exact analysis too: the bound holds for both)
+    check_shape_points(dist, len(y), args.disturbance)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         # the network trains for minutes: show its epochs unless asked to be quiet
