@@ -146,7 +146,7 @@ def split(image) -> Planes:
     >>> split(np.full((32, 48, 3), 255.0))
     Traceback (most recent call last):
     ...
-    odnn_sep.errors.InputError: a float image must hold values in [0, 1]; got 255 to 255; for 0-255 values pass uint8 or divide by 255
+    odnn_sep.errors.InputError: a float image must hold values in [0, 1]; got 255 to 255; for 0-255 values use 8-bit pixels (uint8) or divide by 255
     """
     a = np.asarray(image)
     if a.size == 0 or a.ndim < 2 or 0 in a.shape[:2]:
@@ -168,7 +168,7 @@ def split(image) -> Planes:
         lo, hi = float(a.min()), float(a.max())
         if lo < -FLOAT_SLACK or hi > 1 + FLOAT_SLACK:
             # clipped silently, 0-255 floats read as white: the mark was "not found" or its opacity wrong
-            hint = "; for 0-255 values pass uint8 or divide by 255" if hi > 2 else ""
+            hint = "; for 0-255 values use 8-bit pixels (uint8) or divide by 255" if hi > 2 else ""
             raise InputError(f"a float image must hold values in [0, 1]; got {lo:.6g} to {hi:.6g}{hint}")
     else:
         raise InputError(f"image dtype must be uint8, uint16 or float in [0, 1]; got {a.dtype}")

@@ -17,7 +17,7 @@ def marked():
 def test_float_0_255_refused(marked):
     # before: clipped to white, searched, and reported "not found (best match score 0.000)"
     with pytest.raises(InputError, match=r"float image must hold values in \[0, 1\]; got .* to 255; for 0-255 "
-                                         r"values pass uint8 or divide by 255"):
+                                         r"values use 8-bit pixels \(uint8\) or divide by 255"):
         unwatermark(marked.astype(np.float64), text="SAMPLE", font="DejaVuSans-Bold")
 
 
@@ -33,3 +33,15 @@ def test_float_rounding_slack_accepted():
     assert split(a).levels == 65535
     with pytest.raises(InputError, match="negative|got -0.5"):
         split(np.full((8, 8), -0.5))
+
+
+def test_float_tiff_of_0_255_values_refused_by_the_command(marked, tmp_path, capsys):
+    cv2 = pytest.importorskip("cv2")
+    from odnn_sep.cli import main
+
+    src = tmp_path / "f.tif"  # a 32-bit float TIFF holding 0-255 values, as some tools save them
+    cv2.imwrite(str(src), cv2.cvtColor(marked.astype(np.float32), cv2.COLOR_RGB2BGR))
+    assert main(["unwatermark", str(src), "--text", "SAMPLE", "--font", "DejaVuSans-Bold",
+                 "-o", str(tmp_path / "o.png")]) == 1
+    assert "a float image must hold values in [0, 1]" in capsys.readouterr().err
+    assert not (tmp_path / "o.png").exists()
