@@ -121,11 +121,12 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise FormatError(f"could not read {str(p)!r} as CSV: {str(exc).strip().splitlines()[-1]}") from None
     data = np.atleast_2d(data)
+    first_col = 0      # the file's column of x (1 behind a row counter)
     if data.ndim == 2 and len(header) == data.shape[1] and row_index_column(header, [data[:, 0], data[:, 1]]):
         # a table library's row counter (pandas' index) before the coordinate: left out
         log.warning("the first column (%r) of %s counts the rows (a table's index): left out; x is column %r",
                     header[0], p.name, header[1])
-        data, header = data[:, 1:], header[1:]
+        data, header, first_col = data[:, 1:], header[1:], 1
     if data.size == 0 or data.shape[1] < 2 or data.shape[0] < 2:
         raise FormatError(f"{str(p)!r} needs a header row, at least two data rows and at least two columns "
                           "(x and a value)")
@@ -133,6 +134,10 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
                     column, path=p)
     x, v = data[:, 0], data[:, j]
     label = header[j] if j < len(header) else str(j)
+    if np.isnan(x).any():
+        # date-times (a logger's time stamps) as seconds since the first, as mismatch reads them; a
+        # cell that is neither is named by its line
+        x = _time_stamps(p, header[0] if header else "x", x.size, first_col)
     for name, a in ((f"column {label!r}", v), ("x (first column)", x)):
         if np.isnan(a).any():
             k = int(np.argmax(np.isnan(a)))
@@ -144,6 +149,20 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     if value_name is not None:
         value_name.append(label)
     return x, v, (name,), None
+
+
+def _time_stamps(p, name, n, col):
+    """Column ``col`` (x) of a CSV whose cells are not all numbers, read by :func:`odnn_sep.io_read.time_values`."""
+    from odnn_sep.io_read import time_values
+
+    rows, _ = table_rows(p)
+    rows = rows[leading_comments(rows):]
+    cells = [r[col] if len(r) > col else "" for r in rows[1:]]
+    if len(cells) != n:      # not the rows the table was read as: leave the reading's own message
+        return np.full(n, np.nan)
+    x, origin = time_values(cells, path=p, name=name)
+    log.warning("column %r of %s holds date-times: x is in seconds since %s", name, p.name, origin)
+    return x
 
 
 def _other_separator(p):
