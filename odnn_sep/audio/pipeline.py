@@ -21,7 +21,7 @@ Where the whole input shows no hum, stretches of it where harmonics stand segmen
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -131,10 +131,10 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
         raise InputError(f"input is too short ({N} samples = {N / sr:.3f} s at {sr} Hz) to resolve mains hum; "
                          f"pass at least {MIN_S:g} s of audio")
     sink = _silence.KeepSilence(source, sink)
-    a, n = _silence.sounding_extent(source, int(MIN_S * sr))
-    if (a, n) != (0, N):
-        # silent ends (exact zeros) hold no hum: the sounding stretch is the input analysed
-        return _run_sounding(source, sink, opts, after_source_fn, a, n)
+    stretches = _silence.sounding_stretches(source, int(MIN_S * sr))
+    if stretches != [(0, N)]:
+        # digital silence (exact zeros) holds no hum: the stretches between are the inputs analysed
+        return _run_sounding(source, sink, opts, after_source_fn, stretches)
     found, bar = _analyse(source, opts)
     tick = (lambda k: bar.update(k)) if bar is not None else None
     parts = (_spanrun.span_parts(source, opts, found, _analyse) if _nothing_found(found)
@@ -151,24 +151,34 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
     return _result(found, opts, after_source_fn, amps, phs, valid, overall, source)
 
 
-def _run_sounding(source, sink, opts: DenoiseOptions, after_source_fn, a: int, n: int):
-    """The passes on the input's frames ``a .. a + n`` (between its silent ends, silence.py), the
-    silent ends written as read; the report's spans, track and levels on the input's clock."""
-    sub = _humspans.SliceSource(source, a, n)
-    found, bar = _analyse(sub, opts)
+def _run_sounding(source, sink, opts: DenoiseOptions, after_source_fn, stretches):
+    """The passes on each of ``stretches`` ``[(first frame, frames)]`` (between the input's digital
+    silences, silence.py) as an input of its own, the silences written as read; the report's spans
+    and track on the input's clock, its levels on the longest stretch."""
+    if len(stretches) > 1:
+        opts = replace(opts, progress=False)        # one bar per stretch would only confuse
+    parts, base, bar = [], None, None
+    for a, n in stretches:
+        sub = _humspans.SliceSource(source, a, n)
+        found, bar = _analyse(sub, opts)
+        inner = (_spanrun.span_parts(sub, opts, found, _analyse) if _nothing_found(found)
+                 else _spanrun.lone_line_part(sub, opts, found, _analyse))
+        parts += [(a + a2, n2, f2) for a2, n2, f2 in inner] or [(a, n, found)]
+        if base is None or n > base[1]:
+            base = (a, n, found, sub)
+    a, n, found, sub = base
     tick = (lambda k: bar.update(k)) if bar is not None else None
-    parts = (_spanrun.span_parts(sub, opts, found, _analyse) if _nothing_found(found)
-             else _spanrun.lone_line_part(sub, opts, found, _analyse))
-    parts = [(a + a2, n2, f2) for a2, n2, f2 in parts] or [(a, n, found)]
-    if _nothing_found(parts[0][2]):
+    # stretches without hum are written as read, like the silences
+    parts = [p for p in parts if not _nothing_found(p[2])]
+    if not parts:
         _warn_none(source, opts)
-    amps, phs, valid, overall = _spanrun.fit_parts(source, sink, opts, parts, tick, _fit)
-    if not _nothing_found(parts[0][2]):
+    amps, phs, valid, overall = _spanrun.fit_parts(source, sink, opts, parts or [(a, n, found)], tick, _fit)
+    if parts:
         found = _spanrun.with_spans(found, parts)
     if bar is not None:
         bar.close()
-    log.info("silent ends: the input sounds over %.2f-%.2f s only; the zeros around it are written as read",
-             a / source.sr, (a + n) / source.sr)
+    log.info("digital silence: the input sounds over %s s only; the zeros are written as read",
+             ", ".join(f"{a2 / source.sr:.2f}-{(a2 + n2) / source.sr:.2f}" for a2, n2 in stretches))
     return _result(found, opts, lambda: _humspans.SliceSource(after_source_fn(), a, n), amps, phs, valid,
                    overall, sub)
 

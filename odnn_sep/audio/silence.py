@@ -5,15 +5,21 @@ hum there, whatever the rest holds. Analysed as part of the input, those zeros r
 level steps, and the shared level and the block fit spread the hum into them: 5 s of zeros before
 15 s of hummed music came out with hum at -29 dB under the hum's level written into the silence,
 and the hum under the music removed by 23 dB instead of 41 dB. The pipeline analyses and fits the
-sounding stretch as an input of its own and writes the silent ends as read. Zeros inside the
-input (a gap inserted by an editor, a dropout) are analysed with the rest, but nothing is taken out
-of them (:class:`KeepSilence`).
+sounding stretch as an input of its own and writes the silent ends as read. A gap of zeros
+inside the input (silence an editor inserted) parts it the same way: the hum after it is the hum
+before it shifted in time, which the whole input's track follows only in part (20 s of hummed
+music with 0.5 s of zeros inserted at 10 s: 19.2 dB removed, 35.5 dB with the halves apart).
+Shorter runs of zeros (a dropout) are analysed with the rest, but nothing is taken out of them
+(:class:`KeepSilence`).
 """
 from __future__ import annotations
 
 import numpy as np
 
 SILENT_END_S = 0.1     # zeros at an end shorter than this stay part of the input (a few cycles at most)
+GAP_S = 0.5            # zeros inside the input this long or longer part it into stretches analysed apart
+MIN_STRETCH_S = 4.0    # ... each at least this long (a shorter one joins its neighbour, the gap inside)
+MAX_SCAN_S = 600.0     # inputs up to this long are looked through for gaps (a read pass of their own)
 _STEP = 1 << 15        # frames read at a time while looking for the first and last sound
 
 
@@ -54,6 +60,73 @@ def sounding_extent(source, min_frames: int) -> tuple[int, int]:
     if (a, b) == (0, N) or b - a < min_frames:
         return 0, N
     return a, b - a
+
+
+def sounding_stretches(source, min_frames: int) -> list[tuple[int, int]]:
+    """``[(first frame, frames)]`` of the input between its digital silences: its silent ends
+    (:func:`sounding_extent`) and, on inputs up to :data:`MAX_SCAN_S`, runs of exact zeros on
+    every channel of :data:`GAP_S` or more inside it, where what sounds on each side is at least
+    :data:`MIN_STRETCH_S` long (a shorter stretch keeps the gap beside it). ``[(0, frames)]``
+    where there is none.
+
+    Parameters
+    ----------
+    source : ArraySource or FileSource
+        The input.
+    min_frames : int
+        Shortest sounding stretch analysed on its own (see :func:`sounding_extent`).
+
+    Returns
+    -------
+    list of (int, int)
+
+    Examples
+    --------
+    >>> from odnn_sep.audio.io import ArraySource
+    >>> sr = 1000; on, gap = np.ones(5 * sr), np.zeros(sr)
+    >>> sounding_stretches(ArraySource(np.r_[gap, on, gap, on, gap[:50], on], sr), 200)
+    [(1000, 5000), (7000, 10050)]
+    >>> sounding_stretches(ArraySource(np.r_[on, gap, on[:2 * sr]], sr), 200)     # 2 s after the gap
+    [(0, 8000)]
+    """
+    a, n = sounding_extent(source, min_frames)
+    sr = source.sr
+    if n > MAX_SCAN_S * sr:
+        return [(a, n)]
+    gaps = _gaps(source, a, n, int(np.ceil(GAP_S * sr)))
+    bounds = [a] + [g for gap in gaps for g in gap] + [a + n]
+    stretches = [(bounds[i], bounds[i + 1]) for i in range(0, len(bounds), 2)]
+    least = MIN_STRETCH_S * sr
+    while len(stretches) > 1:
+        short = [i for i, (s0, s1) in enumerate(stretches) if s1 - s0 < least]
+        if not short:
+            break
+        i = short[0]
+        j = i - 1 if i == len(stretches) - 1 else i     # join it to the next one (the last: to the one before)
+        stretches[j: j + 2] = [(stretches[j][0], stretches[j + 1][1])]
+    return [(int(s0), int(s1 - s0)) for s0, s1 in stretches]
+
+
+def _gaps(source, a: int, n: int, least: int) -> list[tuple[int, int]]:
+    """``[(start, end)]`` of the runs of zeros on every channel, ``least`` frames or longer, in
+    frames ``a .. a + n`` of ``source``."""
+    gaps, run0 = [], None
+    for s in range(a, a + n, _STEP):
+        silent = ~(source.read(s, min(_STEP, a + n - s)) != 0).any(axis=1)
+        d = np.diff(np.r_[0, silent.astype(np.int8), 0])
+        starts, ends = (np.flatnonzero(d == 1) + s).tolist(), (np.flatnonzero(d == -1) + s).tolist()
+        if run0 is not None:            # a run from the last piece goes on
+            if starts and starts[0] == s:
+                starts[0] = run0
+            else:
+                if s - run0 >= least:
+                    gaps.append((run0, s))
+        run0 = None
+        if ends and ends[-1] == min(s + _STEP, a + n) and ends[-1] < a + n:
+            run0 = starts.pop()          # runs on into the next piece
+            ends.pop()
+        gaps += [(g0, g1) for g0, g1 in zip(starts, ends, strict=True) if g1 - g0 >= least]
+    return gaps
 
 
 def _first_sound(source, starts, *, forward: bool) -> int | None:
