@@ -53,7 +53,8 @@ def drawn_parts(out: np.ndarray, inp: np.ndarray, M: np.ndarray, alpha: float, c
     -------
     list of dict
         Per part drawn: ``at`` (x, y of its centre in the crop), ``pixels``, ``input_corr``,
-        ``output_corr`` and ``levels`` (the contrast a mark there would have had, 8-bit).
+        ``output_corr`` and ``levels`` (the contrast a mark there would have had, 8-bit levels RMS over
+        the channels).
 
     Examples
     --------
@@ -92,7 +93,7 @@ def drawn_parts(out: np.ndarray, inp: np.ndarray, M: np.ndarray, alpha: float, c
             continue
         bg = np.median(out[y0:y1, x0:x1][photo], axis=0)
         d = c - bg
-        levels = 255.0 * alpha * float(np.linalg.norm(d))
+        levels = 255.0 * alpha * float(np.linalg.norm(d)) / np.sqrt(d.size)  # RMS over the channels
         if levels < MIN_LEVELS:
             continue
         d = d / np.linalg.norm(d)
