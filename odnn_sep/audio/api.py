@@ -109,15 +109,17 @@ def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
     Returns
     -------
     DenoiseResult
-        With ``y`` (the cleaned samples) and ``hum`` (what was removed), shaped like the input.
+        With ``y`` (the cleaned samples) and ``hum`` (what was removed), shaped like the input,
+        float32 for a float32 (or float16) input and float64 otherwise (as the channels-first
+        EEG/MEG call keeps its input's type).
 
     Examples
     --------
     >>> from odnn_sep.audio.synth import make_hum_demo
     >>> y, sr, _ = make_hum_demo(duration_s=3.0, sr=8000)
     >>> r = denoise_array(y, sr, DenoiseOptions(mains=50))
-    >>> r.y.shape == y.shape, r.nominal_hz
-    (True, 50.0)
+    >>> r.y.shape == y.shape, r.nominal_hz, denoise_array(y.astype("float32"), sr, DenoiseOptions()).y.dtype
+    (True, 50.0, dtype('float32'))
     """
     src = ArraySource(y, sr)
     # the source holds a private copy of y, read strictly ahead of what is written: the output
@@ -141,6 +143,10 @@ def denoise_array(y, sr, opts: DenoiseOptions) -> DenoiseResult:
         _rescale(res, out, hum, 2.0 ** k)
     res.y = out[:, 0] if src.mono else out
     res.hum = hum[:, 0] if src.mono else hum
+    kind = getattr(y, "dtype", None)
+    if kind is not None and kind.kind == "f" and kind.itemsize < 8:
+        # computed in float64; handed back in the input's precision (librosa loads float32)
+        res.y, res.hum = res.y.astype(np.float32), res.hum.astype(np.float32)
     return res
 
 
