@@ -67,6 +67,10 @@ def read_series_csv(path, series, column=None):
     times, _ = time_values([r[0] if r else "" for r in rows[1:]], path=str(path), name=header[0])
     groups: dict = {}
     for k, r in enumerate(rows[1:], start=2):
+        if js < len(r) and not r[js].strip():
+            # an unnamed row would become a series of its own, named ''
+            raise FormatError(f"CSV {str(path)!r} line {k}: the --series column {series!r} is empty; name the "
+                              f"series of that row or remove it")
         try:
             groups.setdefault(r[js].strip(), []).append((times[k - 2], float(r[jv])))
         except (ValueError, IndexError):
@@ -80,16 +84,22 @@ def read_series_csv(path, series, column=None):
 
 
 def _value_column(header, js, column, path):
-    from odnn_sep.mismatch.model import suggest_name
+    """The value column of a series CSV: the rule of every reader (a name or an index, never the time
+    column, :func:`odnn_sep.io_read.pick_column`), and never the series column."""
+    from odnn_sep.io_read import pick_column
+    if js == 0:
+        raise InputError(f"--series {header[0]!r} is the time column of {str(path)!r}; give the column that names "
+                         f"each series (columns: {', '.join(header)})")
     if column is None:
         rest = [j for j in range(1, len(header)) if j != js]
         if not rest:
             raise InputError(f"CSV {str(path)!r} has no value column besides time and {header[js]!r}")
         return rest[0]
-    if str(column) in header:
-        return header.index(str(column))
-    raise InputError(f"--column {column!r} is not a column of {str(path)!r}; "
-                     f"{suggest_name(column, header)}columns: {', '.join(header)}")
+    jv = pick_column(header, column, path=path)
+    if jv == js:
+        raise InputError(f"--column {column!r} is the --series column {header[js]!r}; give the value column "
+                         f"(columns: {', '.join(header)})")
+    return jv
 
 
 def read_series_files(paths, *, load, column=None, start=None, duration=None):
