@@ -144,7 +144,7 @@ def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
         found = _spanrun.with_spans(found, parts)
     else:
         if _nothing_found(found):
-            _warn_none(source, opts)
+            _warn_none(source, opts, found.spec_before)
         amps, phs, valid, overall = _fit(source, sink, opts, found, tick)
     if bar is not None:
         bar.close()
@@ -171,7 +171,7 @@ def _run_sounding(source, sink, opts: DenoiseOptions, after_source_fn, stretches
     # stretches without hum are written as read, like the silences
     parts = [p for p in parts if not _nothing_found(p[2])]
     if not parts:
-        _warn_none(source, opts)
+        _warn_none(source, opts, found.spec_before)
     amps, phs, valid, overall = _spanrun.fit_parts(source, sink, opts, parts or [(a, n, found)], tick, _fit)
     if parts:
         found = _spanrun.with_spans(found, parts)
@@ -187,7 +187,7 @@ def _nothing_found(found) -> bool:
     return not found.lines.harmonics and not found.lines.fixed_freqs
 
 
-def _warn_none(source, opts: DenoiseOptions):
+def _warn_none(source, opts: DenoiseOptions, spec=None):
     # only the families with a line under the highest one tested at this rate were looked for
     # (at 128 Hz the 60 Hz line is never tested)
     asked = (50.0, 60.0) if opts.mains == "auto" else (opts.mains,)
@@ -198,7 +198,8 @@ def _warn_none(source, opts: DenoiseOptions):
         tested += (f"; {' and '.join(out)} Hz {'lies' if len(out) == 1 else 'lie'} above the highest line tested "
                    f"at sr={source.sr}")
     log.warning("no mains hum found (tested %s; lines must be phase-locked to one fundamental and "
-                "persist); the output equals the input%s", tested, _short_hint(source.frames / source.sr, opts))
+                "persist); the output equals the input%s%s", tested, _short_hint(source.frames / source.sr, opts),
+                _other_family_hint(source, spec, opts) if spec is not None else "")
 
 
 def _analyse(source, opts: DenoiseOptions):
@@ -244,8 +245,43 @@ def _analyse(source, opts: DenoiseOptions):
                     "hum removed); one run removes one hum: run denoise again on the output with --mains %g to "
                     "remove it", second["nominal_hz"], second["fundamental_hz"], ", ".join(map(str, second["harmonics"])),
                     -second["power_db"], comb.nominal_hz, second["nominal_hz"])
+    if ks and all(_on_other_grid(k * f_med, opts) for k in ks):
+        hint = _other_family_hint(source, spec_before, opts)
+        if hint:
+            log.warning("every line removed (%s) is a harmonic of %g Hz as well%s",
+                        ", ".join(f"h{k} at {k * f_med:.1f} Hz" for k in ks), 110.0 - opts.mains, hint)
     return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env,
                   second_hum=second), bar
+
+
+def _on_other_grid(f: float, opts: DenoiseOptions) -> bool:
+    """Whether ``f`` (Hz) lies within 0.5 % of a harmonic of the other mains family than the 50 or
+    60 Hz asked for (300 Hz is 6 x 50 and 5 x 60); False when mains is not 50 or 60."""
+    if opts.mains not in (50.0, 60.0):
+        return False
+    other = 110.0 - opts.mains
+    return abs(f - round(f / other) * other) <= 0.005 * f
+
+
+def _other_family_hint(source, spec, opts: DenoiseOptions) -> str:
+    """Where the mains asked for is 50 or 60 Hz and the spectrum shows two lines or more of the
+    other family: what the warnings add (the data's hum is likely the other one). A European take
+    given --mains 60 had its 300 Hz line removed as "h5 of 59.99 Hz" and its 50 Hz hum left."""
+    if opts.mains not in (50.0, 60.0) or opts.harmonics != "auto":
+        return ""
+    other = 110.0 - opts.mains
+    d2 = _detect.detect_hum(spec, source.sr, mains=other, harmonics="auto", alpha=opts.alpha, max_hz=opts.max_hz)
+    if len(d2.harmonics) < 2:
+        return ""
+    # the lock tests too: the spectrum alone shows lines of either family in held notes
+    comb = _lockcomb.choose(source, spec, d2, mains=other, harmonics="auto", alpha=opts.alpha,
+                            max_hz=opts.max_hz, tones=[])
+    ks = comb.harmonics if comb is not None else []
+    if len(ks) < 2:
+        return ""
+    return (f"; the input holds a hum of {other:g} Hz mains ({', '.join(f'h{k}' for k in ks[:8])}"
+            f"{', ...' if len(ks) > 8 else ''} lock to {comb.f_ref:.3f} Hz): run again with --mains {other:g} "
+            f"(or leave --mains out)")
 
 
 SHORT_HINT_S = 1.0   # under this, the lock tests cannot tell hum from a held note (the hint says so)
