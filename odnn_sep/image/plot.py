@@ -3,6 +3,10 @@ from __future__ import annotations
 
 import numpy as np
 
+# Height of the figure's panels (inches; the figure is 10 inches wide) for the thinnest and tallest images.
+MIN_HEIGHT_IN = 2.5
+MAX_HEIGHT_IN = 30.0
+
 
 def _show(img):
     a = np.asarray(img)
@@ -10,6 +14,8 @@ def _show(img):
         a = a.astype(float) / np.iinfo(a.dtype).max
     if a.ndim == 3 and a.shape[2] == 4:
         a = a[:, :, :3]
+    elif a.ndim == 3 and a.shape[2] == 2:
+        a = a[:, :, 0]  # grey+alpha: the grey plane (matplotlib draws no two-channel image)
     return a
 
 
@@ -43,7 +49,10 @@ def plot_unwatermark(image, res, out) -> None:
     diff = np.abs(b - a)
     if diff.ndim == 3:
         diff = diff.max(axis=2)
-    fig, ax = plt.subplots(2, 2, figsize=(10, 10 * a.shape[0] / max(a.shape[1], 1) + 0.8))
+    # the panels follow the image's shape within bounds: a 60 x 3000 px strip made a 54000 px tall
+    # figure (1.7 GB, 13 s)
+    tall = min(max(10 * a.shape[0] / max(a.shape[1], 1), MIN_HEIGHT_IN), MAX_HEIGHT_IN)
+    fig, ax = plt.subplots(2, 2, figsize=(10, tall + 0.8))
     cm = "gray" if a.ndim == 2 else None
     ax[0, 0].imshow(a, cmap=cm, vmin=0, vmax=1)
     ax[0, 0].set_title("input")
@@ -51,7 +60,9 @@ def plot_unwatermark(image, res, out) -> None:
     r = res.report
     title = f"found mark: alpha {res.alpha:.3f}"
     if "match_score" in r:
-        title += f", score {r['match_score']:.2f}, {r['font_size_px']:.1f} px, {r['angle_deg']:.1f} deg"
+        title += f", score {r['match_score']:.2f}"
+    if "font_size_px" in r:  # text mode only (mask mode has a match score and no font)
+        title += f", {r['font_size_px']:.1f} px, {r['angle_deg']:.1f} deg"
     ax[0, 1].set_title(title, fontsize=9)
     ax[1, 0].imshow(b, cmap=cm, vmin=0, vmax=1)
     ax[1, 0].set_title(f"output ({r.get('lost_pixels', 0)} lost pixels inpainted)")
