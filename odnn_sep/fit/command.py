@@ -101,6 +101,10 @@ def run(args) -> int:
 
     if args.name and len(args.name) != len(args.basis):
         raise InputError(f"{len(args.name)} --name value(s) for {len(args.basis)} --basis term(s); give one each")
+    if args.name and not all(str(n).strip() for n in args.name):
+        # a blank name printed an unlabelled line and keyed the report's parameter by ''
+        raise InputError(f"--name {args.name[[str(n).strip() for n in args.name].index('')]!r} is blank; name each "
+                         "--basis term, or leave --name out to name the terms by their expressions")
     if args.plot and not str(args.plot).lower().endswith((".png", ".pdf", ".svg", ".jpg", ".jpeg")):
         raise InputError(f"--plot path {args.plot!r} must end in .png, .pdf, .svg or .jpg")
     if args.seed < 0:
