@@ -213,8 +213,13 @@ def _read_frames(path, x, yy, z):
                           f"times; add t (n_frames,)") from None
     if tf.shape != (z.shape[0],) or tf[0] <= 0 or (len(tf) > 1 and np.ptp(np.diff(tf)) > 1e-9 * np.ptp(tf)) \
             or (len(tf) > 1 and tf[1] <= tf[0]):
+        # which rule failed: a first frame at 0 (time counted from the recording's start) is the usual slip
+        why = (f"it has {tf.size} values for {z.shape[0]} frames" if tf.shape != (z.shape[0],) else
+               "the first is not after 0: t is the time since the sources started (at t = 0 a point "
+               "source's heat has not spread), so give each frame's time since then" if tf[0] <= 0 else
+               "they do not increase evenly")
         raise FormatError(f"NPZ frame times t must be {z.shape[0]} positive, increasing, evenly spaced "
-                          f"values; got {tf.tolist()[:6]}")
+                          f"values; {why}; got {tf.tolist()[:6]}")
     dt = float(tf[1] - tf[0]) if len(tf) > 1 else 0.0
     dx = float(10.0 ** np.ceil(np.log10(10.0 * max(np.abs(x).max(), np.abs(yy).max(), np.ptp(x), 1e-9))))
     X, Y = np.meshgrid(x, yy)
