@@ -340,6 +340,14 @@ def run(args) -> int:
         raise InputError(f"--out-dir {str(out_dir)!r} exists and is not a folder")
     extra = list(getattr(args, "passthrough", []))
     patterns = [p.strip() for p in (args.pattern or TARGETS[args.target][2]).split(",") if p.strip()]
+    if not patterns:
+        raise InputError(f"--pattern {args.pattern!r} names no pattern; give e.g. '*.csv', or leave it out for every "
+                         "format the command reads")
+    pathlike = next((p for p in patterns if "/" in p or os.sep in p), None)
+    if pathlike is not None:
+        # '**/*.csv' or 'sub/*.csv' never matched (names are matched) and read as "no files in the folder"
+        raise InputError(f"--pattern {pathlike!r} holds a path; patterns match file names only: give e.g. "
+                         f"{pathlike.replace(os.sep, '/').rsplit('/', 1)[-1]!r}, with --recursive for sub-folders")
     files = _find(in_dir, patterns, args.recursive)
     if not files:
         raise InputError(f"no files matching {','.join(patterns)} in {str(in_dir)!r}; check the folder or --pattern")
