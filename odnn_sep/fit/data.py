@@ -91,6 +91,9 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
+        if column is not None:     # it was ignored: the field's values are always its array z
+            raise InputError(f"--column is for the value column of a CSV; {str(p)!r} is a field whose values are "
+                             "its array z: leave --column out")
         return _load_field(p, value_name)
     if p.suffix.lower() not in (".csv", ".txt", ".tsv", ""):
         raise FormatError(f"{str(p)!r} has extension {p.suffix!r}; give a .csv (header; first column x) or an "

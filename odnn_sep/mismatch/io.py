@@ -277,6 +277,12 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
     elif ext in (".wav", ".flac"):
         t, y, info, aux = read_wav(p, column, aux=True)
     elif ext == ".npz":
+        # a field's values are its array z, and all of its frames are fitted: these options were ignored
+        given = [o for o, v in (("--column", column), ("--start", start), ("--duration", duration)) if v is not None]
+        if given:
+            raise InputError(f"{' and '.join(given)} {'is' if len(given) == 1 else 'are'} for time series (CSV "
+                             f"columns, WAV channels); {str(p)!r} is a field whose values are its array z, fitted "
+                             f"whole: leave {'it' if len(given) == 1 else 'them'} out")
         t, y, info = read_npz(p)
     else:
         raise FormatError(f"data file {str(p)!r} has extension {ext!r}; use .csv (time + value columns), "
