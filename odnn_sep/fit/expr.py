@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import difflib
+import math
 import warnings
 
 import numpy as np
@@ -296,6 +297,11 @@ def parse_disturbance(spec: str, ndim: int = 1):
             if not args:
                 return Even(center=0.0 if ndim == 1 else (0.0,) * ndim)
             c = tuple(float(v) for v in args[0].split(","))
+            if len(c) not in (1, ndim) or not all(math.isfinite(v) for v in c):
+                # a centre of the wrong dimension failed inside numpy with a traceback
+                want = "one number" if ndim == 1 else f"one number or {ndim} (comma-separated)"
+                raise InputError(f"--disturbance {spec!r}: the centre of symmetry must be {want}, finite, for "
+                                 f"{ndim}-D coordinates; e.g. even:{','.join(['0'] * ndim)}")
             return Even(center=c[0] if len(c) == 1 else c)
         if kind == "periodic" and len(args) == 1:
             return Periodic(float(args[0]))
@@ -307,6 +313,8 @@ def parse_disturbance(spec: str, ndim: int = 1):
             if args and args[0] not in ("inc", "dec"):
                 raise ValueError
             return Monotone(increasing=not (args and args[0] == "dec"))
+    except InputError:
+        raise
     except ValueError:
         pass
     hint = difflib.get_close_matches(kind, kinds, n=1)
