@@ -22,8 +22,11 @@ from odnn_sep.errors import FormatError, InputError
 log = logging.getLogger(__name__)
 
 EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp", ".bmp")
-# How far a float image may stray outside [0, 1] (rounding of the caller's arithmetic) before it is refused.
+# How far a float image may stray outside [0, 1] unremarked (rounding of the caller's arithmetic), and
+# with a warning (the overshoot of a cubic or Lanczos resampling at sharp edges, a few 8-bit levels)
+# before it is refused: further out the scale is wrong (0-255 floats, an overexposed gain).
 FLOAT_SLACK = 1e-6
+FLOAT_OVERSHOOT = 0.02
 
 
 class FloatView:
@@ -166,6 +169,11 @@ def split(image) -> Planes:
 
         check_finite("image", a)
         lo, hi = float(a.min()), float(a.max())
+        if -FLOAT_OVERSHOOT <= lo < -FLOAT_SLACK or 1 + FLOAT_SLACK < hi <= 1 + FLOAT_OVERSHOOT:
+            if -FLOAT_OVERSHOOT <= lo and hi <= 1 + FLOAT_OVERSHOOT:
+                log.warning("the float image strays outside [0, 1] (%.4g to %.4g: resampling overshoot?); it is "
+                            "read as it is and the output is clipped to [0, 1]", lo, hi)
+                lo, hi = 0.0, 1.0
         if lo < -FLOAT_SLACK or hi > 1 + FLOAT_SLACK:
             # clipped silently, 0-255 floats read as white: the mark was "not found" or its opacity wrong
             hint = "; for 0-255 values use 8-bit pixels (uint8) or divide by 255" if hi > 2 else ""

@@ -45,3 +45,14 @@ def test_float_tiff_of_0_255_values_refused_by_the_command(marked, tmp_path, cap
                  "-o", str(tmp_path / "o.png")]) == 1
     assert "a float image must hold values in [0, 1]" in capsys.readouterr().err
     assert not (tmp_path / "o.png").exists()
+
+
+def test_float_resampling_overshoot_read_with_a_warning(caplog):
+    # a cubic resize of a [0, 1] image overshoots at sharp edges by a few 8-bit levels
+    a = np.full((8, 8, 3), 0.5)
+    a[0, 0], a[1, 1] = 1.015, -0.01
+    with caplog.at_level("WARNING", logger="odnn_sep.image.io"):
+        assert split(a).levels == 65535
+    assert "strays outside [0, 1]" in caplog.text
+    with pytest.raises(InputError, match="got -0.01 to 1.03$"):
+        split(np.where(a > 1, 1.03, a))
