@@ -12,6 +12,7 @@ that raises it.
 | tones       | 100        | ODNN_SEP_MAX_TONES       | distinct `denoise --tone` frequencies          |
 | channels    | 1024       | ODNN_SEP_MAX_CHANNELS    | channels `denoise` cleans in an EEG/MEG array  |
 | in_memory_samples | 50 000 000 | ODNN_SEP_MAX_IN_MEMORY_SAMPLES | frames x channels of `denoise --picks/--spatial` |
+| shape_points | 20 000   | ODNN_SEP_MAX_SHAPE_POINTS | points a convex or monotone class is fitted on (`fit/size.py`) |
 """
 from __future__ import annotations
 
@@ -29,6 +30,7 @@ DEFAULTS = {
     "tones": ("ODNN_SEP_MAX_TONES", 100),
     "channels": ("ODNN_SEP_MAX_CHANNELS", 1024),
     "in_memory_samples": ("ODNN_SEP_MAX_IN_MEMORY_SAMPLES", 50_000_000),
+    "shape_points": ("ODNN_SEP_MAX_SHAPE_POINTS", 20_000),
 }
 
 

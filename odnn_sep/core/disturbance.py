@@ -182,7 +182,9 @@ class Periodic(SubspaceDisturbance):
             raise InputError(f"Periodic needs 1-D sample points x; got shape {x.shape}")
         span = float(np.ptp(x))
         d = np.diff(np.sort(x))
-        dt = float(np.median(d)) if d.size else 0.0
+        # the step of the sampling: repeated points (several readings at one x) are not a step of 0
+        steps = d[d > 0]
+        dt = float(np.median(steps)) if steps.size else 0.0
         if self.period > span / 2:
             raise InputError(
                 f"Periodic(period={self.period:g}) does not fit the sampling: the data span {span:g} holds fewer "

@@ -10,13 +10,12 @@ milliseconds per thousand points; these two get their own, far lower.
 """
 from __future__ import annotations
 
-import os
-
 from odnn_sep.errors import InputError
+from odnn_sep.limits import DEFAULTS, limit
 
-#: Most points a convex or monotone class is fitted on (about 2-3 minutes on the machine above).
-MAX_SHAPE_POINTS = 20_000
-SHAPE_POINTS_VAR = "ODNN_SEP_MAX_SHAPE_POINTS"
+# The limit "shape_points" of odnn_sep.limits: 20 000 points by default, about 2-3 minutes on the
+# machine above.
+SHAPE_POINTS_VAR, MAX_SHAPE_POINTS = DEFAULTS["shape_points"]
 
 
 def check_shape_points(dist, n: int, spec: str) -> None:
@@ -50,12 +49,7 @@ def check_shape_points(dist, n: int, spec: str) -> None:
 
     if not isinstance(dist, ConeDisturbance):
         return
-    raw = os.environ.get(SHAPE_POINTS_VAR, "").strip()
-    try:
-        lim = float(raw) if raw else MAX_SHAPE_POINTS
-    except ValueError:
-        raise InputError(f"environment variable {SHAPE_POINTS_VAR}={raw!r} is not a number; unset it or give e.g. "
-                         f"{SHAPE_POINTS_VAR}={MAX_SHAPE_POINTS}") from None
+    lim = limit("shape_points")
     if n > lim:
         raise InputError(f"--disturbance {spec} on {n:,} points: a shape-constrained fit's time and memory grow "
                          f"faster than the data (about a minute for 10,000 points; 1,000,000 ran past 5 "
