@@ -36,12 +36,14 @@ def _uniform_step(x: np.ndarray, who: str) -> float:
         raise InputError(f"{who} needs at least 3 samples; got {x.size}")
     d = np.diff(x)
     dt = float(np.median(d))
-    if dt <= 0 or np.max(np.abs(d - dt)) > 1e-6 * abs(dt) + 1e-12 * np.max(np.abs(x)):
+    # a record in decreasing order is as uniform: the band's frequency mask is symmetric, so its
+    # projection commutes with reversing the samples and the same step serves (its magnitude)
+    if dt == 0 or np.max(np.abs(d - dt)) > 1e-6 * abs(dt) + 1e-12 * np.max(np.abs(x)):
         raise InputError(
-            f"{who} needs uniformly spaced, increasing x (spacing varies from {d.min():.6g} to {d.max():.6g}); "
+            f"{who} needs uniformly spaced x (spacing varies from {d.min():.6g} to {d.max():.6g}); "
             "resample onto a uniform grid first"
         )
-    return dt
+    return abs(dt)
 
 
 @dataclass(frozen=True)

@@ -71,7 +71,7 @@ def test_band_above_nyquist():
 
 def test_nonuniform_band():
     xx = np.sort(np.random.default_rng(0).random(50))
-    with pytest.raises(InputError, match="Band needs uniformly spaced, increasing x"):
+    with pytest.raises(InputError, match="Band needs uniformly spaced x"):
         fit(b, xx, x=xx, dist=Band(0, 3))
 
 
