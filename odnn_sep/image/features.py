@@ -123,6 +123,10 @@ def bandpass_map(img: np.ndarray, levels: int = 255) -> tuple[np.ndarray, np.nda
     return R, np.ascontiguousarray(E)
 
 
+# Longest side (px) of a pyramid's finest level: larger images are reduced first.
+BASE_MAX = 768
+
+
 class Pyramid:
     """The image at arbitrary downscale factors (snapped to a half-octave grid), with its feature
     maps computed once per factor.
@@ -150,7 +154,7 @@ class Pyramid:
     ((48, 64), 1.0)
     """
 
-    def __init__(self, img: np.ndarray, base_max: int = 768):
+    def __init__(self, img: np.ndarray, base_max: int = BASE_MAX):
         import cv2
 
         self.H, self.W = img.shape[:2]

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from odnn_sep.image.features import (
+    BASE_MAX,
     PAD,
     Pyramid,
     bp_template,
@@ -36,6 +37,8 @@ REF_SIZE = 100.0
 COARSE_H = 10.0    # glyph height (px) at the coarse level
 COARSE_W = 80.0     # px: the coarse template is at most this wide (long texts go one level coarser)
 MIN_COARSE_H = 8.0  # px: glyphs smaller than this at the coarse level only match noise
+# The largest text searched is this many times the image's diagonal wide (a mark cut by the edges).
+MAX_WIDTH_DIAGONALS = 1.05
 FINE_H = 24.0      # glyph height (px) at the refinement level
 # refinement grids at that level: (size step, angle step in deg, half-width in steps, wide position
 # window: the placement is only known to a coarse pixel)
@@ -177,10 +180,8 @@ def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coa
     w100, h100 = _ink(text, f0)
     h100 = max(h100, 1.0)
     full_w100 = w100
-    # size range: glyph height >= min_height_px, text width <= 1.05 x the image diagonal; the
-    # pyramid starts at <= 768 px, where text must be at least ~8 px tall (smaller only matches noise)
-    s_min = max(4.0, min_height_px / h100 * REF_SIZE * 1.4, MIN_COARSE_H / h100 * REF_SIZE / pyr.base)
-    s_max = max(1.05 * np.hypot(H, W) / max(w100, 1) * REF_SIZE, s_min * 1.01)
+    s_min = _smallest_size(h100, min_height_px, pyr.base)
+    s_max = max(MAX_WIDTH_DIAGONALS * np.hypot(H, W) / max(w100, 1) * REF_SIZE, s_min * 1.01)
     # A long text is matched on a coarser level (template at most COARSE_W px wide): it has letters
     # enough to be found there, and the grid below grows with the square of the template's width;
     # never below MIN_COARSE_H, or the letters blur into the photo's texture.
@@ -218,6 +219,54 @@ def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coa
         return found
 
     return [c for found in _map(one_size, sizes) for c in found]  # (score, size, angle, cx, cy)
+
+
+def _smallest_size(h100: float, min_height_px: float, base: float) -> float:
+    """Smallest font size (px) the coarse grid tries, for ink ``h100`` px tall at ``REF_SIZE``.
+
+    Glyph height >= ``min_height_px``; the pyramid starts at <= 768 px (scale ``base``), where the
+    text must be at least ``MIN_COARSE_H`` px tall (smaller only matches noise)."""
+    return max(4.0, min_height_px / h100 * REF_SIZE * 1.4, MIN_COARSE_H / h100 * REF_SIZE / base)
+
+
+def smallest_text(text: str, font, shape, *, min_height_px: float = 8.0) -> tuple[float, float, bool]:
+    """(width, height) in px of ``text`` at the smallest size the search tries in an image of
+    ``shape``, and whether that is too wide for the image.
+
+    The search tries sizes from the smallest it can tell from noise up to a text
+    ``MAX_WIDTH_DIAGONALS`` times the image's diagonal wide; when even the smallest is wider, the
+    text cannot be in the image (a "not found" with a score of 0 would not say why).
+
+    Parameters
+    ----------
+    text : str
+        The mark's text.
+    font : str or Path
+        Font of the coarse grid.
+    shape : tuple
+        (H, W, ...) of the image searched.
+    min_height_px : float, default 8.0
+        As in ``search``.
+
+    Returns
+    -------
+    tuple
+        (width, height, too wide).
+
+    Examples
+    --------
+    >>> from odnn_sep.image.locate import smallest_text
+    >>> from odnn_sep.image.render import resolve_font
+    >>> f = resolve_font("DejaVuSans-Bold")
+    >>> smallest_text("Hi", f, (64, 96))[2], smallest_text("A LONG COPYRIGHT NOTICE", f, (40, 60))[2]
+    (False, True)
+    """
+    H, W = shape[:2]
+    w100, h100 = _ink(text, font)
+    h100 = max(h100, 1.0)
+    s = _smallest_size(h100, min_height_px, min(1.0, BASE_MAX / max(H, W)))
+    width, height = w100 * s / REF_SIZE, h100 * s / REF_SIZE
+    return width, height, bool(width > MAX_WIDTH_DIAGONALS * np.hypot(H, W))
 
 
 def _turn(off, angle, scale) -> tuple[float, float]:

@@ -99,6 +99,8 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     from odnn_sep.image.render import default_fonts, resolve_font
 
     H, W = y.shape[:2]
+    if not reduced:
+        _check_fits(y.shape, text, font)
     if max(H, W) > WORK_MAX_PX:
         return _text_mode_large(y, text, font, region, min_score, angle_range, max_marks, random_state)
     from odnn_sep.image.glyphs import fonts_for
@@ -113,6 +115,37 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
         placed += _copies(y, ys, text, best, best_nc, off, max_marks, min_score,
                           dict(reduced=reduced, random_state=random_state))
     return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
+
+
+def _check_fits(shape, text, font) -> None:
+    """Raise ``MarkNotFoundError`` when ``text`` is wider than the image at the smallest size searched
+    in every font tried: the search would report "not found (score 0.000)" without saying why.
+
+    Examples
+    --------
+    >>> from odnn_sep.image.textmode import _check_fits
+    >>> _check_fits((64, 96, 3), "Hi", None) is None
+    True
+    >>> try:
+    ...     _check_fits((40, 60, 3), "A LONG COPYRIGHT NOTICE", None)
+    ... except Exception as exc:
+    ...     print(type(exc).__name__, "px wide, more than the image (60 x 40 px" in str(exc))
+    MarkNotFoundError True
+    """
+    from odnn_sep.image.glyphs import fonts_for
+    from odnn_sep.image.locate import smallest_text
+    from odnn_sep.image.render import default_fonts, resolve_font
+
+    fonts = fonts_for(text, [resolve_font(font)] if font is not None else default_fonts(), given=font is not None)
+    sizes = [smallest_text(text, f, shape) for f in fonts]
+    if sizes and all(too_wide for _, _, too_wide in sizes):
+        width, height, _ = min(sizes)
+        H, W = shape[:2]
+        raise MarkNotFoundError(
+            f"text {text!r} cannot be found in this image: at the smallest size searched (text {height:.0f} px "
+            f"tall) it is {width:.0f} px wide, more than the image ({W} x {H} px, diagonal "
+            f"{np.hypot(H, W):.0f} px) can hold; give only the part of the text the image shows, or the "
+            "full-size image")
 
 
 def _turn_hint(angle_range) -> str:
