@@ -5,6 +5,7 @@ import numpy as np
 
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
+from odnn_sep.mismatch.shares import disturbance_dominates, dominated_sentence, variance_shares
 
 
 def _params_table(fit):
@@ -188,8 +189,14 @@ def misfit_sentence(m):
 def _verdict(res, effects):
     """The verdict: the first named effect (or "nothing missing", or "does not fit"), every named effect and the rest."""
     bad = None if effects else misfit(res)
+    shares = variance_shares(res)
+    dominated = disturbance_dominates(shares)
     if bad is not None:
         verdict = {"effect": None, "status": "model_does_not_fit", "description": misfit_sentence(bad),
+                   "parameters": {}}
+    elif not effects and dominated:
+        # the residual is at the noise only because a disturbance took the record (shares.py)
+        verdict = {"effect": None, "status": "disturbance_dominates", "description": dominated_sentence(shares),
                    "parameters": {}}
     elif not effects:
         verdict = {"effect": None, "status": "nothing_missing",
@@ -207,7 +214,8 @@ def _verdict(res, effects):
     verdict["disturbances"] = list(res.disturbances)
     verdict["declared_disturbances"] = list(res.declared)
     verdict["dropped_by_backward_check"] = list(res.dropped)
-    verdict["warnings"] = list(res.warnings)
+    verdict["warnings"] = list(res.warnings) + ([dominated_sentence(shares)] if effects and dominated else [])
+    verdict["variance_shares"] = shares
     verdict["notes"] = list(res.notes)
     return verdict
 
@@ -496,7 +504,8 @@ def _plot_series(plt, res, added, unit):
         ax[0].legend(loc="best", fontsize=8)
     ax[2].set_xlabel("time (s)")
     title = "verdict: " + (", ".join(res.effects) if res.effects else
-                           "the model does not fit" if misfit(res) else "nothing missing")
+                           "the model does not fit" if misfit(res) or disturbance_dominates(variance_shares(res))
+                           else "nothing missing")
     if res.disturbances:
         title += "; disturbances: " + ", ".join(d["effect"] for d in res.disturbances)
     ax[0].set_title(title)
