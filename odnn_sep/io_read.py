@@ -88,6 +88,41 @@ def separator_of(header, first_row=None):
     return None
 
 
+# byte-order marks of the Unicode encodings a spreadsheet writes: Excel's "Unicode text" export is
+# UTF-16 with a mark (and tabs). UTF-32's marks are checked first: UTF-32-LE's starts with UTF-16-LE's.
+_BOMS = ((b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
+         (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))
+
+
+def text_encoding(path) -> str:
+    """The codec to read a text table with: ``utf-16``/``utf-32`` behind their byte-order mark, else ``utf-8-sig``.
+
+    The returned codecs consume the mark, so it never reaches the first header cell.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> d = tempfile.mkdtemp()
+    >>> with open(os.path.join(d, "u16.csv"), "w", encoding="utf-16") as fh:
+    ...     _ = fh.write("t\tT")
+    >>> with open(os.path.join(d, "u8.csv"), "w") as fh:
+    ...     _ = fh.write("t,T")
+    >>> text_encoding(os.path.join(d, "u16.csv")), text_encoding(os.path.join(d, "u8.csv"))
+    ('utf-16', 'utf-8-sig')
+    """
+    with open(path, "rb") as fh:
+        head = fh.read(4)
+    return next((codec for bom, codec in _BOMS if head.startswith(bom)), "utf-8-sig")
+
+
 def table_rows(path) -> tuple[list[list[str]], str | None]:
     """The non-empty rows of a text table, split at its separator, with decimal commas made points.
 
@@ -120,8 +155,9 @@ def table_rows(path) -> tuple[list[list[str]], str | None]:
     import io
 
     # 'utf-8-sig': a spreadsheet's "CSV UTF-8" (and pandas' encoding="utf-8-sig") starts with a byte-order
-    # mark, which would stay in the first header cell: an unnamed index column was then not seen as one
-    with open(path, newline="", encoding="utf-8-sig") as fh:
+    # mark, which would stay in the first header cell: an unnamed index column was then not seen as one;
+    # a UTF-16/32 file ("Unicode text") is decoded by its mark
+    with open(path, newline="", encoding=text_encoding(path)) as fh:
         text = fh.read()
     rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)]
     k = leading_comments(rows)
@@ -495,6 +531,9 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
 def looks_binary(path, nbytes: int = 8192) -> bool:
     """True if the start of ``path`` holds NUL bytes or is not UTF-8 text (not a CSV).
 
+    A file behind a UTF-16 or UTF-32 byte-order mark (:func:`text_encoding`) is judged on its
+    decoded text: its NUL bytes are halves of characters.
+
     Parameters
     ----------
     path : str or path-like
@@ -518,6 +557,15 @@ def looks_binary(path, nbytes: int = 8192) -> bool:
     """
     with open(path, "rb") as fh:
         head = fh.read(nbytes)
+    codec = text_encoding(path)
+    if codec != "utf-8-sig":
+        unit = 4 if codec == "utf-32" else 2
+        try:
+            # a character cut by the read is dropped; UTF-16 may end inside a surrogate pair
+            text = head[: len(head) // unit * unit].decode(codec, errors="strict" if unit == 4 else "surrogatepass")
+        except UnicodeDecodeError:
+            return True
+        return "\0" in text
     if b"\0" in head:
         return True
     try:
@@ -552,6 +600,15 @@ def count_lines(path, stop_after: int | None = None) -> int:
     3
     """
     n = 0
+    codec = text_encoding(path)
+    if codec != "utf-8-sig":
+        # a UTF-16/32 file's newline is two or four bytes, and a byte 0x0A may be half of another character
+        with open(path, encoding=codec, errors="replace", newline="") as fh:
+            while block := fh.read(1 << 20):
+                n += block.count("\n")
+                if stop_after is not None and n > stop_after:
+                    break
+        return n
     with open(path, "rb") as fh:
         while block := fh.read(1 << 20):
             n += block.count(b"\n")

@@ -20,6 +20,7 @@ from odnn_sep.io_read import (
     row_index_column,
     separator_of,
     table_rows,
+    text_encoding,
 )
 
 log = logging.getLogger(__name__)
@@ -105,8 +106,10 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     limits.check("points", max(rows - 1, 0), f"the row count of {str(p)!r}",
                  hint="decimate the data")
     try:
-        # 'utf-8-sig': a byte-order mark (a spreadsheet's "CSV UTF-8") is not part of the first column's name
-        with open(p, newline="", encoding="utf-8-sig") as fh:
+        # 'utf-8-sig': a byte-order mark (a spreadsheet's "CSV UTF-8") is not part of the first column's name;
+        # a UTF-16/32 file ("Unicode text") is decoded by its mark
+        encoding = text_encoding(p)
+        with open(p, newline="", encoding=encoding) as fh:
             top = [fh.readline().strip().split(",") for _ in range(MAX_COMMENT_LINES + 2)]
         skip = leading_comments([r for r in top if r != [""]])   # '# sensor: ...' lines above the header
         header = [h.strip() for h in top[skip]]
@@ -118,7 +121,8 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
             check_header(header, path=p)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # empty or ragged input: reported below in one line
-                data = np.genfromtxt(p, delimiter=",", skip_header=skip + 1, dtype=float, invalid_raise=True)
+                data = np.genfromtxt(p, delimiter=",", skip_header=skip + 1, dtype=float, invalid_raise=True,
+                                     **({} if encoding == "utf-8-sig" else {"encoding": encoding}))
     except FormatError:
         raise
     except (OSError, ValueError, UnicodeDecodeError) as exc:
