@@ -183,6 +183,15 @@ def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
     (None, -0.3, True)
     """
     base_start = {**model.start, **{k: v for k, v in cur.params.items() if k in model.start}}
+    if "t_step" in model.start and np.ndim(t) == 1:
+        # the step's instant is held during a fit: at the neutral 0 (or any instant outside the
+        # record) it covers every sample or none, a constant offset the step is not (in a cooling
+        # record it shifted the temperature scale under evaporation by 24 degrees)
+        starts = [s for s in starts if _step_inside({**base_start, **s}["t_step"], t)]
+        if not _step_inside(base_start["t_step"], t):
+            if not starts:
+                return None, "no instant inside the record to place the step at"
+            base_start["t_step"] = starts[0]["t_step"]
     best, errors = None, []
     for s in list(starts) + [base_start]:
         try:
@@ -206,6 +215,20 @@ def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
         return None, (f"refit ended worse than the model without it (RSS {best.rss:.4g} > {cur.rss:.4g}) "
                       f"after a retry")
     return best, None
+
+
+def _step_inside(t_step, t):
+    """Whether a step at ``t_step`` changes the level of some samples of ``t`` but not of all.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(5.0)
+    >>> _step_inside(2.5, t), _step_inside(0.0, t), _step_inside(9.0, t)
+    (True, False, False)
+    """
+    after = int(np.count_nonzero(np.asarray(t) >= t_step))
+    return 0 < after < len(t)
 
 
 def _worse_than_penalty(f, cur):
