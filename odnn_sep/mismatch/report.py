@@ -5,7 +5,13 @@ import numpy as np
 
 from odnn_sep.mismatch.effects import DISTURBANCE_EFFECTS, EFFECTS
 from odnn_sep.mismatch.explain import BIC_THRESHOLD, HELDOUT_THRESHOLD
-from odnn_sep.mismatch.shares import disturbance_dominates, dominated_sentence, variance_shares
+from odnn_sep.mismatch.shares import (
+    disturbance_dominates,
+    dominated_sentence,
+    not_shown_sentence,
+    physics_not_shown,
+    variance_shares,
+)
 
 
 def _params_table(fit):
@@ -203,6 +209,9 @@ def _verdict(res, effects):
                    "description": "nothing missing that the data can show: no effect improved the fit "
                                   "beyond the noise and disturbance (BIC and held-out test)",
                    "parameters": {}}
+        if physics_not_shown(shares):
+            # a record of noise alone: the model is not wrong, but the record says nothing about it
+            verdict["description"] = not_shown_sentence(shares)
     else:
         verdict = dict(effects[0])
         verdict["status"] = "effects_named"

@@ -66,8 +66,77 @@ def variance_shares(res):
     if physics is None:
         return None
     found = np.asarray(final.prediction, float).ravel() - physics
-    return {"physics": float(1.0 - np.var(y - physics) / var_y),
-            "disturbances": float(np.var(found) / var_y)}
+    share = float(1.0 - np.var(y - physics) / var_y)
+    k = len(res.calibration.fit.free)
+    return {"physics": share, "disturbances": float(np.var(found) / var_y),
+            "physics_p_value": physics_p_value(share, len(y), k)}
+
+
+def physics_p_value(share, n, k):
+    """P-value of the physics' own signal: F-test of its variance share against a constant.
+
+    Under a record of noise only, ``k`` parameters fitted to ``n`` samples explain a share whose
+    F statistic ``(share / (k - 1)) / ((1 - share) / (n - k))`` follows F(k - 1, n - k).
+
+    Parameters
+    ----------
+    share : float
+        The physics' share of the record's variance.
+    n, k : int
+        Samples, and free parameters of the calibrated model.
+
+    Returns
+    -------
+    float or None
+        None when there are too few samples or parameters for the test.
+
+    Examples
+    --------
+    >>> round(physics_p_value(0.00045, 8000, 3), 2), physics_p_value(0.9, 300, 3) < 1e-12
+    (0.17, True)
+    """
+    from scipy import stats
+
+    if k < 2 or n <= k:
+        return None
+    share = min(max(share, 0.0), 1.0)
+    if share >= 1.0:
+        return 0.0
+    f = (share / (k - 1)) / ((1.0 - share) / (n - k))
+    return float(stats.f.sf(f, k - 1, n - k))
+
+
+# The conventional 5 % level, fixed before any record was run: above it, a record of noise alone
+# would show as much of the physics' signal, so "nothing missing" is no evidence about the model.
+PHYSICS_ALPHA = 0.05
+
+
+def physics_not_shown(shares, alpha=PHYSICS_ALPHA):
+    """Whether the physics' own signal is not significant in the record (see :func:`physics_p_value`).
+
+    Examples
+    --------
+    >>> physics_not_shown({"physics_p_value": 0.17}), physics_not_shown({"physics_p_value": 1e-9})
+    (True, False)
+    >>> physics_not_shown(None), physics_not_shown({"physics_p_value": None})
+    (False, False)
+    """
+    p = (shares or {}).get("physics_p_value")
+    return p is not None and p > alpha
+
+
+def not_shown_sentence(shares):
+    """The verdict's sentence for a record that does not show the physics' signal.
+
+    Examples
+    --------
+    >>> not_shown_sentence({"physics": 0.00045, "physics_p_value": 0.17})[:64]
+    'nothing missing that the data can show, but the record does not '
+    """
+    return (f"nothing missing that the data can show, but the record does not show the model either: the physics "
+            f"explains {100 * max(shares['physics'], 0.0):.2g}% of its variance, no more than noise alone would "
+            f"(F-test p = {shares['physics_p_value']:.2g}), so its parameters are not identified and this is no "
+            f"evidence that the model is complete")
 
 
 def _physics_part(final, t):

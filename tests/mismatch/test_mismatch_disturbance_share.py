@@ -36,3 +36,20 @@ def test_a_pickup_beside_the_cooling_curve_keeps_its_verdict():
     v = explain("cooling", t, y).as_dict()["verdict"]
     assert [d["effect"] for d in v["disturbances"]] == ["periodic_pickup"]
     assert v["status"] == "nothing_missing" and v["variance_shares"]["physics"] > 0.99
+
+
+def test_a_record_of_noise_alone_is_no_evidence_for_the_hum_model():
+    # no hum at all: the hum's amplitude is not identified and "nothing missing" said nothing about the model
+    t = np.arange(2000) / 2000.0
+    y = 0.1 * np.random.default_rng(0).normal(size=t.size)
+    v = explain("hum", t, y, params={"f0": 50.0}).as_dict()["verdict"]
+    assert v["status"] == "nothing_missing" and v["variance_shares"]["physics_p_value"] > 0.05
+    assert "the record does not show the model" in v["description"], v["description"]
+
+
+def test_a_clear_cooling_curve_keeps_the_plain_sentence():
+    t = np.linspace(0, 100, 300)
+    y = 20 + 70 * np.exp(-0.03 * t) + 0.05 * np.random.default_rng(1).normal(size=300)
+    v = explain("cooling", t, y).as_dict()["verdict"]
+    assert v["description"].startswith("nothing missing that the data can show: no effect improved")
+    assert v["variance_shares"]["physics_p_value"] < 1e-12
