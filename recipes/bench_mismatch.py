@@ -275,10 +275,14 @@ def verdict_text(res):
                        + (f" [{iv[k][0]:.3g}, {iv[k][1]:.3g}]" if k in iv else "") for k in c.effect_params)
         parts.append(f"{c.effect} ({ps})")
     from odnn_sep.mismatch.report import misfit
+    from odnn_sep.mismatch.shares import disturbance_dominates, variance_shares
 
     bad = None if parts else misfit(res)
+    shares = None if parts or bad else variance_shares(res)
     out = "; ".join(parts) if parts else (
-        f"the model does not fit (residual {bad['rms_over_noise']:.1f}x the noise)" if bad else "nothing missing")
+        f"the model does not fit (residual {bad['rms_over_noise']:.1f}x the noise)" if bad else
+        f"the model does not fit (the disturbances hold {100 * shares['disturbances']:.0f} % of the record)"
+        if disturbance_dominates(shares) else "nothing missing")
     if res.disturbances:
         out += "; disturbances: " + "; ".join(d["description"].split(";")[0] + f" ({d['effect']})"
                                               for d in res.disturbances)
