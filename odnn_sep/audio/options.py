@@ -132,8 +132,9 @@ def check_testable(mains, harmonics, max_hz, sr) -> None:
         if a != f and a > 0 and families_in_reach(a, "auto", None, sr):
             folds.append(f"{f:g} Hz hum folds to {a:g} Hz here (--mains {a:g} removes it)")
     hint = "; ".join(folds) or "a line there needs an input sampled at a higher rate"
-    raise InputError(f"no line of {what} hum can be tested at sr={sr:g}: the highest line tested is "
-                     f"{_detect.top_hz(sr):g} Hz, a little under the Nyquist frequency ({sr / 2:g} Hz); {hint}")
+    raise InputError(f"no line of {what} hum can be tested at sr={sr:g}: a line needs about 2 Hz of room under "
+                     f"the highest frequency tested, {_detect.top_hz(sr):g} Hz (a little under the Nyquist "
+                     f"frequency, {sr / 2:g} Hz); {hint}")
 
 
 OUT_OF_REACH = "lie above the highest line tested"   # the warning of _warn_named_out_of_reach
