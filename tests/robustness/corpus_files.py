@@ -46,7 +46,9 @@ def generic(damage: str, folder: Path, ext: str, good_kind: str) -> Path:
     elif damage == "nul_bytes":
         p.write_bytes(b"\0" * 2048)
     elif damage == "utf16":
-        p.write_bytes("x,y\n1,2\n3,4\n".encode("utf-16"))
+        # UTF-16 with no byte-order mark: nothing says how to decode it (behind a mark, as Excel's
+        # "Unicode text" writes it, a CSV is read: tests/cli/test_cli_csv_unicode.py)
+        p.write_bytes("x,y\n1,2\n3,4\n".encode("utf-16-le"))
     elif damage == "gzip":
         p.write_bytes(gzip.compress(valid(good_kind, folder / f"g{ext}").read_bytes()))
         (folder / f"g{ext}").unlink()
