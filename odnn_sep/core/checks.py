@@ -141,6 +141,91 @@ def outside_class_report(F: np.ndarray, Fp: np.ndarray) -> tuple[np.ndarray, flo
     return frac, float(s[0] / s[-1]) if s[-1] > 0 else np.inf
 
 
+def dependent_columns(Fp: np.ndarray, names: Sequence[str]) -> list[str]:
+    """Names of the columns that take part in the (near) linear dependence of ``Fp``.
+
+    They are the columns with a visible weight in the right singular vector of the smallest
+    singular value of the column-normalised ``Fp``: the combination that (nearly) vanishes.
+
+    Parameters
+    ----------
+    Fp : (n, p) ndarray
+        Columns, none all zero.
+    names : sequence of str
+        Their names.
+
+    Returns
+    -------
+    list of str
+        In column order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.linspace(0, 1, 9)
+    >>> dependent_columns(np.c_[np.sin(x), x, np.cos(x), x + np.sin(x)], ["s", "x", "c", "x+s"])
+    ['s', 'x', 'x+s']
+    """
+    U = Fp / np.linalg.norm(Fp, axis=0)
+    v = np.linalg.svd(U)[2][-1]
+    return [names[j] for j in np.flatnonzero(np.abs(v) > 1e-3 * np.abs(v).max())]
+
+
+def require_outside_class(F: np.ndarray, Fp: np.ndarray, names: Sequence[str], cls_desc: str
+                          ) -> tuple[np.ndarray, float]:
+    """:func:`outside_class_report`, raising NotIdentifiableError where :func:`check_outside_class` does.
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns.
+    Fp : (n, p) ndarray
+        Their parts outside the disturbance class.
+    names : sequence of str
+        Column names.
+    cls_desc : str
+        The class's description, for the messages.
+
+    Returns
+    -------
+    frac : (p,) ndarray
+    cond : float
+
+    Raises
+    ------
+    odnn_sep.errors.NotIdentifiableError
+        When a column is (nearly) inside the class or the projected columns are collinear; the
+        message names the columns of the dependence.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.arange(6.0)
+    >>> F = np.c_[x, x**2, x + x**2]
+    >>> require_outside_class(F, F - F.mean(axis=0), ["a", "b", "c"], "constant")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.NotIdentifiableError: the basis columns become collinear ... the columns 'a', 'b' and 'c' ...
+    """
+    frac, cond = outside_class_report(F, Fp)
+    for j, f in enumerate(frac):
+        if f < 1e-8:
+            raise NotIdentifiableError(
+                f"basis column {names[j]!r} lies inside the disturbance class ({cls_desc}): only {f:.1e} of its "
+                "norm is outside it, so its coefficient is not identifiable; remove the column or choose a "
+                "disturbance class that excludes it"
+            )
+    if cond > 1e10:
+        cols = [repr(n) for n in dependent_columns(Fp, names)]
+        which = ", ".join(cols[:-1]) + f" and {cols[-1]}" if len(cols) > 1 else "".join(cols)
+        raise NotIdentifiableError(
+            f"the basis columns become collinear once the disturbance class ({cls_desc}) is projected out "
+            f"(condition number {cond:.1e}): the columns {which} are linearly dependent; theta is not "
+            "identifiable — drop one of them or change the class"
+        )
+    return frac, cond
+
+
 def check_outside_class(F: np.ndarray, Fp: np.ndarray, names: Sequence[str], cls_desc: str) -> dict:
     """How much of each basis column lies outside the disturbance class; fail if (nearly) none.
 
@@ -176,19 +261,7 @@ def check_outside_class(F: np.ndarray, Fp: np.ndarray, names: Sequence[str], cls
     >>> check_outside_class(F, F - F.mean(), ["slope"], "constant")["outside_fraction"]["slope"] > 0.5
     True
     """
-    frac, cond = outside_class_report(F, Fp)
-    for j, f in enumerate(frac):
-        if f < 1e-8:
-            raise NotIdentifiableError(
-                f"basis column {names[j]!r} lies inside the disturbance class ({cls_desc}): only {f:.1e} of its "
-                "norm is outside it, so its coefficient is not identifiable; remove the column or choose a "
-                "disturbance class that excludes it"
-            )
-    if cond > 1e10:
-        raise NotIdentifiableError(
-            f"the basis columns become collinear once the disturbance class ({cls_desc}) is projected out "
-            f"(condition number {cond:.1e}); theta is not identifiable — drop a column or change the class"
-        )
+    frac, cond = require_outside_class(F, Fp, names, cls_desc)
     weak = [names[j] for j, f in enumerate(frac) if f < 1e-2]
     if weak or cond > 1e6:
         warnings.warn(

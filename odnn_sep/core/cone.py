@@ -156,6 +156,53 @@ def cone_lstsq(A: np.ndarray, H: np.ndarray, y: np.ndarray) -> tuple[np.ndarray,
     return _ConeLS(A, H)(y)
 
 
+def open_sides(F: np.ndarray, x_sorted: np.ndarray, disturbance: ConeDisturbance, *, rtol: float = 1e-6
+               ) -> np.ndarray:
+    """Which ends of each coefficient's identified set are unbounded: ``(p, 2)`` bools, lower then upper.
+
+    Lowering theta_j by ``t`` adds ``t F_j`` to the disturbance, so the set has no lower end when
+    ``F_j``, less some combination of the other columns, lies in the class (and no upper end when
+    ``-F_j`` does): every value on that side then fits as well as the best. The profile search
+    cannot see this (its criterion is flat there up to the rounding of ever larger numbers, which
+    it read as an edge near 1e10). The class is tested on at most ``MAX_KNOTS + 2`` evenly spread
+    samples, where its generators describe it exactly (more samples only thin the cone).
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns, rows sorted as ``x_sorted``.
+    x_sorted : (n,) ndarray
+        Sample coordinates, increasing.
+    disturbance : ConeDisturbance
+    rtol : float, optional
+        Largest share of ``|F_j|`` left outside the class for the column to count as inside it.
+
+    Returns
+    -------
+    (p, 2) ndarray of bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.core import Convex
+    >>> x = np.linspace(-1, 1, 41)
+    >>> open_sides(np.c_[x**2], x, Convex()).tolist()           # x**2 is convex: no lower end
+    [[True, False]]
+    >>> open_sides(np.c_[np.sin(5 * x)], x, Convex()).tolist()  # the class bounds sin 5x on both sides
+    [[False, False]]
+    """
+    n, p = F.shape
+    rows = np.unique(np.linspace(0, n - 1, min(n, MAX_KNOTS + 2)).round().astype(int))
+    A0, H = disturbance.generators(x_sorted[rows])
+    Fr = F[rows]
+    out = np.zeros((p, 2), dtype=bool)
+    for j in range(p):
+        fit = _ConeLS(np.hstack([np.delete(Fr, j, axis=1), A0]), H)
+        size = np.linalg.norm(Fr[:, j])
+        out[j] = [np.sqrt(fit(sign * Fr[:, j])[2]) <= rtol * size for sign in (1.0, -1.0)]
+    return out
+
+
 def profile_edge(profile: Callable[[float], float], t0: float, thresh: float, sgn: float) -> float:
     """Edge of ``{t : profile(t) <= thresh}`` on one side (``sgn`` -1 or +1) of ``t0``, which is inside.
 
@@ -325,10 +372,12 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDistu
 
     cp_min = _cp((u, d, rss_min), sigma2)
     interval = np.empty((p, 2))
+    unbounded = open_sides(Fs, xs, disturbance)
     for j in range(p):
         thresh = cp_min + excess[j] + 1e-10 * scale
         profile = lambda t, j=j: _cp(solvers[j](ys - t * Fs[:, j]), sigma2)  # noqa: E731
-        interval[j] = [profile_edge(profile, theta_ls[j], thresh, sgn) for sgn in (-1.0, 1.0)]
+        interval[j] = [sgn * np.inf if unbounded[j, k] else profile_edge(profile, theta_ls[j], thresh, sgn)
+                       for k, sgn in enumerate((-1.0, 1.0))]
     theta_mid = np.where(np.isfinite(interval).all(axis=1), interval.mean(axis=1), theta_ls)
     # the disturbance at the reported point: best cone fit to what the physics leaves
     ug, dg, _ = cone_lstsq(A0, H, ys - Fs @ theta_mid)

@@ -14,9 +14,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from odnn_sep.core import cone
-from odnn_sep.core.checks import check_outside_class
-from odnn_sep.core.linalg import Z95, intervals, noise_variance, solve, stderr_from_cov
-from odnn_sep.errors import IdentifiabilityWarning
+from odnn_sep.core.checks import check_outside_class, require_outside_class
+from odnn_sep.core.linalg import Z95, Projector, intervals, noise_variance, solve, stderr_from_cov
+from odnn_sep.errors import IdentifiabilityWarning, NotIdentifiableError
 
 if TYPE_CHECKING:  # the families import this module on use
     from odnn_sep.core.base import Problem
@@ -116,7 +116,15 @@ def fit_cone_class(problem: Problem) -> dict:
     True
     """
     dist, names = problem.disturbance, problem.names
+    # a column inside the class's free part (a line for Convex, a constant for Monotone), or a dependent
+    # set of columns, leaves theta free in both directions: refused as for a linear class
+    order = np.argsort(problem.x, kind="stable")
+    A_free, _ = dist.generators(problem.x[order])
+    F_sorted = problem.F[order]
+    require_outside_class(F_sorted, Projector(A_free, method="qr", rtol=None).project_out(F_sorted), names,
+                          dist.describe())
     c = cone.fit_cone(problem.F, problem.x, problem.y, dist, random_state=problem.random_state)
+    _refuse_open_sides(c["interval"], names, dist.describe())
     width = c["interval"][:, 1] - c["interval"][:, 0]
     rel = width / np.maximum(np.abs(c["theta_mid"]), 1e-300)
     if np.any(rel > 0.05):
@@ -132,3 +140,15 @@ def fit_cone_class(problem: Problem) -> dict:
                             "sigma": float(np.sqrt(c["sigma2"])), "active_cone_generators": c["active"],
                             "cone_generators": c["generators"], "exact_cone": c["exact_cone"],
                             "interval_relative_width": rel.tolist()}}
+
+
+def _refuse_open_sides(interval: np.ndarray, names, desc: str) -> None:
+    """NotIdentifiableError for a coefficient whose identified set is a half-line (see ``cone.open_sides``)."""
+    mixed = " (with some combination of the other columns)" if len(names) > 1 else ""
+    for name, (lo, hi) in zip(names, interval):
+        if np.isinf(lo) or np.isinf(hi):
+            bound = f"<= {hi:.6g}" if np.isinf(lo) else f">= {lo:.6g}"
+            raise NotIdentifiableError(
+                f"basis column {name!r}{mixed} lies inside the {desc} "
+                f"disturbance class on one side: every coefficient {bound} fits the data equally well, so it is "
+                "not identified; remove the column or choose a disturbance class that excludes it")
