@@ -31,7 +31,7 @@ MAX_COMMENT_LINES = 50
 def _load_field(p: Path, value_name: list | None):
     """The NPZ branch of :func:`load_signal`: grid axes x, y and the field z (ny, nx), flattened."""
     d = load_npz_arrays(p, max_points=True)
-    x, y, z = d["x"], d["y"], d["z"]
+    x, y, z = _grid_axes(d["x"], d["y"], d["z"], p)
     if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
         raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
                          "(x and y 1-D grid axes)")
@@ -43,6 +43,19 @@ def _load_field(p: Path, value_name: list | None):
     if value_name is not None:
         value_name.append("z")
     return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
+
+
+def _grid_axes(x, y, z, p):
+    """``(x, y, z)`` with 1-D axes: ``x``, ``y`` as ``np.meshgrid`` writes them (both 2-D, z's shape) are
+    reduced to their axes (``indexing="ij"``: z transposed to (ny, nx)); anything else is left as given."""
+    if not (x.ndim == y.ndim == 2 and x.shape == y.shape == z.shape):
+        return x, y, z
+    if (x == x[:1]).all() and (y == y[:, :1]).all():        # np.meshgrid(x, y): rows repeat x
+        return x[0], y[:, 0], z
+    if (x == x[:, :1]).all() and (y == y[:1]).all():        # indexing="ij": columns repeat x
+        return x[:, 0], y[0], z.T
+    raise InputError(f"x and y in {str(p)!r} are 2-D but not a grid (as np.meshgrid writes it); give the 1-D "
+                     "grid axes x (nx,), y (ny,) and z (ny, nx)")
 
 
 def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):
@@ -225,7 +238,8 @@ def write_components(out, x, y, res) -> None:
     check_output_path(out)
     X = x[:, None] if x.ndim == 1 else x
     cols = [X, y[:, None], res.physics[:, None], res.disturbance[:, None], res.residual[:, None]]
-    head = ",".join([f"x{i}" for i in range(X.shape[1])] if X.shape[1] > 1 else ["x"])
+    # a field's coordinates are x and y, its values z (a column "y" of values read as the coordinate)
+    head = {1: "x,y", 2: "x,y,z"}.get(X.shape[1], ",".join(f"x{i}" for i in range(X.shape[1])) + ",y")
     with atomic_output(out, suffix=Path(out).suffix or ".csv") as tmp:
-        np.savetxt(tmp, np.hstack(cols), delimiter=",", header=head + ",y,physics,disturbance,residual",
+        np.savetxt(tmp, np.hstack(cols), delimiter=",", header=head + ",physics,disturbance,residual",
                    comments="", fmt="%.10g")

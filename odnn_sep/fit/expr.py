@@ -284,12 +284,20 @@ def parse_disturbance(spec: str, ndim: int = 1):
     --------
     >>> parse_disturbance("periodic:2.5").describe(), parse_disturbance("monotone:dec").increasing
     ('periodic with period 2.5', False)
+    >>> parse_disturbance("convex", ndim=2)
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --disturbance 'convex' is for a 1-D signal (a CSV); a 2-D field (.npz) takes orthogonal or even[:cx,cy]
     """
     from odnn_sep.core import Band, Convex, Even, Monotone, Orthogonal, Periodic
 
     kinds = ["orthogonal", "even", "periodic", "band", "convex", "monotone"]
     parts = spec.strip().lower().split(":")
     kind, args = parts[0], parts[1:]
+    if ndim > 1 and kind in kinds[2:]:
+        # the engine's own refusal spoke of "sample points x of shape (1500, 2)", which a field's user never made
+        raise InputError(f"--disturbance {spec!r} is for a 1-D signal (a CSV); a {ndim}-D field (.npz) takes "
+                         "orthogonal or even[:cx,cy]")
     try:
         if kind == "orthogonal" and not args:
             return Orthogonal()
