@@ -265,8 +265,9 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
         res.disturbances.extend(spikes_entries(spikes, m, t, unit))
     if saturation is not None:
         res.disturbances.append(saturation.entry(unit))
+    from odnn_sep.mismatch.identifiability import unidentified_warnings
     from odnn_sep.mismatch.inputs import physical_warnings
-    res.warnings = physical_warnings(out.fit.params)
+    res.warnings = physical_warnings(out.fit.params) + unidentified_warnings(base, out.fit)
     floor = resolution(y)
     if out.fit.rms <= EXACT_FIT * floor:
         res.notes.append(f"the final model reproduces the record to its numerical resolution (residual RMS "

@@ -57,6 +57,8 @@ class Fit:
     # per-sample square of the record's resolution (resolution.py), included in ``rss``: residuals
     # under it are numerics, not noise
     floor2: float = 0.0
+    # parameter groups the record cannot separate (identifiability.py): no interval for their members
+    unidentified: list = field(default_factory=list)
 
     @property
     def n_params(self) -> float:
@@ -335,12 +337,30 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
         errs = sandwich_standard_errors(pt.jac, r[idx], max(n_eff - len(free), 1))
         stderr = dict(zip(free, (float(s) for s in errs.stderr), strict=True))
         interval_dof = float(max(errs.n_blocks - 1, 1))
+    unidentified = _unidentified(model, t, y, pt, rss, n_eff, G, rows, max_nfev, floor2)
+    for group in unidentified:
+        # the pseudo-inverse dropped this direction and left its members tight errors: they have none
+        stderr.update({k: float("inf") for k in group["parameters"]})
     if not pt.converged and warn:
         warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
                       f"{max_nfev} evaluations before converging; treat its numbers with care",
                       ConvergenceWarning, stacklevel=2)
     return Fit(model, pt.params, free, stderr, rss, n_eff, pt.prediction, pt.disturbance, r, pt.converged,
-               interval_dof, floor2)
+               interval_dof, floor2, unidentified)
+
+
+def _unidentified(model, t, y, pt, rss, n_eff, G, rows, max_nfev, floor2):
+    """Confirmed groups of parameters the record cannot separate (:mod:`odnn_sep.mismatch.identifiability`)."""
+    from odnn_sep.mismatch.identifiability import confirmed_groups, suspect_groups
+    groups = suspect_groups(pt.jac, list(model.free)) if model.free else []
+    if not groups:
+        return []
+
+    def refit(pinned, start):
+        q = _point_fit(pinned, t, y, start, G, rows, max_nfev)
+        return float(np.sum(q.residual[q.idx] ** 2)) + len(q.idx) * floor2
+
+    return confirmed_groups(model, groups, pt.params, rss, n_eff, refit)
 
 
 @dataclass

@@ -135,7 +135,8 @@ def _caller_result(res, t, units, alpha, span=None):
     res.disturbances = [_disturbance(d, res.final_fit, units, res.unit) for d in res.disturbances]
     res.declared = [ts.outward_hz_text(s, units.scale) for s in res.declared]
     res.where = locate(t, res.calibration.fit.residual, sigma=res.noise_sigma, alpha=alpha)
-    res.warnings = physical_warnings(res.final_fit.params)
+    from odnn_sep.mismatch.identifiability import unidentified_warnings
+    res.warnings = physical_warnings(res.final_fit.params) + unidentified_warnings(res.calibration.fit, res.final_fit)
     span = float(np.ptp(t)) if span is None else span
     if units.scale != 1.0:
         res.notes.append(f"time analysed as t / {units.scale:g} (the span of t, {span:.4g}, is far from "
