@@ -197,9 +197,16 @@ def _verdict(res, effects):
     bad = None if effects else misfit(res)
     shares = variance_shares(res)
     dominated = disturbance_dominates(shares)
+    line = None if bad is None else _unnamed_line(res)
     if bad is not None:
         verdict = {"effect": None, "status": "model_does_not_fit", "description": misfit_sentence(bad),
                    "parameters": {}}
+        if line is not None:
+            # the calibration converged: the misfit is a line the finder may not name (own_line.py)
+            from odnn_sep.mismatch.own_line import unnamed_sentence
+            verdict["description"] = (f"the model does not fit the data: the residual is "
+                                      f"{bad['rms_over_noise']:.3g}x the noise level; {unnamed_sentence(line)}")
+            verdict["unnamed_periodic"] = line
     elif not effects and dominated:
         # the residual is at the noise only because a disturbance took the record (shares.py)
         verdict = {"effect": None, "status": "disturbance_dominates", "description": dominated_sentence(shares),
@@ -233,6 +240,13 @@ def _verdict(res, effects):
 # named, is reported as a hint the data cannot establish: on null records (development seeds of the
 # benchmark, every disturbance kind) the best physics candidate scored at most about 1
 HINT_SHARE = 0.5
+
+
+def _unnamed_line(res):
+    from odnn_sep.mismatch.own_line import unnamed_periodic
+    cal = getattr(res, "calibration", None)
+    return unnamed_periodic(getattr(res, "candidates", None) or [], getattr(cal, "fit", None),
+                            getattr(res, "t", None), BIC_THRESHOLD)
 
 
 def not_established(res, bic_threshold=None, heldout_threshold=None):
