@@ -199,6 +199,25 @@ def _check_series(series, n_own):
                              f"(it has {n_own} parameters of its own)")
         if np.any(np.diff(t) <= 0):
             raise InputError(f"series {nm!r}: time must be strictly increasing; sort each series by time")
+    _refuse_repeated_series(series)
+
+
+def _refuse_repeated_series(series):
+    """The same record given twice (one file under two names, a series column copied): its noise would
+    count twice and every shared interval would narrow by about sqrt(2) with no new information.
+    Distinct recordings never agree at every sample; a constant series (a held value) is left alone."""
+    seen = {}
+    for nm, (_, y) in series.items():
+        y = np.asarray(y, float)
+        if np.ptp(y) == 0:
+            continue
+        key = (len(y), float(y[0]), float(y[-1]))
+        for other in seen.get(key, []):
+            if np.array_equal(series[other][1], y):
+                raise InputError(f"series {other!r} and {nm!r} hold the same {len(y)} values: the same record "
+                                 f"given twice would count its noise twice and narrow every interval; give "
+                                 f"each record once")
+        seen.setdefault(key, []).append(nm)
 
 
 def explain_joint(name, series, *, params=None, shared=None, **options):
