@@ -43,8 +43,10 @@ def register(subparsers) -> None:
                                                   "are aux channels for the channel_coupling effect")
     p.add_argument("--no-aux", action="store_true",
                    help="analyse the channel alone: do not use the file's other channels (no channel_coupling)")
-    p.add_argument("--start", type=float, default=None, help="use data from this time on (s)")
-    p.add_argument("--duration", type=float, default=None, help="use this many seconds of data")
+    p.add_argument("--start", type=float, default=None,
+                   help="use data from this time on (in the unit of the time column; seconds for WAV)")
+    p.add_argument("--duration", type=float, default=None,
+                   help="use this much time of data (in the unit of the time column; seconds for WAV)")
     p.add_argument("--effects", default=None,
                    help="comma-separated effects to consider (default: all that apply to the model)")
     p.add_argument("--disturbance", default="auto", metavar="KINDS",

@@ -230,7 +230,7 @@ def _read_frames(path, x, yy, z):
 
 
 def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
-    """Load (t, y, info) from CSV, WAV or NPZ; ``start``/``duration`` (seconds) select a time range.
+    """Load (t, y, info) from CSV, WAV or NPZ; ``start``/``duration`` (in the time column's unit) select a time range.
 
     With ``with_aux=True`` return (t, y, info, aux): ``aux`` maps the file's other channels (WAV
     channels ``ch<k>``, other numeric CSV columns by header) to arrays aligned with ``y``, for the
@@ -243,7 +243,7 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
     column : str or int, optional
         CSV column or audio channel.
     start, duration : float, optional
-        Time range to keep (seconds; series only).
+        Time range to keep (in the unit of the time column, seconds for audio; series only).
     with_aux : bool, optional
         Also return the other channels.
 
@@ -294,6 +294,13 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
         if sel.sum() == 0:
             raise InputError(f"--start {start} / --duration {duration} select no samples; "
                              f"the data spans {t[0]:g} to {t[-1]:g}")
+        if sel.sum() < MIN_WINDOW <= len(t):
+            # a window given in seconds on a record timed in ms keeps a handful of samples, and the
+            # analysis then failed on "too little data" with no word on the window
+            window = " ".join(f"--{k} {v:g}" for k, v in (("start", start), ("duration", duration)) if v is not None)
+            raise InputError(f"{window} keeps {int(sel.sum())} of {len(t)} samples "
+                             f"(the data spans {t[0]:g} to {t[-1]:g}); --start and --duration are in the unit of "
+                             f"the time column, so widen the window in that unit")
         t, y = t[sel], y[sel]
         aux = {k: v[sel] for k, v in aux.items()}
     _check_loaded(t, y, aux)
@@ -301,6 +308,10 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
         info["aux_channels"] = list(aux)
         return t, y, info, aux
     return t, y, info
+
+
+# fewest samples a --start/--duration window may keep: the held-out test's least (2 folds, --folds 2)
+MIN_WINDOW = 16
 
 
 def _check_size_before_reading(p, ext, start, duration):
