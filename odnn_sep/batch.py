@@ -16,6 +16,8 @@ from __future__ import annotations
 import argparse
 import collections
 
+#: Failed files named one per line on the console; the summary lists them all.
+MAX_FAILED_LINES = 20
 # command -> (output option, output suffix or None to keep the input's, default patterns)
 TARGETS = {
     "denoise": ("-o", None, "*.wav,*.flac,*.ogg,*.oga,*.aif,*.aiff,*.mp3,*.w64,*.caf"),
@@ -174,11 +176,13 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     return rec
 
 
-def _find(in_dir, patterns, recursive):
+def _find(in_dir, patterns, recursive, unreadable=None):
     """Files under ``in_dir`` whose name matches a pattern (case-insensitive), hidden ones excluded.
 
     An output folder inside ``in_dir`` is searched too: its files may be the user's, so an output
-    that would land on one of them is refused rather than written.
+    that would land on one of them is refused rather than written. Matching names that are not
+    regular files (a broken link: a git-annex file whose content is not here; a pipe) go to the list
+    ``unreadable``: they were left out without a word, and the batch said "2 of 2 processed".
     """
     import fnmatch
     import os
@@ -194,9 +198,11 @@ def _find(in_dir, patterns, recursive):
         dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
         for name in filenames:
             f = here / name
-            if (not is_temporary(f.relative_to(root)) and any(fnmatch.fnmatchcase(name.lower(), p) for p in pats)
-                    and f.is_file()):
-                found.append(f)
+            if not is_temporary(f.relative_to(root)) and any(fnmatch.fnmatchcase(name.lower(), p) for p in pats):
+                if f.is_file():
+                    found.append(f)
+                elif unreadable is not None:
+                    unreadable.append(f)
         if not recursive:
             break
     return sorted(found)
@@ -348,9 +354,13 @@ def run(args) -> int:
         # '**/*.csv' or 'sub/*.csv' never matched (names are matched) and read as "no files in the folder"
         raise InputError(f"--pattern {pathlike!r} holds a path; patterns match file names only: give e.g. "
                          f"{pathlike.replace(os.sep, '/').rsplit('/', 1)[-1]!r}, with --recursive for sub-folders")
-    files = _find(in_dir, patterns, args.recursive)
+    unreadable: list = []
+    files = _find(in_dir, patterns, args.recursive, unreadable)
     if not files:
-        raise InputError(f"no files matching {','.join(patterns)} in {str(in_dir)!r}; check the folder or --pattern")
+        more = f", and {len(unreadable) - 1} more like it" if len(unreadable) > 1 else ""
+        some = f" ({_not_a_file(unreadable[0])}{more})" if unreadable else ""
+        raise InputError(f"no files matching {','.join(patterns)} in {str(in_dir)!r}{some}; check the folder or "
+                         "--pattern")
     dsts = plan_outputs(files, in_dir, out_dir, TARGETS[args.target][1])
     # a --plot or --report after -- is written per file, beside its output
     options, side = per_file_options(args.target, extra, dsts, own_output=TARGETS[args.target][0])
@@ -377,7 +387,27 @@ def run(args) -> int:
         _remove_empty(created)  # e.g. the Dask scheduler could not be reached: leave nothing behind
         raise
     sweep()
+    results += [{"input": str(f), "output": None, "exit_code": 1, "message": f"Error: {_not_a_file(f)}; not processed",
+                 "seconds": 0.0} for f in unreadable]
     return _finish(args, jobs, results, interrupt, summary, sys.stderr, os)
+
+
+def _not_a_file(path) -> str:
+    """Why ``path``, which matched the pattern, is no input: a broken link, a pipe, a device.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     os.symlink("absent.wav", os.path.join(d, "take.wav"))
+    ...     print(_not_a_file(os.path.join(d, "take.wav")).split(" is ")[1])
+    a broken link (its target 'absent.wav' does not exist)
+    """
+    import os
+
+    if os.path.islink(path) and not os.path.exists(path):
+        return f"{str(path)!r} is a broken link (its target {os.readlink(path)!r} does not exist)"
+    return f"{str(path)!r} is not a regular file"
 
 
 def _make_dirs(dirs):
@@ -421,6 +451,9 @@ def _finish(args, jobs, results, interrupt, summary, stream, os) -> int:
         warned = sum(1 for r in results if r.get("warnings"))
         if warned:
             print(f"  {warned} file(s) with warnings (see 'warnings' in the summary)", file=stream)
-    for r in failed:
+    for r in failed[:MAX_FAILED_LINES]:
         print(f"  failed: {r['input']}: {r['message']}", file=stream)
+    if len(failed) > MAX_FAILED_LINES:
+        # a folder of 10 000 unreadable files printed 10 000 lines
+        print(f"  ... and {len(failed) - MAX_FAILED_LINES} more failed file(s); see the summary", file=stream)
     return 1 if failed else 0
