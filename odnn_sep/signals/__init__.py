@@ -46,6 +46,11 @@ def __getattr__(name):
     raise AttributeError(f"module 'odnn_sep.signals' has no attribute {name!r}")
 
 
+def __dir__():
+    # the lazy names too: dir() and an editor's completion listed only NAMES, SYSTEMS and make_dataset
+    return sorted(set(globals()) | set(__all__))
+
+
 def make_dataset(name: str, **kwargs):
     """Build the dataset called ``name`` (one of :data:`NAMES` or :data:`SYSTEMS`) with the generator's options.
 
