@@ -286,13 +286,15 @@ def _keep_locked(D2, sr: int, combs: list[Comb], freqs_before, alpha: float = 1e
     tc = _finetrack.chunk_times(D2.shape[0], sr)
     col, kept = 0, []
     for c in combs:
-        good = []
+        good, side = [], []
         for k in c.harmonics:
             u = D2[:, :, col: col + 1] * np.exp(-2j * np.pi * (k * c.fundamental_hz - freqs_before[col]) * tc)[:, None, None]
             p, _ = _lock.lock_p_values(u, sr)
             if p[0] < alpha:
                 good.append(k)
+                side.append(_fixed_line_sidebands(u[:, :, 0], sr))
             col += 1
+        good = _off_host_grid(c, good, side)
         if len(good) >= min_lines:
             c.harmonics = good
             kept.append(c)
@@ -300,3 +302,37 @@ def _keep_locked(D2, sr: int, combs: list[Comb], freqs_before, alpha: float = 1e
             log.info("comb at %.4f Hz dropped: lines %s are not phase-locked", c.fundamental_hz,
                      [k for k in c.harmonics if k not in good])
     combs[:] = kept
+
+
+def _fixed_line_sidebands(u: np.ndarray, sr: int) -> float:
+    """The strongest symmetric pair of sidebands (0.15-4 Hz) in the baseband of one fixed line, against
+    the line's own power (``hostgrid.baseband_sidebands``); ``u``: its (J, C) chunk sums, already turned
+    to the line's frequency. NaN when the input is too short to resolve them."""
+    from odnn_sep.audio import finetrack as _finetrack
+    from odnn_sep.audio import hostgrid as _hostgrid
+
+    nd = u.shape[0] // _finetrack.DECIM
+    if nd < 16:
+        return float("nan")
+    v = u[: nd * _finetrack.DECIM].reshape(nd, _finetrack.DECIM, -1).mean(axis=1).sum(axis=1)
+    return float(_hostgrid.baseband_sidebands(v[:, None], _finetrack.decimated_rate(sr))[0])
+
+
+def _off_host_grid(c: Comb, ks: list[int], side: list[float]) -> list[int]:
+    """``ks`` (the locked lines of further comb ``c``) without the lines of a periodic host, when they
+    are at least half of them. A drum loop placed to the sample has lines at every multiple of 1/P
+    (P its period: 1-4 s), so every multiple of 50 and 60 Hz holds one, exactly steady and locked to
+    its fixed frequency: such a "comb" at exactly 50.000 or 60.000 Hz passed beside the real hum
+    (60.045 Hz) and its removal cost more than the hum left (24 instead of 41 dB). Its lines hold
+    the loop's neighbouring lines as sidebands of their baseband (``side``: each at least
+    ``hostgrid.BASEBAND_SIDE`` of the line; development loops 0.36-1.1), a hum line none (the room
+    recording's further combs: 0.01-0.11). As in lockcomb, a few such lines decide nothing: a
+    hum comb's weak lines among a loop's can show them too."""
+    from odnn_sep.audio import hostgrid as _hostgrid
+
+    host = [k for k, r in zip(ks, side, strict=True) if r >= _hostgrid.BASEBAND_SIDE]
+    if not host or 2 * len(host) < len(ks):
+        return list(ks)
+    log.info("comb at %.4f Hz: lines %s hold the neighbouring lines of a periodic host as sidebands "
+             "(a drum loop or a sequenced pattern placed to the sample): not taken for hum", c.fundamental_hz, host)
+    return [k for k in ks if k not in host]
