@@ -388,6 +388,8 @@ def custom_model(func: Callable, params: dict, *, bounds: dict | None = None, fi
     """
     _check_user_params(func, params, "custom_model")
     start = {k: float(v) for k, v in params.items()}
+    from odnn_sep.mismatch.user_checks import check_options
+    check_options(start, bounds, fixed, "custom_model")
 
     def builder(effects):
         def predict(t, p):
@@ -450,7 +452,10 @@ def ode_model(rhs: Callable, params: dict, state0: Sequence[float | str], *, out
                              f"parameters: {', '.join(start)}")
     rhs_names = [k for k in start if k not in {s for s in state0 if isinstance(s, str)}]
     from odnn_sep.mismatch.inputs import check_inputs, interpolator
+    from odnn_sep.mismatch.user_checks import check_options, check_rhs
+    check_options(start, bounds, fixed, "ode_model")
     ins = check_inputs(inputs, None) if inputs else {}
+    check_rhs(rhs, start, state0, output, list(ins))
     at = {k: interpolator(tu, u) for k, (tu, u) in ins.items()}
     builder = _ode_builder(name, rhs, state0, output, rhs_names, at, list(start))
     return Model(name=name, family="user", start=start, bounds=dict(bounds or {}), fixed=frozenset(fixed),
@@ -466,6 +471,12 @@ def _ode_builder(name, rhs, state0, output, rhs_names, at, names):
 
             def f(tt, s):
                 return rhs(tt, s, **kw, **{k: g(tt) for k, g in at.items()})
+            from odnn_sep.mismatch.user_checks import check_derivative_count
+            try:
+                first = f(float(t[0]), np.asarray(y0, float))
+            except (ArithmeticError, ValueError, TypeError):
+                first = y0      # the integration below says what failed
+            check_derivative_count(name, first, state0)
             try:
                 return integrate_ode(name, f, y0, t, p)[:, output]
             except (ArithmeticError, ValueError, TypeError) as exc:
