@@ -395,7 +395,7 @@ def write_image(path: str | os.PathLike, image: np.ndarray, *inputs, jpeg_qualit
     """
     import cv2
 
-    from odnn_sep.image.io_meta import add_metadata
+    from odnn_sep.image.io_meta import add_metadata, for_pixels
     from odnn_sep.io_paths import check_output_path
     from odnn_sep.io_utils import atomic_output
 
@@ -408,6 +408,7 @@ def write_image(path: str | os.PathLike, image: np.ndarray, *inputs, jpeg_qualit
     encoded = None
     if a.ndim == 3 and a.shape[2] == 2:
         encoded, a = _encode_grey_alpha(a, suffix)
+    grey_out = a is None or a.ndim == 2   # one grey channel written (with its alpha through Pillow)
     if encoded is None:
         if a.ndim == 3 and a.shape[2] == 4 and suffix in (".jpg", ".jpeg"):
             log.warning("JPEG holds no alpha channel: the alpha channel is dropped from %s", out.name)
@@ -428,6 +429,7 @@ def write_image(path: str | os.PathLike, image: np.ndarray, *inputs, jpeg_qualit
         if not ok:
             raise FormatError(f"could not encode the output image as {out.suffix}")
         encoded = buf.tobytes()
-    encoded = add_metadata(encoded, suffix, meta)
+    # a profile of another colour space than the pixels written (a CMYK photo's, on its RGB pixels) is left out
+    encoded = add_metadata(encoded, suffix, for_pixels(meta, grey_out))
     with atomic_output(out) as tmp:
         Path(tmp).write_bytes(encoded)

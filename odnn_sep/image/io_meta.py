@@ -1,10 +1,13 @@
-"""What a photo file carries besides its pixels: EXIF (orientation), ICC profile, PNG text chunks.
+"""What a photo file carries besides its pixels: EXIF (orientation), ICC profile, PNG text chunks,
+the resolution (dots per inch) and a PNG's own colour chunks (gamma, chromaticities, sRGB intent).
 
 OpenCV decodes and encodes the pixels (fast, 16-bit) but ignores the EXIF orientation and drops
 the metadata. Pillow reads the metadata without decoding the pixels; on write the metadata are
 put back into OpenCV's encoded bytes (PNG chunks after IHDR, JPEG APP segments after SOI), so the
 pixel path stays the same for 8- and 16-bit images. EXIF is kept with its orientation reset to 1,
-because the pixels are written upright.
+because the pixels are written upright. An ICC profile is written only onto pixels of the colour
+space it describes: a CMYK photo is read as RGB, and its CMYK profile on RGB pixels would tell a
+viewer to read them as ink amounts.
 """
 from __future__ import annotations
 
@@ -28,7 +31,9 @@ class ImageMeta:
     """Metadata of a read image. ``exif``: TIFF-structure EXIF bytes with orientation reset to 1 (no
     ``Exif\\0\\0`` header); ``icc``: ICC profile bytes; ``text``: PNG text chunks; ``orientation``:
     the EXIF orientation that was applied on read (1 = none); ``mode``: Pillow's mode of the file;
-    ``frames``: number of frames (more than 1 for an animation).
+    ``frames``: number of frames (more than 1 for an animation); ``dpi``: (x, y) resolution in dots
+    per inch, or None; ``png_colour``: a PNG's gAMA, cHRM and sRGB chunks (type, data), written back
+    to PNG only.
 
     Examples
     --------
@@ -44,6 +49,8 @@ class ImageMeta:
     orientation: int = 1
     mode: str = ""
     frames: int = 1
+    dpi: tuple | None = None
+    png_colour: list = dataclasses.field(default_factory=list)
 
 
 def read_meta(path) -> ImageMeta:
@@ -80,6 +87,9 @@ def read_meta(path) -> ImageMeta:
         with Image.open(path) as im:
             meta = ImageMeta(mode=im.mode, frames=int(getattr(im, "n_frames", 1) or 1))
             meta.icc = im.info.get("icc_profile") or None
+            meta.dpi = _dpi(_jfif_dpi(im.info) if im.format == "JPEG" else im.info.get("dpi"))
+            if im.format == "PNG":
+                meta.png_colour = _png_colour_chunks(im.info)
             # Pillow decodes a whole PNG to reach text or EXIF chunks that may follow the pixel data;
             # when none does (the usual case), what it read before the pixels is all there is
             header_only = im.format == "PNG" and meta.frames == 1 and not png_has_late_metadata(path)
@@ -100,6 +110,84 @@ def read_meta(path) -> ImageMeta:
         log.debug("no metadata read from %s: %s", path, exc)
         return ImageMeta()
     return meta
+
+
+def _dpi(value) -> tuple | None:
+    """(x, y) dots per inch from Pillow's ``info["dpi"]``; None when absent or not positive."""
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        return None
+    return (x, y) if x > 0 and y > 0 and np.isfinite(x) and np.isfinite(y) else None
+
+
+def _jfif_dpi(info: dict):
+    """A JPEG's dots per inch from its JFIF density (Pillow's ``info["dpi"]`` falls back to 72 when
+    the EXIF holds no resolution: a value the file does not hold); None for an aspect ratio only."""
+    unit, density = info.get("jfif_unit"), info.get("jfif_density")
+    if unit not in (1, 2) or not density:
+        return None
+    return tuple(float(v) * (2.54 if unit == 2 else 1.0) for v in density)
+
+
+def _png_colour_chunks(info: dict) -> list:
+    """The gAMA, cHRM and sRGB chunks (type, data) of a PNG, from what Pillow read of them."""
+    out = []
+    try:
+        if info.get("gamma"):
+            out.append((b"gAMA", struct.pack(">I", round(float(info["gamma"]) * 100000))))
+        if info.get("chromaticity") and len(info["chromaticity"]) == 8:
+            out.append((b"cHRM", struct.pack(">8I", *(round(float(v) * 100000) for v in info["chromaticity"]))))
+        if info.get("srgb") is not None:
+            out.append((b"sRGB", bytes([int(info["srgb"]) & 0xFF])))
+    except (TypeError, ValueError, struct.error):
+        return []
+    return out
+
+
+def icc_space(icc: bytes | None) -> str | None:
+    """The colour space an ICC profile describes (``"RGB"``, ``"GRAY"``, ``"CMYK"``, ...), from its header.
+
+    Examples
+    --------
+    >>> from PIL import ImageCms
+    >>> from odnn_sep.image.io_meta import icc_space
+    >>> icc_space(ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes())
+    'RGB'
+    >>> icc_space(b"short") is None
+    True
+    """
+    if not icc or len(icc) < 20:
+        return None
+    return icc[16:20].decode("latin-1").strip() or None
+
+
+def for_pixels(meta: ImageMeta | None, grey: bool) -> ImageMeta | None:
+    """``meta`` without an ICC profile of another colour space than the pixels written (``grey``: one
+    grey channel; otherwise RGB), with a warning; unchanged otherwise.
+
+    A CMYK JPEG is decoded to RGB: its CMYK profile, written onto the RGB output, is a profile the
+    pixels do not follow (PNG forbids it; viewers ignore it or read the pixels as ink).
+
+    Examples
+    --------
+    >>> from PIL import ImageCms
+    >>> from odnn_sep.image.io_meta import ImageMeta, for_pixels
+    >>> srgb = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
+    >>> cmyk = srgb[:16] + b"CMYK" + srgb[20:]
+    >>> for_pixels(ImageMeta(icc=srgb), grey=False).icc == srgb
+    True
+    >>> for_pixels(ImageMeta(icc=cmyk, text={"a": "b"}), grey=False).icc is None
+    True
+    """
+    space = icc_space(meta.icc) if meta is not None else None
+    want = "GRAY" if grey else "RGB"
+    if space is None or space == want:
+        return meta
+    log.warning("the input's colour profile is for %s pixels and the output holds %s ones: the profile is not "
+                "written (the %s pixels were converted without it)", space, want,
+                "CMYK" if space == "CMYK" else "input's")
+    return dataclasses.replace(meta, icc=None)
 
 
 # PNG chunks of metadata that may come after the pixel data (IDAT)
@@ -194,7 +282,7 @@ def _png_text(key: str, value: str) -> bytes:
 
 
 def add_to_png(buf: bytes, meta: ImageMeta) -> bytes:
-    """PNG bytes with iCCP, eXIf and text chunks inserted after IHDR.
+    """PNG bytes with the colour (gAMA, cHRM, sRGB, iCCP), pHYs, eXIf and text chunks inserted after IHDR.
 
     Parameters
     ----------
@@ -222,8 +310,13 @@ def add_to_png(buf: bytes, meta: ImageMeta) -> bytes:
         raise FormatError("internal: the encoder did not return a PNG stream")
     ihdr_end = 8 + 12 + struct.unpack(">I", buf[8:12])[0]
     extra = b""
+    for kind, data in meta.png_colour:
+        extra += _png_chunk(kind, data)
     if meta.icc:
         extra += _png_chunk(b"iCCP", b"ICC profile\x00\x00" + zlib.compress(meta.icc))
+    if meta.dpi:
+        ppm = [max(1, round(v / 0.0254)) for v in meta.dpi]   # pixels per metre
+        extra += _png_chunk(b"pHYs", struct.pack(">IIB", ppm[0], ppm[1], 1))
     if meta.exif:
         extra += _png_chunk(b"eXIf", meta.exif)
     for k, v in meta.text.items():
@@ -232,7 +325,8 @@ def add_to_png(buf: bytes, meta: ImageMeta) -> bytes:
 
 
 def add_to_jpeg(buf: bytes, meta: ImageMeta) -> bytes:
-    """JPEG bytes with the EXIF (APP1) and ICC (APP2) segments inserted after SOI and JFIF.
+    """JPEG bytes with the EXIF (APP1) and ICC (APP2) segments inserted after SOI and JFIF, and the
+    resolution written into JFIF's density fields.
 
     Parameters
     ----------
@@ -261,6 +355,10 @@ def add_to_jpeg(buf: bytes, meta: ImageMeta) -> bytes:
     pos = 2
     if buf[2:4] == b"\xff\xe0":  # keep JFIF's APP0 first
         pos = 4 + struct.unpack(">H", buf[4:6])[0]
+        if meta.dpi and buf[6:11] == b"JFIF\x00" and pos >= 18:
+            # the resolution: units 1 (dots per inch), X and Y density (OpenCV writes 0: aspect only)
+            dens = struct.pack(">BHH", 1, *(min(65535, max(1, round(v))) for v in meta.dpi))
+            buf = buf[:13] + dens + buf[18:]
     segs = b""
     if meta.exif and len(meta.exif) + 8 <= 65535:
         segs += b"\xff\xe1" + struct.pack(">H", len(meta.exif) + 8) + b"Exif\x00\x00" + meta.exif
@@ -298,12 +396,13 @@ def add_metadata(buf: bytes, suffix: str, meta: ImageMeta | None) -> bytes:
     >>> add_metadata(b"data", ".bmp", ImageMeta(icc=b"p"))
     b'data'
     """
-    if meta is None or not (meta.exif or meta.icc or meta.text):
+    if meta is None or not (meta.exif or meta.icc or meta.text or meta.dpi or meta.png_colour):
         return buf
     s = suffix.lower()
     if s == ".png":
         return add_to_png(buf, meta)
     if s in (".jpg", ".jpeg"):
         return add_to_jpeg(buf, meta)
-    log.warning("EXIF/ICC metadata are not written to %s files; write PNG or JPEG to keep them", s)
+    if meta.exif or meta.icc or meta.text:
+        log.warning("EXIF/ICC metadata are not written to %s files; write PNG or JPEG to keep them", s)
     return buf
