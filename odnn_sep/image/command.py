@@ -129,6 +129,7 @@ def run(args) -> int:
     if args.reference and (args.text or args.mask):
         raise InputError("--reference is used on its own; drop --text/--mask")
     inp = _checked_paths(args)
+    args.text = typed_line_breaks(args.text)
     _import_ahead(bool(args.text))
     img, meta = read_image_meta(inp)  # upright (EXIF orientation); EXIF/ICC/text written back
     from odnn_sep.image.api import unwatermark
@@ -170,6 +171,32 @@ def run(args) -> int:
               f"{report['lost_pixels']} lost pixel(s) inpainted, residual mark score "
               f"{float(residual.get('score') or 0.0):.3f} -> {args.output}")
     return 0
+
+
+def typed_line_breaks(text):
+    r"""``--text`` with the two characters backslash and ``n`` read as a line break, with a warning.
+
+    In a shell, ``--text "Studio 2024\nJohn Doe"`` passes a backslash and an ``n`` (bash needs
+    ``$'...'`` for a line break): the search then looked for one line with a backslash in it and
+    reported "not found (best match score 0.000)". A watermark holding a backslash followed by ``n``
+    is far less likely than that typing, so the pair is read as the line break meant. A text that
+    already holds a real line break is left as it is.
+
+    Examples
+    --------
+    >>> typed_line_breaks("Studio 2024\\nJohn Doe")
+    'Studio 2024\nJohn Doe'
+    >>> typed_line_breaks("A\\r\\nB"), typed_line_breaks("C:\\temp"), typed_line_breaks(None)
+    ('A\nB', 'C:\\temp', None)
+    """
+    if not text or "\\n" not in text or "\n" in text or "\r" in text:
+        return text
+    import logging
+
+    logging.getLogger(__name__).warning(
+        "--text holds '\\n' typed as two characters: read as a line break (in bash, $'line 1\\nline 2' "
+        "gives a real one)")
+    return text.replace("\\r\\n", "\n").replace("\\n", "\n")
 
 
 # What a run imports after reading its input (SciPy's optimisers and linear algebra among them).
