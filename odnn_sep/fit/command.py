@@ -96,6 +96,7 @@ def run(args) -> int:
     from odnn_sep.errors import InputError
     from odnn_sep.fit.data import load_signal, write_components
     from odnn_sep.fit.expr import basis_from_expressions, parse_disturbance
+    from odnn_sep.fit.residual import residual_warning
     from odnn_sep.fit.size import check_shape_points
     from odnn_sep.io_utils import write_json
 
@@ -120,15 +121,21 @@ def run(args) -> int:
         # the network trains for minutes: show its epochs unless asked to be quiet
         solver = NetworkSolver(progress=not args.quiet) if args.solver == "network" else args.solver
         res = Separator(basis, disturbance=dist, solver=solver, random_state=args.seed).fit(x, y).result_
+    messages = [str(w.message) for w in caught]
+    # a class that cannot hold the disturbance (or correlated noise) leaves a smooth residual and
+    # confidently wrong intervals: say so
+    structure = residual_warning(x, y, res.residual, res.disturbance_class, grid)
+    if structure:
+        messages.append(structure)
     if not args.quiet:
         print(res.summary())
-    for w in caught:  # warnings go to stderr, also with --quiet
-        print(f"Warning: {w.message}", file=sys.stderr)
+    for m in messages:  # warnings go to stderr, also with --quiet
+        print(f"Warning: {m}", file=sys.stderr)
     if args.output:
         write_components(args.output, x, y, res)
     if args.report:
         write_json(args.report, {"input": args.data, "basis": args.basis, "disturbance": args.disturbance,
-                                 **res.as_dict(), "warnings": [str(w.message) for w in caught]})
+                                 **res.as_dict(), "warnings": messages})
     if args.plot:
         from odnn_sep.report.separation import plot_separation
 
