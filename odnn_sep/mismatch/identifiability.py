@@ -149,10 +149,14 @@ def unidentified_sentence(group):
         head = f"parameter {names} is not identifiable from this record: it does not change the fit"
     else:
         head = f"parameters {names} are not identifiable from this record"
+    # a measured input's gain kd_<name>: a column that does not vary acts as one more constant
+    inputs = [k[3:] for k in group["parameters"] if k.startswith("kd_")]
+    fix = (f"the input {', '.join(repr(k) for k in inputs)} does not vary enough to tell its gain from the "
+           f"model's constants: give a record in which it changes, or leave it out"
+           if inputs else "Fix all but one of them (custom_model/ode_model fixed=[...]) or reparametrise the model")
     return (f"{head}: with {group['moved']} fixed at {group['to']:.4g} instead of {group['from']:.4g} and the "
             f"others refitted, the model fits as well (the sum of squares rises by {group['rise']:.2g} noise "
-            f"variances), so only a combination of them is determined; they get no interval. Fix all but one "
-            f"of them (custom_model/ode_model fixed=[...]) or reparametrise the model")
+            f"variances), so only a combination of them is determined; they get no interval. {fix}")
 
 
 def unidentified_warnings(*fits):

@@ -43,3 +43,17 @@ def test_an_ill_conditioned_but_identified_model_is_not_flagged():
     assert not any("not identifiable" in w for w in res.warnings)
     params = res.as_dict()["fit"]["after"]["parameters"]
     assert all(params[k]["interval95"] is not None for k in ("a", "k"))
+
+
+def test_a_constant_input_column_leaves_ambient_and_gain_without_intervals(tmp_path, capsys):
+    from odnn_sep.cli import main
+    t = np.linspace(0, 3000, 300)
+    y = 20 + 60 * np.exp(-0.001 * t) + 0.05 * np.random.default_rng(5).normal(size=t.size)
+    f = tmp_path / "cool_u.csv"
+    f.write_text("t,T,P\n" + "".join(f"{a!r},{b!r},5.0\n" for a, b in zip(t.tolist(), y.tolist())))
+    assert main(["mismatch", str(f), "--model", "cooling", "--column", "T", "--input", "P"]) == 0
+    out = capsys.readouterr().out
+    # it printed T_ambient = 0.3348 +- 0.01038 [95%: 0.3133, 0.3563] for an ambient of 20
+    line = next(s for s in out.splitlines() if s.strip().startswith("T_ambient ="))
+    assert "interval not determined" in line
+    assert "T_ambient, kd_P are not identifiable" in out and "the input 'P' does not vary" in out
