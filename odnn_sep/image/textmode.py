@@ -114,6 +114,10 @@ def text_mode(y, text, font, region, min_score, angle_range, max_marks, random_s
     if max_marks > 1:
         placed += _copies(y, ys, text, best, best_nc, off, max_marks, min_score,
                           dict(reduced=reduced, random_state=random_state))
+        if region is None:  # copies of a tiled mark that the border cuts (the search places whole ones)
+            from odnn_sep.image.border_copies import border_copies
+
+            placed += border_copies(y, text, placed, max_marks - len(placed), min_score, random_state=random_state)
     return _assemble(y, text, placed, score, min_score, random_state, from_data=font is None and not reduced)
 
 

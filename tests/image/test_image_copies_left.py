@@ -1,4 +1,5 @@
-"""A tiled mark whose other copies are cut by the border must not be reported removed.
+"""A tiled mark whose other copies are cut by the border must not be reported removed (they are now
+found and removed: ``border_copies``; a copy still left is what ``copies_left`` looks for).
 
 Found by ``recipes/bench_watermark_probe.py`` (development seed 12, case 3: 'Preview only' tiled over
 the moon photo; the one whole copy was removed, the copies cut by the border stayed, exit 0).
@@ -26,14 +27,19 @@ def _marked(copies):
     return np.round(np.clip(y, 0, 1) * 255).astype(np.uint8)
 
 
-def test_copy_cut_by_the_border_counts_as_still_visible():
+def test_copy_cut_by_the_border_is_removed_too():
+    """The copy cut by the right border is now registered and removed (``border_copies``); the check
+    of what is left (``copies_left``, tested on its own below) then finds nothing."""
     from odnn_sep.image import unwatermark
 
     y = _marked([(50, 95), (195, 15)])      # one whole copy, one cut by the right border
+    clean = _marked([])
     r = unwatermark(y, text="SAMPLE", font="DejaVuSans-Bold")
     rm = r.report["residual_mark"]
-    assert rm["visible"] is True
-    assert rm["copies_left"] is not None and rm["copies_left"]["at"][0] > 150
+    assert rm["visible"] is False and rm["copies_left"] is None
+    assert len(r.report["marks"]) == 2 and r.report["marks"][1]["center"][0] > 250
+    err = r.image[:, 190:].astype(float) - clean[:, 190:]
+    assert 10 * np.log10(255 ** 2 / np.mean(err ** 2)) > 50     # the input there: 23 dB
 
 
 def test_single_copy_removed_has_no_copies_left():
