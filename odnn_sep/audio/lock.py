@@ -114,9 +114,11 @@ def lock_p_values(u: np.ndarray, sr: int) -> tuple[np.ndarray, np.ndarray]:
         x = (np.abs(mean) ** 2 / np.maximum(scat / s_eff, 1e-300))   # per channel
     # a silent channel (a flat EEG electrode: zero mean and zero scatter) shows no line
     x = np.where(np.isnan(x), 0.0, x)
-    # channels pooled: sum of the per-channel statistics, F(2C, 2 C (S_eff - 1)) approximately
-    C = u.shape[1]
+    # channels pooled: mean of the per-channel statistics, F(2C, 2 C (S_eff - 1)) approximately for
+    # independent channels; channels that carry the same content are one piece of evidence
+    # (C counted as the effective number of independent channels)
     xf = x.mean(axis=0)
+    C = effective_channels(u).astype(xf.dtype)     # in the statistic's precision (float32 phasors stay so)
     d1, d2 = 2.0 * C, 2.0 * C * (s_eff - 1)
     p = special.fdtrc(d1, d2, xf)
     rms = np.sqrt((np.abs(a) ** 2).mean(axis=0)).mean(axis=0)
@@ -249,8 +251,58 @@ def weighted_lock_p_values(u: np.ndarray, sr: int, presence: np.ndarray | None =
         B = int((presence[: B * n].reshape(B, n).sum(axis=1) > 0).sum())
         if B < 6:
             return np.ones(K), np.zeros(K)
-    p = special.fdtrc(2.0 * C, 2.0 * C * (B - 1), x)
+    Ce = effective_channels(u)
+    p = special.fdtrc(2.0 * Ce, 2.0 * Ce * (B - 1), x)
     return p, amp
+
+
+def effective_channels(u: np.ndarray) -> np.ndarray:
+    """How many independent channels the baseband ``u`` (J, C, K) holds, per column: ``C^2 / sum_ij
+    |r_ij|^2`` of the channels' complex correlations ``r`` about their means (Bretherton et al. 1999);
+    C for uncorrelated channels, 1 for identical ones.
+
+    The pooled lock tests add the channels' statistics as independent evidence. Four or eight
+    copies of one channel (a mono source on every channel of a multitrack file) multiplied the
+    degrees of freedom by four or eight with no new information, and a note partial's chance
+    steadiness passed for hum (harmonics 1, 22 and 30 of a bass line, none on one channel).
+    A channel with no content counts as independent (it shows no line).
+
+    Parameters
+    ----------
+    u : (J, C, K) complex array
+        Tracked baseband (or any chunk-rate signal per channel and column).
+
+    Returns
+    -------
+    (K,) float array
+        In [1, C].
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> a = rng.standard_normal((4000, 1, 1)) + 1j * rng.standard_normal((4000, 1, 1))
+    >>> b = rng.standard_normal((4000, 3, 1)) + 1j * rng.standard_normal((4000, 3, 1))
+    >>> float(effective_channels(np.repeat(a, 4, axis=1))[0])                 # four copies
+    1.0
+    >>> round(float(effective_channels(np.concatenate([a, b], axis=1))[0]), 1)   # four independent
+    4.0
+    """
+    J, C, K = u.shape
+    if C == 1:
+        return np.ones(K)
+    out = np.empty(K)
+    for i in range(K):
+        d = u[:, :, i].astype(np.complex128)
+        d = d - d.mean(axis=0)
+        G = d.conj().T @ d                                   # (C, C)
+        pw = np.real(np.diag(G))
+        live = pw > 1e-300 * max(float(pw.max()), 1e-300) if pw.max() > 0 else np.zeros(C, bool)
+        r2 = np.zeros((C, C))
+        s = np.sqrt(np.where(live, pw, 1.0))
+        r2[np.ix_(live, live)] = (np.abs(G) / np.outer(s, s))[np.ix_(live, live)] ** 2
+        r2[np.diag_indices(C)] = 1.0
+        out[i] = C * C / r2.sum()
+    return np.clip(out, 1.0, C)
 
 
 PRESENCE_OFF = 0.05     # a unit whose comb power is below this share of the on units' is "off"
