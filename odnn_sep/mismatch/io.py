@@ -191,12 +191,26 @@ def read_npz(path):
     from odnn_sep.io_read import load_npz_arrays
     d = load_npz_arrays(path, max_points=True)  # shapes and types checked before loading
     x, yy, z = (d[k] for k in ("x", "y", "z"))
+    _refuse_missing_pixels(path, z)
     if z.ndim == 3:
         return _read_frames(path, x, yy, z)
     if z.shape != (len(yy), len(x)):
         raise FormatError(f"NPZ z has shape {z.shape}; expected (len(y), len(x)) = ({len(yy)}, {len(x)})")
     X, Y = np.meshgrid(x, yy)
     return np.column_stack([X.ravel(), Y.ravel()]), z.ravel(), {"format": "npz", "shape": list(z.shape)}
+
+
+def _refuse_missing_pixels(path, z):
+    """NaN/inf in a field named by its place in z (it read as "y contains NaN at index 94" of the flat field)."""
+    z = np.asarray(z)
+    if not np.issubdtype(z.dtype, np.number):
+        return
+    bad = ~np.isfinite(z)
+    if bad.any():
+        where = tuple(int(i) for i in np.argwhere(bad)[0])
+        axes = ("frame, row, column" if z.ndim == 3 else "row, column") if z.ndim in (2, 3) else "index"
+        raise InputError(f"NPZ {str(path)!r}: z has {int(bad.sum())} missing (NaN or inf) value(s), the first at "
+                         f"{axes} {where}; fill or interpolate them before fitting (a field needs every pixel)")
 
 
 def _read_frames(path, x, yy, z):
