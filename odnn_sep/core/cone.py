@@ -102,13 +102,17 @@ class _ConeLS:
         self.A, self.H = A, H
         self.free = Projector(A, method="qr", rtol=None)
         self.Hp = self.free.project_out(H)
+        # unit columns for the solve of u: lstsq's cut-off is relative to the largest singular value, and
+        # x in epoch seconds (1.7e9) next to a constant column fell under it (theta off, a zero-width set)
+        norms = np.linalg.norm(A, axis=0)
+        self._norms = np.where(norms > 0, norms, 1.0)
 
     def __call__(self, y: np.ndarray):
         yp = self.free.project_out(y)
         from scipy import optimize  # (here: scipy.optimize is a tenth of a second of every start-up)
 
         d, rnorm = optimize.nnls(self.Hp, yp, maxiter=50 * self.H.shape[1])
-        u = solve(self.A, y - self.H @ d, method="lstsq")
+        u = solve(self.A / self._norms, y - self.H @ d, method="lstsq") / self._norms
         return u, d, float(rnorm) ** 2
 
 
