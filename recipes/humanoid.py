@@ -22,6 +22,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import numpy as np  # noqa: E402
 
+from odnn_sep.batch import positive_int  # noqa: E402
+
 TARGET = 0.84  # % (half the paper's 1.68 %)
 KINDS = ("sin", "drift", "calibration", "all")
 
@@ -119,7 +121,8 @@ def med_worst(v) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="tiny sizes (for tests)")
-    ap.add_argument("--seeds", type=int, default=5, help="draws per disturbance kind (report seeds from 100)")
+    # (0 draws wrote a table of nan into BENCHMARKS.md)
+    ap.add_argument("--seeds", type=positive_int, default=5, help="draws per disturbance kind (report seeds from 100)")
     ap.add_argument("--snr-db", type=float, default=30.0, help="true-reward-to-noise ratio (dB)")
     ap.add_argument("--no-write", action="store_true", help="print only")
     args = ap.parse_args(argv)

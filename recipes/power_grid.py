@@ -30,6 +30,8 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 TARGET = 0.25  # % (half the paper's 0.49 %)
 SNAPSHOTS = 4608  # 48 days of 15-minute snapshots (development draws: 24 days gave 0.28 / 0.32 %, 48 days 0.14 / 0.25 %)
+from odnn_sep.batch import positive_int  # noqa: E402
+from odnn_sep.signals.grid_flow import CASES  # noqa: E402
 from odnn_sep.signals.grid_identify import CHUNK  # noqa: E402  snapshots per separately fitted piece
 
 
@@ -205,19 +207,23 @@ identified, several times less precise. Transformer branches have G = 0 (no resi
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="one small draw, short training (for tests)")
-    ap.add_argument("--seeds", type=int, default=3, help="draws per case (report seeds start at 100)")
-    ap.add_argument("--snapshots", type=int, default=SNAPSHOTS, help="15-min snapshots per draw")
+    # (0 draws wrote a table of nan, 0 snapshots a traceback after minutes)
+    ap.add_argument("--seeds", type=positive_int, default=3, help="draws per case (report seeds start at 100)")
+    ap.add_argument("--snapshots", type=positive_int, default=SNAPSHOTS, help="15-min snapshots per draw")
     ap.add_argument("--snr-db", type=float, default=60.0, help="metered-power-to-noise ratio (dB)")
     ap.add_argument("--cases", default="case14,case33bw", help="comma-separated pandapower cases")
     ap.add_argument("--no-write", action="store_true", help="print only")
     ap.add_argument("--lines", type=int, metavar="SEED", help="only list every candidate line of one case14 draw")
     args = ap.parse_args(argv)
+    cases = [c.strip() for c in args.cases.split(",") if c.strip()]
+    unknown = [c for c in cases if c not in CASES]
+    if not cases or unknown:
+        ap.error(f"--cases {args.cases!r}: give one or more of {', '.join(CASES)}, comma-separated")
     if args.lines is not None:
         return lines_main(args.lines, args.snapshots, args.snr_db, not args.no_write)
     import torch
 
     torch.set_num_threads(1)
-    cases = [c for c in args.cases.split(",") if c]
     seeds = [100] if args.quick else list(range(100, 100 + args.seeds))
     snapshots = 40 if args.quick else args.snapshots
     epochs = 30 if args.quick else 400
