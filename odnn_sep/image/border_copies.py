@@ -48,6 +48,7 @@ def cut_candidates(E: np.ndarray, T: np.ndarray, blank: np.ndarray, n: int, *, m
     the image's under it): a copy cut by the border then scores as its visible part matches, where a
     correlation over the whole template window (``cv2.TM_CCOEFF_NORMED`` on the zero-padded map) drew
     its peak towards placements that put more of the template inside, 25 px off a copy cut in half.
+    (It favours small overlaps in turn; the lattice of a tile, ``lattice_points``, finds what it misses.)
 
     Examples
     --------
@@ -218,7 +219,7 @@ def border_copies(y, text: str, placed: list, max_new: int, min_score: float, *,
 def lattice_points(centres, size, extent, tol: float = 2.5) -> list:
     """Centres (x, y) that the lattice through ``centres`` places where a copy of ``extent`` (w, h)
     overlaps an image of ``size`` (W, H), those already in ``centres`` left out; [] when fewer than
-    two centres, or when they do not lie on one lattice within ``tol`` px.
+    two centres, or when they do not lie on one lattice within ``tol`` px (all of them, or all but one).
 
     Examples
     --------
@@ -229,6 +230,18 @@ def lattice_points(centres, size, extent, tol: float = 2.5) -> list:
     []
     """
     c = np.asarray(centres, dtype=float)
+    out = _lattice_points(c, size, extent, tol)
+    if not out and len(c) > 3:
+        # a copy registered off its place (on the letters of a copy cut by the border) breaks the
+        # lattice: the others, without it
+        for k in range(len(c)):
+            out = _lattice_points(np.delete(c, k, axis=0), size, extent, tol)
+            if out:
+                return [q for q in out if np.hypot(c[:, 0] - q[0], c[:, 1] - q[1]).min() > tol]
+    return out
+
+
+def _lattice_points(c, size, extent, tol):
     if len(c) < 2:
         return []
     d = c[1:] - c[0]
@@ -239,16 +252,23 @@ def lattice_points(centres, size, extent, tol: float = 2.5) -> list:
     others = [v for v in d[1:] if abs(u[0] * v[1] - u[1] * v[0]) > 0.3 * np.hypot(*u) * np.hypot(*v)]
     basis = np.array([u, others[0]]).T if others else None
     rel = c - c[0]
+    # the copies' indices on the lattice, then its vectors fitted to all of them by least squares (one
+    # neighbour's offset is a pixel off, and that error grows with every step out)
     if basis is None:   # one row of copies
-        k = rel @ u / (u @ u)
-        if np.abs(rel - np.outer(np.round(k), u)).max() > tol:
-            return []
+        K = np.round(rel @ u / (u @ u))[:, None]
+    else:
+        K = np.round(np.linalg.solve(basis, rel.T).T)
+    if np.linalg.matrix_rank(K) < K.shape[1]:
+        return []
+    fitted = np.linalg.lstsq(K, rel, rcond=None)[0]          # (1 or 2, 2): the lattice vectors as rows
+    if np.abs(rel - K @ fitted).max() > tol:
+        return []
+    if basis is None:
+        u = fitted[0]
         basis = np.array([u, [-u[1], u[0]]]).T   # the second direction unused (only j = 0 below)
         rows = [0]
     else:
-        ij = np.linalg.solve(basis, rel.T).T
-        if np.abs(rel - np.round(ij) @ basis.T).max() > tol:
-            return []
+        basis = fitted.T
         rows = None
     W, H = size
     reach = np.hypot(W, H) + np.hypot(*extent)

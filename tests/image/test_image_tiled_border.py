@@ -28,3 +28,18 @@ def test_one_mark_gets_no_copies():
     y, _ = add_text_watermark(clean, "SAMPLE", size=36, angle=-10, center=(200, 140), alpha=0.5)
     r = unwatermark(y, text="SAMPLE", font="DejaVuSans-Bold")
     assert len(r.report["marks"]) == 1 and not r.report["residual_mark"]["visible"]
+
+
+def test_lattice_from_copies_a_pixel_off_and_one_misplaced():
+    """Copies registered to the nearest pixel, one of them on the wrong place: the lattice's vectors
+    are fitted to all copies (one neighbour's offset, a pixel off, put the seventh step 3 px off) and
+    the misplaced copy is left out."""
+    from odnn_sep.image.border_copies import lattice_points
+
+    rng = np.random.default_rng(0)
+    u, v = np.array([24.2, 65.6]), np.array([181.0, -67.0])
+    true = [np.array([355.0, 24.0]) + i * u + j * v for i in range(7) for j in (0,)]
+    found = [tuple(np.round(c + rng.uniform(-0.5, 0.5, 2))) for c in true[:3] + true[4:]] + [(48.0, 63.0)]
+    pts = lattice_points(found, (512, 512), (200, 80))
+    missing = true[3]
+    assert min(np.hypot(x - missing[0], y - missing[1]) for x, y in pts) < 2.0
