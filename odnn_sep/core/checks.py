@@ -173,18 +173,8 @@ def dependent_columns(Fp: np.ndarray, names: Sequence[str]) -> list[str]:
 
 def require_outside_class(F: np.ndarray, Fp: np.ndarray, names: Sequence[str], cls_desc: str
                           ) -> tuple[np.ndarray, float]:
-    """:func:`outside_class_report`, raising NotIdentifiableError where :func:`check_outside_class` does.
-
-    Parameters
-    ----------
-    F : (n, p) ndarray
-        Basis columns.
-    Fp : (n, p) ndarray
-        Their parts outside the disturbance class.
-    names : sequence of str
-        Column names.
-    cls_desc : str
-        The class's description, for the messages.
+    """:func:`outside_class_report`, raising NotIdentifiableError where :func:`check_outside_class` does
+    (same parameters; without its warning of weak identification, which cone classes do not need).
 
     Returns
     -------
