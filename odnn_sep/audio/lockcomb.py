@@ -41,6 +41,7 @@ HIGH_REACH = 4        # a comb locked to within this many harmonics of the candi
 MAX_SUMS_MB = 120     # chunk sums held for the comb's lines at most (an hour of 44.1 kHz mono: 43 lines)
 EXTEND_BATCH = 16     # further harmonics demodulated per pass over the input
 RETRY_LINE = 4.0      # least peak over its floor of a line that places the fundamental in the retry
+SIDE_PROMINENCE = 20.0  # a host's sideband pair over the baseband's median (noise alone: 3-4)
 
 
 @dataclass
@@ -326,6 +327,7 @@ def choose(source, spec, det, *, mains, harmonics, alpha: float, max_hz, tones, 
         _add_pattern_lines(source, spec, best, alpha=alpha)
         _keep_columns(best, _off_host_grid(spec, best.f_ref, best.harmonics, best.psi, source.sr,
                                            known=best.host_lines))
+        _keep_columns(best, _off_pattern_host_lines(best, source.sr))
         if not best.harmonics:
             return None
     log.info("phase-locked comb: %.4f Hz, harmonics %s (evidence %s)", best.f_ref, best.harmonics,
@@ -368,6 +370,41 @@ def _off_fine_grid(fam, ks, psi) -> list[int]:
         log.info("lines %s hold a finer grid of the same host in their baseband (sidebands at least %g of "
                  "the line): not taken for hum", fine, _hostgrid.BASEBAND_SIDE)
     return [k for k in ks if k not in fine]
+
+
+def _off_pattern_host_lines(comb: Comb, sr: int) -> list[int]:
+    """The comb's harmonics without each line that both breaks the pattern of all the others
+    (``combpattern.pattern``: an even line in a comb whose other lines, four or more, are odd) and
+    holds a periodic host's neighbouring lines as sidebands of its tracked baseband
+    (``hostgrid.baseband_sidebands``). A loop placed to the sample has a line at every multiple of
+    50 Hz: under a rectifier's odd comb its loud 100 Hz line locked as harmonic 2 and was removed,
+    the largest error left on that input (-24 dB re the hum). Either sign alone decides nothing (a
+    real hum has weak even harmonics too, and a weak hum line among a loop's lines shows sidebands),
+    and a line that breaks the pattern is a weak part of the hum when it is one."""
+    ks = list(comb.harmonics)
+    if len(ks) <= _combpattern.PATTERN_MIN or comb.D is None or comb.psi is None:
+        return ks
+    odd_one = []
+    for k in ks:
+        pat = _combpattern.pattern([j for j in ks if j != k])
+        if pat is not None and pat[0] > 1 and k % pat[0] != pat[1]:
+            odd_one.append(k)
+    nd = comb.D.shape[0] // _finetrack.DECIM
+    if len(odd_one) != 1 or nd < 16:
+        return ks
+    k = odd_one[0]
+    i = ks.index(k)
+    v = _finetrack.decimated_baseband(comb.D[:, :, i: i + 1], comb.psi, np.asarray([k], float), np.ones(1, bool), nd)
+    fs_d = _finetrack.decimated_rate(sr)
+    side = float(_hostgrid.baseband_sidebands(v.sum(axis=1), fs_d)[0])
+    # a weak hum line's baseband is mostly the content's noise, whose strongest pair of bins can
+    # reach the line's own power: the pair must be lines (a hum h2 under pink noise: 0.53 of the
+    # line but 3.7 times the baseband's median; the loop's 100 Hz line: 16 and 17000 times)
+    if side < _hostgrid.BASEBAND_SIDE or _hostgrid.sideband_prominence(v.sum(axis=1), fs_d)[0] < SIDE_PROMINENCE:
+        return ks
+    log.info("line %d breaks the comb's pattern and holds a periodic host's neighbouring lines as sidebands "
+             "(%.2f of the line): not taken for hum", k, side)
+    return [j for j in ks if j != k]
 
 
 def _spread_hz(psi, sr: int) -> float:
