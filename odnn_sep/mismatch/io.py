@@ -308,7 +308,7 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
         if sel.sum() == 0:
             raise InputError(f"--start {start} / --duration {duration} select no samples; "
                              f"the data spans {t[0]:g} to {t[-1]:g}")
-        if sel.sum() < MIN_WINDOW <= len(t):
+        if sel.sum() < MIN_WINDOW <= len(t) and sel.sum() < len(t) / 4:
             # a window given in seconds on a record timed in ms keeps a handful of samples, and the
             # analysis then failed on "too little data" with no word on the window
             window = " ".join(f"--{k} {v:g}" for k, v in (("start", start), ("duration", duration)) if v is not None)
@@ -324,7 +324,8 @@ def load_data(path, *, column=None, start=None, duration=None, with_aux=False):
     return t, y, info
 
 
-# fewest samples a --start/--duration window may keep: the held-out test's least (2 folds, --folds 2)
+# fewest samples a --start/--duration window may keep when it cuts away most of the record: the
+# held-out test's least (2 folds, --folds 2)
 MIN_WINDOW = 16
 
 
