@@ -72,15 +72,9 @@ def cut_candidates(E: np.ndarray, T: np.ndarray, blank: np.ndarray, n: int, *, m
     R = cv2.matchTemplate(Ep, T, cv2.TM_CCORR) / np.sqrt(np.maximum(t_in * e_in, 1e-12))
     # (FFT round-off leaves tiny sums where the image has no edges under the template: not a match)
     R[~np.isfinite(R) | (t_in < min_overlap * float((T * T).sum())) | (e_in <= 1e-4 * float(e_in.max()))] = -1.0
-    out = []
-    ry, rx = max(1, th // 2), max(1, tw // 2)
-    for _ in range(n):
-        i, j = np.unravel_index(int(np.argmax(R)), R.shape)
-        if R[i, j] < min_corr:
-            break
-        out.append((float(R[i, j]), int(i) - th + 1, int(j) - tw + 1))
-        R[max(0, i - ry):i + ry + 1, max(0, j - rx):j + rx + 1] = -1.0
-    return out
+    from odnn_sep.image.residual_copies import best_peaks
+
+    return best_peaks(R, (th, tw), n, min_corr)
 
 
 def _register_shift(y, text, p, center, random_state):

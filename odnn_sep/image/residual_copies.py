@@ -68,11 +68,27 @@ def _candidates(E: np.ndarray, T: np.ndarray, blank: np.ndarray, n: int) -> list
     seen = cv2.matchTemplate(Ip, T2, cv2.TM_CCORR) / max(float(T2.sum()), 1e-12)
     R = cv2.matchTemplate(Ep, T.astype(np.float32), cv2.TM_CCOEFF_NORMED)
     R[~np.isfinite(R) | (seen < MIN_OVERLAP)] = -1.0
+    return best_peaks(R, (th, tw), n, MIN_CORR)
+
+
+def best_peaks(R: np.ndarray, shape: tuple[int, int], n: int, min_corr: float) -> list[tuple[float, int, int]]:
+    """(correlation, top, left) of the best ``n`` distinct peaks of a full-mode correlation map ``R``
+    of a template of ``shape`` (the image padded by the template's size less one on every side), each
+    at least ``min_corr``. A peak blanks half the template's size around it, so that one copy is not
+    counted twice. ``R`` is changed in place.
+
+    Examples
+    --------
+    >>> R = np.full((10, 10), -1.0); R[2, 3] = 0.9; R[2, 4] = 0.8; R[7, 7] = 0.5
+    >>> best_peaks(R, (4, 4), 3, 0.2)
+    [(0.9, -1, 0), (0.5, 4, 4)]
+    """
+    th, tw = shape
     out = []
     ry, rx = max(1, th // 2), max(1, tw // 2)
     for _ in range(n):
         i, j = np.unravel_index(int(np.argmax(R)), R.shape)
-        if R[i, j] < MIN_CORR:
+        if R[i, j] < min_corr:
             break
         out.append((float(R[i, j]), int(i) - th + 1, int(j) - tw + 1))
         R[max(0, i - ry):i + ry + 1, max(0, j - rx):j + rx + 1] = -1.0
