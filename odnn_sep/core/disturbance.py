@@ -39,6 +39,14 @@ def _uniform_step(x: np.ndarray, who: str) -> float:
     # a record in decreasing order is as uniform: the band's frequency mask is symmetric, so its
     # projection commutes with reversing the samples and the same step serves (its magnitude)
     if dt == 0 or np.max(np.abs(d - dt)) > 1e-6 * abs(dt) + 1e-12 * np.max(np.abs(x)):
+        ds = np.diff(np.sort(x))
+        step = float(np.median(ds))
+        if step > 0 and np.max(np.abs(ds - step)) <= 1e-6 * step + 1e-12 * np.max(np.abs(x)):
+            # uniform once sorted: the rows are only out of order, and resampling is the wrong advice
+            raise InputError(
+                f"{who} needs x in order: the sample points are uniformly spaced ({step:.6g} apart) but not "
+                "sorted; sort the rows by x first"
+            )
         raise InputError(
             f"{who} needs uniformly spaced x (spacing varies from {d.min():.6g} to {d.max():.6g}); "
             "resample onto a uniform grid first"
@@ -135,7 +143,16 @@ class Even(SubspaceDisturbance):
         tol = np.where(scale > 0, scale, 1.0) * 1e-7
         keys = {tuple(k): i for i, k in enumerate(np.round(X / tol).astype(np.int64))}
         if len(keys) != X.shape[0]:
-            raise InputError("Even needs distinct sample points; x has repeated points")
+            seen: dict = {}
+            for i, k in enumerate(np.round(X / tol).astype(np.int64)):
+                j = seen.setdefault(tuple(k), i)
+                if j != i:
+                    break
+            where = f"{X[i, 0]:.6g}" if d == 1 else str(tuple(float(v) for v in X[i]))
+            raise InputError(
+                f"Even needs distinct sample points; x repeats a point at rows {j} and {i} (x = {where}), and "
+                f"{X.shape[0] - len(keys)} row(s) in all repeat one; average the readings at each point, or keep one"
+            )
         perms = []
         for r in range(len(axes) + 1):
             for subset in itertools.combinations(axes, r):
