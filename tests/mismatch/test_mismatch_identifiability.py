@@ -51,7 +51,8 @@ def test_a_constant_input_column_leaves_ambient_and_gain_without_intervals(tmp_p
     y = 20 + 60 * np.exp(-0.001 * t) + 0.05 * np.random.default_rng(5).normal(size=t.size)
     f = tmp_path / "cool_u.csv"
     f.write_text("t,T,P\n" + "".join(f"{a!r},{b!r},5.0\n" for a, b in zip(t.tolist(), y.tolist())))
-    assert main(["mismatch", str(f), "--model", "cooling", "--column", "T", "--input", "P"]) == 0
+    assert main(["mismatch", str(f), "--model", "cooling", "--column", "T", "--input", "P",
+                 "--effects", "radiation"]) == 0
     out = capsys.readouterr().out
     # it printed T_ambient = 0.3348 +- 0.01038 [95%: 0.3133, 0.3563] for an ambient of 20
     line = next(s for s in out.splitlines() if s.strip().startswith("T_ambient ="))
