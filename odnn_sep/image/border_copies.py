@@ -60,20 +60,16 @@ def cut_candidates(E: np.ndarray, T: np.ndarray, blank: np.ndarray, n: int, *, m
     """
     import cv2
 
+    from odnn_sep.image.residual_copies import best_peaks, padded_for_full_match
+
     th, tw = T.shape
-    E = np.where(blank, 0.0, E).astype(np.float32)
-    inside = (~blank).astype(np.float32)
-    pad = (th - 1, th - 1, tw - 1, tw - 1)
-    Ep = cv2.copyMakeBorder(E, *pad, cv2.BORDER_CONSTANT, value=0)
-    Ip = cv2.copyMakeBorder(inside, *pad, cv2.BORDER_CONSTANT, value=0)
+    Ep, Ip = padded_for_full_match(E, blank, T.shape)
     T = T.astype(np.float32)
     t_in = cv2.matchTemplate(Ip, T * T, cv2.TM_CCORR)                       # the template's energy inside
     e_in = cv2.matchTemplate(Ep * Ep, (T > 0).astype(np.float32), cv2.TM_CCORR)  # the image's under it
     R = cv2.matchTemplate(Ep, T, cv2.TM_CCORR) / np.sqrt(np.maximum(t_in * e_in, 1e-12))
     # (FFT round-off leaves tiny sums where the image has no edges under the template: not a match)
     R[~np.isfinite(R) | (t_in < min_overlap * float((T * T).sum())) | (e_in <= 1e-4 * float(e_in.max()))] = -1.0
-    from odnn_sep.image.residual_copies import best_peaks
-
     return best_peaks(R, (th, tw), n, min_corr)
 
 

@@ -59,16 +59,33 @@ def _candidates(E: np.ndarray, T: np.ndarray, blank: np.ndarray, n: int) -> list
     import cv2
 
     th, tw = T.shape
-    E = np.where(blank, 0.0, E).astype(np.float32)
-    inside = (~blank).astype(np.float32)
-    pad = (th - 1, th - 1, tw - 1, tw - 1)
-    Ep = cv2.copyMakeBorder(E, *pad, cv2.BORDER_CONSTANT, value=0)
-    Ip = cv2.copyMakeBorder(inside, *pad, cv2.BORDER_CONSTANT, value=0)
+    Ep, Ip = padded_for_full_match(E, blank, T.shape)
     T2 = (T * T).astype(np.float32)
     seen = cv2.matchTemplate(Ip, T2, cv2.TM_CCORR) / max(float(T2.sum()), 1e-12)
     R = cv2.matchTemplate(Ep, T.astype(np.float32), cv2.TM_CCOEFF_NORMED)
     R[~np.isfinite(R) | (seen < MIN_OVERLAP)] = -1.0
     return best_peaks(R, (th, tw), n, MIN_CORR)
+
+
+def padded_for_full_match(E: np.ndarray, blank: np.ndarray, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """``E`` with its ``blank`` pixels zeroed, and the mask of the pixels kept, both padded with zeros by
+    a template of ``shape`` less one on every side: every placement that overlaps the image, copies cut
+    by the border included, is then a position of ``cv2.matchTemplate``.
+
+    Examples
+    --------
+    >>> Ep, Ip = padded_for_full_match(np.ones((4, 5)), np.zeros((4, 5), bool), (3, 2))
+    >>> Ep.shape, float(Ip.sum())
+    ((8, 7), 20.0)
+    """
+    import cv2
+
+    th, tw = shape
+    E = np.where(blank, 0.0, E).astype(np.float32)
+    inside = (~blank).astype(np.float32)
+    pad = (th - 1, th - 1, tw - 1, tw - 1)
+    return (cv2.copyMakeBorder(E, *pad, cv2.BORDER_CONSTANT, value=0),
+            cv2.copyMakeBorder(inside, *pad, cv2.BORDER_CONSTANT, value=0))
 
 
 def best_peaks(R: np.ndarray, shape: tuple[int, int], n: int, min_corr: float) -> list[tuple[float, int, int]]:
