@@ -13,6 +13,7 @@ that raises it.
 | channels    | 1024       | ODNN_SEP_MAX_CHANNELS    | channels `denoise` cleans in an EEG/MEG array  |
 | in_memory_samples | 50 000 000 | ODNN_SEP_MAX_IN_MEMORY_SAMPLES | frames x channels of `denoise --picks/--spatial` |
 | shape_points | 20 000   | ODNN_SEP_MAX_SHAPE_POINTS | points a convex or monotone class is fitted on (`fit/size.py`) |
+| fit_samples | 2 000    | ODNN_SEP_MAX_FIT_SAMPLES | samples a `mismatch` time series is fitted on (a longer record: an evenly spaced subsample) |
 """
 from __future__ import annotations
 
@@ -31,6 +32,7 @@ DEFAULTS = {
     "channels": ("ODNN_SEP_MAX_CHANNELS", 1024),
     "in_memory_samples": ("ODNN_SEP_MAX_IN_MEMORY_SAMPLES", 50_000_000),
     "shape_points": ("ODNN_SEP_MAX_SHAPE_POINTS", 20_000),
+    "fit_samples": ("ODNN_SEP_MAX_FIT_SAMPLES", 2_000),
 }
 
 
