@@ -240,6 +240,8 @@ def write_components(out, x, y, res) -> None:
     cols = [X, y[:, None], res.physics[:, None], res.disturbance[:, None], res.residual[:, None]]
     # a field's coordinates are x and y, its values z (a column "y" of values read as the coordinate)
     head = {1: "x,y", 2: "x,y,z"}.get(X.shape[1], ",".join(f"x{i}" for i in range(X.shape[1])) + ",y")
+    # 17 significant digits: the file reads back to the same floats (10 digits wrote every x of a record
+    # in epoch seconds sampled at 0.01 s as 1700000000, so the written parts could not be fitted again)
     with atomic_output(out, suffix=Path(out).suffix or ".csv") as tmp:
         np.savetxt(tmp, np.hstack(cols), delimiter=",", header=head + ",physics,disturbance,residual",
-                   comments="", fmt="%.10g")
+                   comments="", fmt="%.17g")
