@@ -122,6 +122,11 @@ def run(args) -> int:
         solver = NetworkSolver(progress=not args.quiet) if args.solver == "network" else args.solver
         res = Separator(basis, disturbance=dist, solver=solver, random_state=args.seed).fit(x, y).result_
     messages = [str(w.message) for w in caught]
+    if res.diagnostics.get("dof") == 0:
+        # the fit is exact: every point went to the physics or the class, none is left to see the noise
+        messages.append(f"no interval: the {len(y)} points are all taken by the {len(args.basis)} basis term(s) and "
+                        f"the {res.disturbance_class} class (rank {res.diagnostics.get('disturbance_rank')}), so "
+                        "no point is left to estimate the noise; use more points")
     # a class that cannot hold the disturbance (or correlated noise) leaves a smooth residual and
     # confidently wrong intervals: say so
     structure = residual_warning(x, y, res.residual, res.disturbance_class, grid)
