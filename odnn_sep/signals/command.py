@@ -49,7 +49,8 @@ def register(sub) -> None:
     p.add_argument("-o", "--output", required=True, help="output file (.csv for 1-D cases, .npz for 2-D)")
     p.add_argument("--truth", help="JSON file for the true parameters and the description")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--snr-db", type=float, default=30.0, help="physics-to-noise power ratio in dB (default 30)")
+    p.add_argument("--snr-db", type=float, default=30.0, help="physics-to-noise power ratio in dB (default 30; "
+                   "inf: no noise)")
     p.set_defaults(func=run)
 
 
@@ -133,7 +134,9 @@ def run(args) -> int:
         with atomic_output(out, suffix=".csv") as tmp:
             np.savetxt(tmp, table, delimiter=",", header="x,y,physics,disturbance,noise", comments="",
                        fmt="%.17g")
-    truth = {"dataset": ds.name, "seed": args.seed, "snr_db": ds.snr_db, "theta_true": ds.theta_true,
+    # noise_sigma: 0 for --snr-db inf, whose snr_db a strict JSON writes as null
+    truth = {"dataset": ds.name, "seed": args.seed, "snr_db": ds.snr_db, "noise_sigma": ds.noise_sigma,
+             "theta_true": ds.theta_true,
              "basis": list(ds.basis.names), "phi": list(ds.basis.phi_names),
              "disturbance_class": repr(ds.disturbance), "identified": ds.identified,
              "description": ds.description,
