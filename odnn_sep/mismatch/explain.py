@@ -213,6 +213,10 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     ('quadratic_drag', 0.02)
     """
     options = {k: v for k, v in locals().items() if k not in ("model", "t", "y")}
+    from odnn_sep.mismatch.long_record import explain_on_subsample
+    subsampled = explain_on_subsample(model, t, y, options)   # a long record: fitted on a bounded subsample
+    if subsampled is not None:
+        return subsampled
     from odnn_sep.mismatch.clock import explain_from_first_sample
     shifted = explain_from_first_sample(model, t, y, options)   # a free fall timed by a far-off clock
     if shifted is not None:

@@ -55,7 +55,9 @@ def suspect_groups(J, names):
         return []
     d = np.linalg.norm(J, axis=0)
     d = np.where(d > 0, d, 1.0)
-    _, s, vt = np.linalg.svd(J / d, full_matrices=True)
+    # only V is needed: with more rows than columns the thin decomposition has all of it, without the
+    # n x n U a full one builds (3 GB and minutes for a 20 000-sample record)
+    _, s, vt = np.linalg.svd(J / d, full_matrices=J.shape[0] < J.shape[1])
     s = np.r_[s, np.zeros(J.shape[1] - len(s))]
     top = float(s.max()) if s.size else 0.0
     groups = []

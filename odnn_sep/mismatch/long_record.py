@@ -1,0 +1,204 @@
+"""Long records: the fits run on an evenly spaced subsample of bounded size, never on every sample.
+
+The cost of the analysis grows with the samples fitted: every Jacobian is ``n x q`` and is
+decomposed many times, and the frequencies an effect may take (a periodic force, a pickup) reach up
+to the record's Nyquist frequency, so a dense record lets the optimiser try forces the ODE solver
+must follow with tiny steps. A 20 000-point oscillator ran for more than ten minutes.
+
+A record longer than the ``fit_samples`` limit (:mod:`odnn_sep.limits`, 2000) is therefore
+analysed on every ``q``-th sample. A plain subsample keeps the noise of one sample per point, so
+its intervals and tests are those of the subsample: wider than the full record could give, never
+overconfident. It is taken only when it cannot alias: the record's content (periodogram bins far
+above the white-noise level, of the values and of every input) must lie below the subsample's
+Nyquist frequency by a margin. When the content is too fast for a subsample of that size, a
+denser one (up to :data:`HARD_FACTOR` times the limit) is taken; beyond that the record is refused
+with a one-line error that says to analyse a window.
+"""
+from __future__ import annotations
+
+from contextvars import ContextVar
+
+import numpy as np
+
+from odnn_sep.errors import InputError
+
+# a periodogram bin above this many times the white-noise level is content (exp(-25) per bin by chance)
+CONTENT_FACTOR = 25.0
+# the subsample's Nyquist frequency stays this far above the highest content
+NYQUIST_MARGIN = 1.5
+# a record whose content needs a subsample larger than this many times the limit is refused
+HARD_FACTOR = 4
+# set while a subsample is analysed: the subsample is fitted as it is, never subsampled again
+_ON_SUBSAMPLE: ContextVar[bool] = ContextVar("on_subsample", default=False)
+
+
+def content_top(t, y) -> float:
+    """Highest frequency of ``y``'s content: periodogram bins above :data:`CONTENT_FACTOR` noise levels.
+
+    The white-noise level is read off the upper half of the band (a long record's content lies far
+    below its Nyquist frequency; where it does not, no subsample is taken anyway). Irregular times
+    are first interpolated onto an even grid of as many points (only for this check).
+
+    Parameters
+    ----------
+    t : array_like
+        Increasing sample times.
+    y : array_like
+        Samples.
+
+    Returns
+    -------
+    float
+        Frequency in cycles per unit of ``t``; 0 when nothing stands above the noise.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 20, 20000); rng = np.random.default_rng(0)
+    >>> round(content_top(t, np.cos(2 * np.pi * 0.3 * t) + 0.01 * rng.normal(size=t.size)), 1)
+    0.3
+    >>> content_top(t, rng.normal(size=t.size))
+    0.0
+    """
+    t = np.asarray(t, float)
+    y = np.asarray(y, float)
+    n = len(y)
+    grid = np.linspace(t[0], t[-1], n)
+    y = np.interp(grid, t, y)
+    u = (grid - grid[0]) / max(float(grid[-1] - grid[0]), 1e-300)
+    y = y - np.polyval(np.polyfit(u, y, 1), u)     # a trend's leakage is not content
+    p = np.abs(np.fft.rfft(y * np.hanning(n))) ** 2
+    f = np.fft.rfftfreq(n, float(grid[1] - grid[0]))
+    upper = p[len(p) // 2:]
+    level = float(np.median(upper)) / np.log(2.0)  # the median of an exponential is ln 2 of its mean
+    if not level > 0:
+        level = float(np.mean(upper)) or 1e-300
+    hot = np.nonzero(p[2:] > CONTENT_FACTOR * level)[0]   # the first bins hold the window's own leakage
+    return float(f[hot[-1] + 2]) if hot.size else 0.0
+
+
+def subsample_step(t, y, inputs=None, *, limit=None) -> int:
+    """The step ``q`` of the evenly spaced subsample a long record is fitted on (1: every sample).
+
+    Parameters
+    ----------
+    t, y : array_like
+        The record.
+    inputs : dict name -> array, optional
+        Measured inputs sampled with ``y``; their content must survive the subsample too.
+    limit : int, optional
+        Samples to fit at most (default: the ``fit_samples`` limit, ``ODNN_SEP_MAX_FIT_SAMPLES``).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        When the record's content is too fast for a subsample of at most ``HARD_FACTOR * limit`` samples.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 20, 20000); rng = np.random.default_rng(0)
+    >>> y = np.cos(2 * np.pi * 0.3 * t) + 0.01 * rng.normal(size=t.size)
+    >>> subsample_step(t, y), subsample_step(t[:1500], y[:1500])
+    (10, 1)
+    """
+    from odnn_sep.limits import DEFAULTS
+    from odnn_sep.limits import limit as current_limit
+    n = len(y)
+    cap = int(current_limit("fit_samples")) if limit is None else int(limit)
+    if n <= cap:
+        return 1
+    q = int(np.ceil(n / cap))
+    t = np.asarray(t, float)
+    top = max([content_top(t, y)] + [content_top(t, u) for u in (inputs or {}).values()])
+    if top > 0:
+        fs = (n - 1) / float(t[-1] - t[0])
+        q = min(q, max(1, int(fs / (2 * NYQUIST_MARGIN * top))))
+    if int(np.ceil(n / q)) > HARD_FACTOR * cap:
+        var = DEFAULTS["fit_samples"][0]
+        keep = cap * q / n * float(t[-1] - t[0])
+        raise InputError(f"the record has {n} samples with content up to {top:.4g} per time unit: a subsample "
+                         f"that keeps it needs {int(np.ceil(n / q))} samples, above {HARD_FACTOR} x the limit of "
+                         f"{cap}; analyse a window of it (--start/--duration, e.g. --duration {keep:.4g}) or "
+                         f"raise {var}")
+    return q
+
+
+def explain_on_subsample(model, t, y, options):
+    """explain() of a long time series on every ``q``-th sample, with a note; None when fitted as given.
+
+    Hum records keep their own decimation (:mod:`odnn_sep.mismatch.rate`, the audio engine), fields
+    and joint series are fitted as given.
+
+    Parameters
+    ----------
+    model : str or Model
+        What explain() was given.
+    t, y : array_like
+        The caller's record.
+    options : dict
+        explain()'s keyword options (``inputs``, an array ``disturbance`` and ``aux`` are subsampled alike).
+
+    Returns
+    -------
+    MismatchResult or None
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 0.6, 6000); rng = np.random.default_rng(0)
+    >>> y = 2.0 - 4.905 * t ** 2 + 0.001 * rng.normal(size=t.size)
+    >>> res = explain_on_subsample("freefall", t, y, {})
+    >>> len(res.y), res.notes[0].split(":")[0], round(res.final_fit.params["g"], 2)
+    (2000, 'long record', 9.81)
+    >>> explain_on_subsample("freefall", t[:100], y[:100], {}) is None
+    True
+    """
+    q = _step(model, t, y, options)
+    if q == 1:
+        return None
+    from odnn_sep.mismatch.explain import explain
+    n = len(y)
+    keep = np.arange(0, n, q)
+    opts = dict(options)
+    if opts.get("inputs"):
+        opts["inputs"] = {k: np.asarray(v)[keep] for k, v in opts["inputs"].items()}
+    if opts.get("aux") is not None:
+        aux = opts["aux"]
+        opts["aux"] = {k: np.asarray(v)[keep] for k, v in aux.items()} if isinstance(aux, dict) \
+            else np.asarray(aux)[keep]
+    if isinstance(opts.get("disturbance"), np.ndarray):
+        opts["disturbance"] = opts["disturbance"][keep]
+    token = _ON_SUBSAMPLE.set(True)
+    try:
+        res = explain(model, np.asarray(t)[keep], np.asarray(y)[keep], **opts)
+    finally:
+        _ON_SUBSAMPLE.reset(token)
+    res.notes.insert(0, f"long record: fitted on one sample in {q} ({len(keep)} of {n}; the limit is "
+                        f"ODNN_SEP_MAX_FIT_SAMPLES), whose intervals and tests are those of the subsample; the "
+                        f"record's content lies below the subsample's Nyquist frequency, so nothing is aliased")
+    return res
+
+
+def _step(model, t, y, options):
+    """The subsample step for this call, 1 when the case is not a long single time series."""
+    from odnn_sep.mismatch.model import Model
+    from odnn_sep.mismatch.presets import PRESETS
+    if _ON_SUBSAMPLE.get():
+        return 1
+    if np.ndim(t) != 1 or np.ndim(y) != 1 or len(np.asarray(y)) != len(np.asarray(t)):
+        return 1      # fields, and malformed input explain() reports itself
+    if isinstance(model, Model):
+        if model.family == "hum" or model.ndim != 1 or hasattr(getattr(model, "preset", None), "series_times"):
+            return 1
+    elif str(model) in PRESETS and PRESETS[str(model)].family == "hum":
+        return 1
+    try:
+        t = np.asarray(t, float)
+        y = np.asarray(y, float)
+    except (TypeError, ValueError):
+        return 1
+    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y)) and np.all(np.diff(t) > 0)):
+        return 1
+    return subsample_step(t, y, options.get("inputs"))

@@ -1,0 +1,87 @@
+"""Long records are fitted on a bounded, alias-free subsample (odnn_sep/mismatch/long_record.py).
+
+The limit is lowered through its environment variable so that the records stay small and the
+tests fast; what is checked is the size actually fitted, the note, and that the subsample's
+intervals still cover the truth (not a wall-clock time).
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from odnn_sep.cli import main
+from odnn_sep.mismatch import explain, make_model
+
+
+@pytest.fixture
+def limit_400(monkeypatch):
+    monkeypatch.setenv("ODNN_SEP_MAX_FIT_SAMPLES", "400")
+
+
+def _cooling(n, seed=3, effect=None):
+    t = np.linspace(0, 200, n)
+    m = make_model("cooling", {"h": 0.02, "T_ambient": 22.0, "T0": 95.0})
+    if effect:
+        m = m.with_effect(*effect)
+    return t, m.predict(t) + 0.1 * np.random.default_rng(seed).normal(size=n)
+
+
+def test_long_record_is_fitted_on_a_bounded_subsample_that_covers_the_truth(limit_400):
+    t, y = _cooling(4000)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = explain("cooling", t, y)
+    assert len(res.y) <= 400 and len(res.t) == len(res.y)
+    assert res.t[0] == t[0] and np.all(np.isin(res.t, t))            # real samples, evenly spaced
+    assert len(set(np.round(np.diff(res.t), 9))) == 1
+    assert res.notes[0].startswith("long record: fitted on one sample in 10 (400 of 4000")
+    assert res.effects == []
+    lo, hi = res.final_intervals["h"]
+    assert lo <= 0.02 <= hi
+
+
+def test_long_record_still_names_its_effect(limit_400):
+    t, y = _cooling(4000, seed=5, effect=("radiation", {"r_rad": 0.01}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = explain("cooling", t, y)
+    assert len(res.y) <= 400 and res.effects[:1] == ["radiation"]
+
+
+def test_fast_content_keeps_a_denser_subsample_than_the_limit(limit_400):
+    # a 45 Hz line at 1 kHz: every 10th sample would fold it to 5 Hz; the step keeps it below Nyquist
+    from odnn_sep.mismatch.long_record import content_top, subsample_step
+    t = np.arange(4000) / 1000.0
+    y = 1 + 0.5 * t + 0.2 * np.sin(2 * np.pi * 45 * t) + 0.01 * np.random.default_rng(0).normal(size=t.size)
+    assert abs(content_top(t, y) - 45) < 0.5
+    q = subsample_step(t, y)
+    assert 1000 / (2 * q) >= 1.5 * 45 and q < 10
+
+
+def test_content_too_fast_for_any_bounded_subsample_is_a_one_line_error(limit_400, tmp_path, capsys):
+    t = np.arange(4000) / 1000.0
+    y = 20 + 70 * np.exp(-0.5 * t) + 0.5 * np.sin(2 * np.pi * 300 * t)
+    y = y + 0.01 * np.random.default_rng(0).normal(size=t.size)
+    path = tmp_path / "fast.csv"
+    np.savetxt(path, np.c_[t, y], delimiter=",", header="t,T", comments="")
+    report = tmp_path / "r.json"
+    assert main(["mismatch", str(path), "--model", "cooling", "--quiet", "--report", str(report)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--duration" in err and "ODNN_SEP_MAX_FIT_SAMPLES" in err
+    assert not report.exists()
+
+
+def test_cli_notes_the_subsample(limit_400, tmp_path, capsys):
+    t, y = _cooling(1200)
+    path = tmp_path / "long.csv"
+    np.savetxt(path, np.c_[t, y], delimiter=",", header="t,T", comments="")
+    assert main(["mismatch", str(path), "--model", "cooling"]) == 0
+    assert "fitted on one sample in 3 (400 of 1200" in capsys.readouterr().out
+
+
+def test_short_records_are_fitted_as_given():
+    t, y = _cooling(300)
+    res = explain("cooling", t, y)
+    assert len(res.y) == 300 and not any(n.startswith("long record") for n in res.notes)
