@@ -197,10 +197,26 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
     ...
     odnn_sep.errors.InputError: basis expression "__import__('os')" calls unknown function '__import__'; allowed functions: [...]
     """
-    tree = _parse(expr)
-    _check_tree(expr, tree, tuple(coords))
+    return _Expression(expr, tuple(coords))
 
-    def f(X):
+
+class _Expression:
+    """A checked expression as a callable ``f(X)``; pickles by its text (a fitted Separator and its
+    basis go to other processes: multiprocessing, joblib), and is checked again when unpickled."""
+
+    def __init__(self, expr: str, coords: tuple):
+        tree = _parse(expr)
+        _check_tree(expr, tree, coords)
+        self.expr, self.coords, self._tree = expr, coords, tree
+
+    def __reduce__(self):
+        return (_Expression, (self.expr, self.coords))
+
+    def __repr__(self):
+        return f"expression({self.expr!r})"
+
+    def __call__(self, X):
+        expr, coords, tree = self.expr, self.coords, self._tree
         X = np.asarray(X, dtype=float)
         env = dict(FUNCS, **CONSTS)
         if X.ndim == 1:
@@ -219,8 +235,6 @@ def compile_expression(expr: str, coords: tuple[str, ...]):
             _fail(expr, f"is not finite at {int(bad.sum())} of {bad.size} point(s) (first at {coords[0] if X.ndim == 1 else coords} = {at}: {out[i]}); "
                   "change the expression or the data range")
         return out
-
-    return f
 
 
 def basis_from_expressions(exprs, coords=("x",), names=None):

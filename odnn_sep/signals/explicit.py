@@ -2,6 +2,8 @@
 frequency bands."""
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from odnn_sep.core import Band, Basis, Orthogonal
@@ -14,9 +16,21 @@ FREQS_1D = (4.03, 4.87, 5.61)
 WAVES_2D = ((3, 1), (1, 4), (2, 3))
 
 
+def _cos_wave(t, w):
+    return np.cos(w * t)
+
+
+def _sin_wave(t, w):
+    return np.sin(w * t)
+
+
+def _plane_wave(x, kind, kv):
+    return np.cos(2 * np.pi * x @ kv) if kind == "cos" else np.sin(2 * np.pi * x @ kv)
+
+
 def _sinusoid(kind, f):
-    w = 2 * np.pi * f
-    return (lambda t: np.cos(w * t)) if kind == "cos" else (lambda t: np.sin(w * t))
+    # module functions bound by partial, not closures: a Dataset pickles (multiprocessing, joblib)
+    return partial(_cos_wave if kind == "cos" else _sin_wave, w=2 * np.pi * f)
 
 
 def explicit_1d(*, n: int = 1000, sr: float = 100.0, band_hz: tuple = (6.5, 9.0),
@@ -116,8 +130,7 @@ def explicit_2d(*, side: int = 48, band: tuple = (6.0, 10.0), disturbance_rms: f
     X = np.stack(np.meshgrid(g1, g1, indexing="ij"), -1).reshape(-1, 2)
 
     def wave(kind, kv):
-        kv = np.asarray(kv, float)
-        return (lambda x: np.cos(2 * np.pi * x @ kv)) if kind == "cos" else (lambda x: np.sin(2 * np.pi * x @ kv))
+        return partial(_plane_wave, kind=kind, kv=np.asarray(kv, float))
 
     funcs = [wave("cos" if nm[0] == "a" else "sin", WAVES_2D[int(nm[1:])]) for nm in names]
     basis = Basis(funcs, names=names)

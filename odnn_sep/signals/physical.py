@@ -4,10 +4,31 @@ Where the paper's framing is not identifiable we use a sound variant and say why
 """
 from __future__ import annotations
 
+from functools import partial
+
 import numpy as np
 
 from odnn_sep.core import Basis, Even, ParametricBasis, Periodic, Subspace
 from odnn_sep.signals.dataset import Dataset, check_n, check_theta, make, pick, rng_from
+
+
+# Basis terms are module functions (bound by partial), not closures, so that a Dataset pickles
+# (multiprocessing, joblib); each computes what the closure it replaces computed.
+def _resonant_response(t, w):
+    return t * np.sin(w * t) / (2 * w)
+
+
+def _growth(t, xp=np, mu=0.5):
+    return xp.exp(mu * t)[:, None]
+
+
+def _damped(t, xp=np, gamma=0.2, omega=3.0):
+    e = xp.exp(-gamma * t)
+    return xp.stack([e * xp.cos(omega * t), e * xp.sin(omega * t)], -1)
+
+
+def _identity(t):
+    return t
 
 
 def _periodic_series(rng, w, t, harmonics=3, scale=1.0):
@@ -57,7 +78,7 @@ def pendulum(*, periods: int = 10, per_period: int = 100, snr_db: float = 30.0, 
     f = pick(rng, theta, "f", 0.02, 0.1)
     P = 2 * np.pi / w
     t = np.arange(periods * per_period) * (P / per_period)
-    basis = Basis([lambda t: t * np.sin(w * t) / (2 * w)], names=["f"])
+    basis = Basis([partial(_resonant_response, w=w)], names=["f"])
     physics = f * t * np.sin(w * t) / (2 * w)
     theta0, v0 = rng.uniform(0.1, 0.5), rng.uniform(-0.3, 0.3)
     g = theta0 * np.cos(w * t) + v0 / w * np.sin(w * t) + rng.uniform(0, 0.05) * np.cos(2 * w * t + rng.uniform(0, 6.3))
@@ -171,10 +192,7 @@ def biology(*, days: int = 5, per_day: int = 96, snr_db: float = 30.0, theta: di
     N0 = pick(rng, theta, "N0", 0.5, 2.0)
     t = np.arange(days * per_day) / per_day
 
-    def growth(t, xp=np, mu=0.5):
-        return xp.exp(mu * t)[:, None]
-
-    basis = ParametricBasis(growth, phi0={"mu": 0.6}, bounds={"mu": (0.01, 3.0)}, names=["N0"],
+    basis = ParametricBasis(_growth, phi0={"mu": 0.6}, bounds={"mu": (0.01, 3.0)}, names=["N0"],
                             grid={"mu": np.linspace(0.05, 2.5, 50)})
     physics = N0 * np.exp(mu * t)
     g = _periodic_series(rng, 2 * np.pi, t, harmonics=4, scale=N0)
@@ -225,14 +243,10 @@ def oscillator(*, n: int = 1000, duration: float = 10.0, snr_db: float = 30.0, t
     th = {"A": pick(rng, theta, "A", 0.5, 1.5, signed=True), "B": pick(rng, theta, "B", 0.5, 1.5, signed=True),
           "gamma": pick(rng, theta, "gamma", 0.1, 0.4), "omega": pick(rng, theta, "omega", 2.0, 5.0)}
 
-    def damped(t, xp=np, gamma=0.2, omega=3.0):
-        e = xp.exp(-gamma * t)
-        return xp.stack([e * xp.cos(omega * t), e * xp.sin(omega * t)], -1)
-
-    basis = ParametricBasis(damped, phi0={"gamma": 0.25, "omega": 3.5}, bounds={"gamma": (0.0, 1.0),
+    basis = ParametricBasis(_damped, phi0={"gamma": 0.25, "omega": 3.5}, bounds={"gamma": (0.0, 1.0),
                             "omega": (1.0, 7.0)}, names=["A", "B"],
                             grid={"gamma": np.linspace(0.05, 0.6, 12), "omega": np.linspace(1.5, 6.0, 46)})
-    physics = damped(t, gamma=th["gamma"], omega=th["omega"]) @ np.array([th["A"], th["B"]])
+    physics = _damped(t, gamma=th["gamma"], omega=th["omega"]) @ np.array([th["A"], th["B"]])
     u = 2 * t / duration - 1
     G = np.polynomial.legendre.legvander(u, 3)
     g = G @ (rng.uniform(-0.5, 0.5, 4) * [1, 1, 0.5, 0.25])
@@ -277,7 +291,7 @@ def population(*, years: int = 10, per_year: int = 52, snr_db: float = 30.0, the
     r = pick(rng, theta, "r", 0.03, 0.2)
     a, psi, N0 = rng.uniform(0.2, 0.6), rng.uniform(0, 2 * np.pi), rng.uniform(50, 500)
     t = np.arange(years * per_year) / per_year
-    basis = Basis([lambda t: t], names=["log1p_r"])
+    basis = Basis([_identity], names=["log1p_r"])
     physics = t * np.log1p(r)
     g = np.log(N0) + np.log1p(a * np.sin(2 * np.pi * t + psi))
     desc = "population: log of N0 (1+r)^t (1 + a sin 2pi t); class Periodic(1 year) after the log transform"
@@ -401,7 +415,7 @@ def heat2d(*, nx: int = 41, ny: int = 33, L: float = 1.0, H: float = 0.8, alpha_
     X = np.stack(np.meshgrid(gx, gy, indexing="ij"), -1).reshape(-1, 2)
 
     def source(px, py):
-        return lambda X: heat_kernel(X, px * L, py * H, alpha_t)
+        return partial(heat_kernel, x0=px * L, y0=py * H, alpha_t=alpha_t)
 
     basis = Basis([source(px, py) for px, py in HEAT_SOURCES], names=names)
     th = {nm: pick(rng, theta, nm, 0.5, 2.0) for nm in names}
