@@ -248,9 +248,13 @@ def explain_joint(name, series, *, params=None, shared=None, **options):
     >>> res.effects, round(res.final_fit.params["T_ambient"], 1)
     ([], 21.0)
     """
+    from odnn_sep.mismatch.long_record import subsample_series
     from odnn_sep.mismatch.timescale_result import explain_joint_in_caller_units
+    series, long_note = subsample_series(series)   # long series: bounded subsamples, fitted as a whole
     rescaled = explain_joint_in_caller_units(name, series, params, shared, options)
     if rescaled is not None:   # times far from seconds-like: each series on t / 1000^k, reported in t's units
+        if long_note:
+            rescaled.notes.insert(0, long_note)
         return rescaled
     from odnn_sep.mismatch.effects import EFFECTS, applicable
     from odnn_sep.mismatch.explain import explain
@@ -268,6 +272,8 @@ def explain_joint(name, series, *, params=None, shared=None, **options):
     res = explain(m, t, y, effects=effects if effects is not None else own_effects, disturbance=disturbance,
                   **options)
     res.joint = m.preset
+    if long_note:
+        res.notes.insert(0, long_note)
     res.notes.append(f"{len(series)} series fitted jointly; shared: {', '.join(m.preset.shared) or 'none'}; "
                      f"per series: {', '.join(m.preset.own)}; effect parameters are shared")
     return res

@@ -170,6 +170,9 @@ def explain_on_subsample(model, t, y, options):
             else np.asarray(aux)[keep]
     if isinstance(opts.get("disturbance"), np.ndarray):
         opts["disturbance"] = opts["disturbance"][keep]
+    if options.get("progress"):
+        import sys
+        print(f"long record: {n} samples; fitting one sample in {q} ({len(keep)})", file=sys.stderr, flush=True)
     token = _ON_SUBSAMPLE.set(True)
     try:
         res = explain(model, np.asarray(t)[keep], np.asarray(y)[keep], **opts)
@@ -202,3 +205,49 @@ def _step(model, t, y, options):
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y)) and np.all(np.diff(t) > 0)):
         return 1
     return subsample_step(t, y, options.get("inputs"))
+
+
+def subsample_series(series, *, limit=None):
+    """Series of a joint fit, each on its own evenly spaced subsample so that together they stay in the limit.
+
+    Every series gets an equal share of the ``fit_samples`` limit; a series within its share is
+    kept whole, a longer one is subsampled as a single record would be (:func:`subsample_step`).
+
+    Parameters
+    ----------
+    series : dict
+        ``{name: (t, y)}``.
+    limit : int, optional
+        Samples to fit at most in all (default: the ``fit_samples`` limit).
+
+    Returns
+    -------
+    series : dict
+        ``{name: (t, y)}``, subsampled where needed.
+    note : str or None
+        What was done, in words; None when every series is kept whole.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 100, 3000); rng = np.random.default_rng(0)
+    >>> s = {"a": (t, 20 + 70 * np.exp(-0.03 * t) + 0.1 * rng.normal(size=3000)), "b": (t[:50], t[:50])}
+    >>> out, note = subsample_series(s)
+    >>> len(out["a"][0]), len(out["b"][0]), note.split(";")[0]
+    (1000, 50, 'long series: a fitted on one sample in 3 (1000 of 3000)')
+    """
+    from odnn_sep.limits import limit as current_limit
+    cap = int(current_limit("fit_samples")) if limit is None else int(limit)
+    share = max(cap // max(len(series), 1), 1)
+    out, said = {}, []
+    for name, (t, y) in series.items():
+        t, y = np.asarray(t, float), np.asarray(y, float)
+        q = subsample_step(t, y, limit=share) if len(t) == len(y) and np.all(np.diff(t) > 0) else 1
+        if q > 1:
+            keep = np.arange(0, len(t), q)
+            said.append(f"{name} fitted on one sample in {q} ({len(keep)} of {len(t)})")
+            t, y = t[keep], y[keep]
+        out[name] = (t, y)
+    if not said:
+        return out, None
+    return out, ("long series: " + ", ".join(said) + f"; each series' share of the limit is {share} samples "
+                 "(ODNN_SEP_MAX_FIT_SAMPLES), and the intervals are those of the subsamples")

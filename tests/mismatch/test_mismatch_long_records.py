@@ -85,3 +85,19 @@ def test_short_records_are_fitted_as_given():
     t, y = _cooling(300)
     res = explain("cooling", t, y)
     assert len(res.y) == 300 and not any(n.startswith("long record") for n in res.notes)
+
+
+def test_joint_series_share_the_limit(limit_400):
+    from odnn_sep.mismatch.joint import explain_joint
+    series = {}
+    for i, h in enumerate((0.02, 0.035)):
+        t = np.linspace(0, 200, 1200)
+        y = make_model("cooling", {"h": h, "T_ambient": 22.0, "T0": 95.0 - 10 * i}).predict(t)
+        series[f"mug{i}"] = (t, y + 0.1 * np.random.default_rng(i).normal(size=t.size))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = explain_joint("cooling", series)
+    assert len(res.y) <= 400
+    assert res.notes[0].startswith("long series: mug0 fitted on one sample in 6 (200 of 1200)")
+    lo, hi = res.final_intervals["T_ambient"]
+    assert lo <= 22.0 <= hi
