@@ -101,3 +101,12 @@ def test_joint_series_share_the_limit(limit_400):
     assert res.notes[0].startswith("long series: mug0 fitted on one sample in 6 (200 of 1200)")
     lo, hi = res.final_intervals["T_ambient"]
     assert lo <= 22.0 <= hi
+
+
+def test_noise_free_long_record_is_subsampled_not_refused():
+    # a simulation has no noise: its resolution is the floor, so rounding is not read as fast content
+    from odnn_sep.mismatch.long_record import subsample_step
+    t = np.linspace(0, 20, 20000)
+    y = make_model("oscillator", {"k": 4.0, "c": 0.05, "x0": 1.0, "v0": 0.0}).predict(t)
+    q = subsample_step(t, y)
+    assert 2 <= q and len(t) / q <= 4 * 2000
