@@ -235,11 +235,32 @@ class Separator:
         problem = Problem(F=F, x=x, y=y, weights=weights, names=names, disturbance=dist, prepared=prepared,
                           random_state=self.random_state)
         out = solver.solve(problem)
+        if "cov" in phi_info:
+            out = self._with_phi_uncertainty(out, problem, phi, phi_info)
         self.result_ = self._result(problem, out, solver, phi, phi_info)
         self.theta_ = self.result_.theta
         self.phi_ = phi
         self.n_features_in_ = 1 if x.ndim == 1 else x.shape[1]
         return self
+
+    def _with_phi_uncertainty(self, out: dict, problem: Problem, phi: dict, phi_info: dict) -> dict:
+        """``out`` with theta's errors and intervals widened by the uncertainty of the fitted phi
+        (:func:`odnn_sep.core.phi.theta_stderr_with_phi`); theta itself is unchanged."""
+        from dataclasses import replace
+
+        from odnn_sep.core.linalg import intervals
+        from odnn_sep.core.phi import theta_stderr_with_phi
+        from odnn_sep.core.solvers import ExactSolver
+
+        keys = self.basis.phi_names
+
+        def theta_at(v):
+            F = self.basis.evaluate(problem.x, dict(zip(keys, v)))
+            return ExactSolver().solve(replace(problem, F=F))["theta"]
+
+        stderr = theta_stderr_with_phi(theta_at, np.array([phi[k] for k in keys]), phi_info["cov"], out["stderr"])
+        # t on the degrees of freedom left after phi as well
+        return {**out, "stderr": stderr, "interval": intervals(out["theta"], stderr, dof=phi_info["dof"])}
 
     def _result(self, problem: Problem, out: dict, solver: Solver, phi: dict, phi_info: dict) -> Result:
         F, y = problem.F, problem.y
