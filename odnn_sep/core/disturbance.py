@@ -204,7 +204,9 @@ class Periodic(SubspaceDisturbance):
         # the step of the sampling: repeated points (several readings at one x) are not a step of 0
         steps = d[d > 0]
         dt = float(np.median(steps)) if steps.size else 0.0
-        if self.period > span / 2:
+        # each sample stands for one step of the record: 48 hourly samples hold two whole days
+        # (span 47 h), and the phase average sees every hour twice
+        if 2 * self.period > (span + dt) * (1 + 1e-9):
             raise InputError(
                 f"Periodic(period={self.period:g}) does not fit the sampling: the data span {span:g} holds fewer "
                 "than two periods; use a longer record or a shorter period"
