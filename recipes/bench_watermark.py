@@ -9,7 +9,7 @@ anchors cv2.inpaint TELEA and NS get the true mask (coverage > 0.05, dilated 2 p
     python recipes/bench_watermark.py            # full run, writes BENCHMARKS.md section
     python recipes/bench_watermark.py --quick    # seconds-scale smoke run (used by tests)
     python recipes/bench_watermark.py --unseen-only --seed 7   # development: unseen fonts and the real example
-    python recipes/bench_watermark.py --speed-only   # the real example's 4 lines and the 12-MP photo, wall and CPU time
+    python recipes/bench_watermark.py --speed-only   # the real example (4 lines in turn, and as one command) and the 12-MP photo, wall and CPU time
 
 Part two (``_watermark_unseen``): fonts outside the tool's default list, letter spacing, blur and
 resampling after the blend, the real example, and skimage inpaint_biharmonic as a third anchor.
@@ -223,6 +223,27 @@ def time_12mp(seed: int):
     return out
 
 
+def time_real_command():
+    """The real example as a user runs it: one command, its 4 lines as one ``--text`` (line breaks between
+    them), the output written with ``--keep-partial`` (lines still visible exit 3). Wall and CPU time
+    (start-up, PNG read and write included), or None without the data."""
+    import subprocess
+    import tempfile
+
+    from _watermark_unseen import REAL_LINES
+
+    src = DATA / "watermark_examples_braindotai" / "watermarked-image.png"
+    if not src.is_file():
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        t0, c0 = time.perf_counter(), _children_cpu()
+        done = subprocess.run([sys.executable, "-c", "import sys; from odnn_sep.cli import main; sys.exit(main())",
+                               "unwatermark", str(src), "--text", "\n".join(REAL_LINES), "-o", str(Path(tmp) / "out.png"),
+                               "--keep-partial", "--quiet"], capture_output=True, text=True)
+        return {"wall": time.perf_counter() - t0, "cpu": _children_cpu() - c0, "exit": done.returncode,
+                "load": os.getloadavg()[0]}
+
+
 def _children_cpu() -> float:
     """CPU seconds (user + system) of the finished child processes so far."""
     import resource
@@ -355,6 +376,10 @@ def speed_only(seed: int) -> int:
         print(f"real example: {real['ours_time']:.1f} s wall, {real['ours_cpu']:.1f} s CPU for the 4 lines; PSNR "
               f"{real['ours'][0]:.1f} dB (input {real['input'][0]:.1f}, biharmonic {real['biharmonic'][0]:.1f}); "
               + "; ".join(f"{t!r}: {o}" for t, o, *_ in real["lines"]))
+    cmd = time_real_command()
+    if cmd is not None:
+        print(f"real example, whole command (the 4 lines as one --text, --keep-partial): {cmd['wall']:.1f} s wall, "
+              f"{cmd['cpu']:.1f} s CPU, exit {cmd['exit']}; 1-min load average {cmd['load']:.1f}")
     t = time_12mp(seed)
     print(f"12-MP: font given {t['given'][0]:.2f} s wall / {t['given_cpu']:.2f} s CPU, {t['given'][1]}; not given "
           f"{t['auto'][0]:.2f} s / {t['auto_cpu']:.2f} s CPU, {t['auto'][1]}; whole command {t['cli_given']:.2f} s "
