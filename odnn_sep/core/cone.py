@@ -391,5 +391,6 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDistu
     return {
         "theta_ls": theta_ls, "interval": interval, "theta_mid": theta_mid, "g": g,
         "rss_min": rss_min, "sigma2": sigma2, "active": n_active, "threshold_excess": excess, "generators": H.shape[1],
+        "noise_dof": int(xs.size - A.shape[1] - n_active),
         "exact_cone": H.shape[1] >= disturbance.full_generator_count(xs.size),
     }
