@@ -213,6 +213,15 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     ('quadratic_drag', 0.02)
     """
     options = {k: v for k, v in locals().items() if k not in ("model", "t", "y")}
+    from odnn_sep.mismatch.threads import one_blas_thread
+    with one_blas_thread():     # many small solves: BLAS threads only add contention (threads.py)
+        return _explain(model, t, y, **options)
+
+
+def _explain(model, t, y, *, params, effects, disturbance, aux, folds, blocks_per_fold, bic_threshold,
+             heldout_threshold, n_cv, alpha, max_effects, unit, inputs, progress, despike):
+    """The body of :func:`explain` (same options, all given)."""
+    options = {k: v for k, v in locals().items() if k not in ("model", "t", "y")}
     from odnn_sep.mismatch.long_record import explain_on_subsample
     subsampled = explain_on_subsample(model, t, y, options)   # a long record: fitted on a bounded subsample
     if subsampled is not None:
