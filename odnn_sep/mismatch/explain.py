@@ -222,7 +222,8 @@ def _explain(model, t, y, *, params, effects, disturbance, aux, folds, blocks_pe
              heldout_threshold, n_cv, alpha, max_effects, unit, inputs, progress, despike):
     """The body of :func:`explain` (same options, all given)."""
     options = {k: v for k, v in locals().items() if k not in ("model", "t", "y")}
-    from odnn_sep.mismatch.long_record import explain_on_subsample
+    from odnn_sep.mismatch.long_record import check_hum_harmonics, explain_on_subsample
+    check_hum_harmonics(model, t, params)
     subsampled = explain_on_subsample(model, t, y, options)   # a long record: fitted on a bounded subsample
     if subsampled is not None:
         return subsampled

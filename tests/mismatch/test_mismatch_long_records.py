@@ -110,3 +110,18 @@ def test_noise_free_long_record_is_subsampled_not_refused():
     y = make_model("oscillator", {"k": 4.0, "c": 0.05, "x0": 1.0, "v0": 0.0}).predict(t)
     q = subsample_step(t, y)
     assert 2 <= q and len(t) / q <= 4 * 2000
+
+
+@pytest.mark.parametrize("n, rate, harmonics, message", [
+    (400, 400.0, 5, "at or above the record's Nyquist frequency (200 Hz)"),
+    (300, 8000.0, 25, "above the limit of 20 hum harmonics"),
+])
+def test_hum_harmonics_are_limited_with_a_one_line_error(tmp_path, capsys, n, rate, harmonics, message):
+    t = np.arange(n) / rate
+    y = np.cos(2 * np.pi * 50 * t) + 0.01 * np.random.default_rng(0).normal(size=n)
+    path = tmp_path / "hum.csv"
+    np.savetxt(path, np.c_[t, y], delimiter=",", header="t,v", comments="")
+    code = main(["mismatch", str(path), "--model", "hum", "--param", f"harmonics={harmonics}", "--param", "f0=50",
+                 "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert code == 1 and message in err and len(err.splitlines()) == 1
