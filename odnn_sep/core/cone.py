@@ -318,6 +318,37 @@ def bootstrap_excess(design: tuple[np.ndarray, np.ndarray], fit: tuple[np.ndarra
     return np.quantile(T, 0.95, axis=0)
 
 
+def coefficient_scales(F: np.ndarray, y: np.ndarray, spread: float = 1e3) -> np.ndarray | None:
+    """Factors ``k`` that bring each coefficient of ``y ~ F theta`` to order one (``F * k``), or None when
+    every coefficient's natural size ``rms(y) / rms(F_j)`` is already within ``[1/spread, spread]``.
+
+    Parameters
+    ----------
+    F : (n, p) ndarray
+        Basis columns (none all zero).
+    y : (n,) ndarray
+    spread : float, optional
+
+    Returns
+    -------
+    (p,) ndarray or None
+
+    Examples
+    --------
+    >>> x = np.linspace(-1, 1, 50)
+    >>> coefficient_scales(np.c_[np.sin(5 * x)], 2 * np.sin(5 * x)) is None
+    True
+    >>> coefficient_scales(np.c_[np.sin(5 * x)], 2e-9 * np.sin(5 * x)).round(12).tolist()
+    [2e-09]
+    """
+    rms_y = float(np.sqrt(np.mean(np.square(y)))) or 1.0
+    rms_f = np.sqrt(np.mean(np.square(F), axis=0))
+    if not (rms_f > 0).all():
+        return None
+    k = rms_y / rms_f
+    return None if ((k >= 1 / spread) & (k <= spread)).all() else k
+
+
 def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDisturbance, *, level_chi2: float = CHI2_1_95,
              n_boot: int = 40, random_state: int | None = None) -> dict:
     """Least-squares fit and identified intervals; see module docstring.
@@ -357,6 +388,14 @@ def fit_cone(F: np.ndarray, x: np.ndarray, y: np.ndarray, disturbance: ConeDistu
     >>> bool(c["interval"][0, 0] < 1 < c["interval"][0, 1])    # theta = 1 lies in the identified set
     True
     """
+    k = coefficient_scales(F, y)
+    if k is not None:
+        # the interval search steps and stops at absolute sizes (1e-3, 1e-7 of max(|theta|, 1)): a
+        # coefficient of 2e-9 (data in small units) got the zero-width set [2.01953e-09, 2.01953e-09].
+        # Columns scaled so that each coefficient is of order one; the fit itself is the same
+        c = fit_cone(F * k, x, y, disturbance, level_chi2=level_chi2, n_boot=n_boot, random_state=random_state)
+        return {**c, "theta_ls": c["theta_ls"] * k, "interval": c["interval"] * k[:, None],
+                "theta_mid": c["theta_mid"] * k}
     order = np.argsort(x, kind="stable")
     xs, ys, Fs = x[order], y[order], F[order]
     A0, H = cone_generators(xs, disturbance)
