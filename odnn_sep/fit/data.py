@@ -168,6 +168,11 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     if data.size == 0 or data.shape[1] < 2 or data.shape[0] < 2:
         raise FormatError(f"{str(p)!r} needs a header row, at least two data rows and at least two columns "
                           "(x and a value)")
+    if column is None and [h.lower() for h in header[:4]] == ["x", "y", "z", "physics"]:
+        # the parts CSV (-o) of a 2-D field: its default value column is the coordinate y
+        raise InputError(f"{str(p)!r} is the parts CSV of a 2-D field (columns x, y, z, physics, ...): its values are "
+                         "column z, on a grid of x and y; fit the field's .npz again, or give --column z (or "
+                         "--column residual) to read it as a 1-D record along x")
     j = pick_column(header if len(header) == data.shape[1] else [f"col{k}" for k in range(data.shape[1])],
                     column, path=p)
     x, v = data[:, 0], data[:, j]

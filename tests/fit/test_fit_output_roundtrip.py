@@ -18,3 +18,16 @@ def test_parts_keep_epoch_seconds_and_refit_the_same(tmp_path):
     # the written file is a valid input of its own, with the same fit
     assert main(["separate", str(parts), *basis, "-o", str(again)]) == 0
     assert np.array_equal(np.genfromtxt(again, delimiter=",", names=True)["physics"], back["physics"])
+
+
+def test_parts_of_a_field_are_not_read_as_a_record_of_its_y_coordinate(tmp_path, capsys):
+    xa, ya = np.linspace(-1, 1, 31), np.linspace(-1, 1, 21)
+    X, Y = np.meshgrid(xa, ya)
+    field, parts = tmp_path / "field.npz", tmp_path / "parts.csv"
+    np.savez(field, x=xa, y=ya, z=2 * X * Y**2 + np.cos(X) + np.cos(2 * Y))
+    assert main(["separate", str(field), "--basis", "x*y**2", "--disturbance", "even", "--quiet", "-o", str(parts)]) == 0
+    capsys.readouterr()
+    # the default value column of that CSV is the coordinate y: it was fitted without a word
+    assert main(["separate", str(parts), "--basis", "x", "--quiet"]) == 1
+    assert "parts CSV of a 2-D field" in capsys.readouterr().err
+    assert main(["separate", str(parts), "--basis", "x", "--column", "z", "--quiet"]) == 0
