@@ -109,7 +109,7 @@ for cid, argv in [
     ("seed-neg", lambda d: simulate(d, "--seed", "-1")),
     ("seed-text", lambda d: simulate(d, "--seed", "abc")),
     ("snr-nan", lambda d: simulate(d, "--snr-db", "nan")),
-    ("snr-inf", lambda d: simulate(d, "--snr-db", "inf")),
+    ("snr-minus-inf", lambda d: simulate(d, "--snr-db=-inf")),     # +inf: noise-free data, accepted
     ("snr-text", lambda d: simulate(d, "--snr-db", "abc")),
     ("snr-huge", lambda d: simulate(d, "--snr-db", "1e300")),
     ("truth-is-output", lambda d: simulate(d, "--truth", str(_o(d) / "fig.csv"))),
