@@ -300,6 +300,8 @@ def check_hum_harmonics(model, t, params):
     family = model.family if isinstance(model, Model) else str(model)
     if family != "hum" or "harmonics" not in start or np.ndim(t) != 1 or len(t) < 2:
         return
+    if getattr(getattr(model, "preset", None), "baseband", False):
+        return     # the audio engine's demodulated bands: their low rate is not the recording's
     H = int(float(start["harmonics"]))
     if H > MAX_HUM_HARMONICS:
         raise InputError(f"--param harmonics={H} is above the limit of {MAX_HUM_HARMONICS} hum harmonics (each "
