@@ -94,7 +94,7 @@ def run(args) -> int:
     from odnn_sep.core import Separator
     from odnn_sep.core.solvers import NetworkSolver
     from odnn_sep.errors import InputError
-    from odnn_sep.fit.data import load_signal, write_components
+    from odnn_sep.fit.data import copied_rows, load_signal, write_components
     from odnn_sep.fit.expr import basis_from_expressions, parse_disturbance
     from odnn_sep.fit.residual import residual_warning
     from odnn_sep.fit.size import check_shape_points
@@ -112,6 +112,8 @@ def run(args) -> int:
         raise InputError(f"--seed must be >= 0; got {args.seed}")
     value_name: list = []
     x, y, coords, grid = load_signal(args.data, args.column, value_name=value_name)
+    # a record pasted twice: refused; copies spread out: a warning (see copied_rows)
+    copies = copied_rows(args.data, x, y) if grid is None else None
     basis = basis_from_expressions(args.basis, coords, args.name)
     dist = parse_disturbance(args.disturbance, ndim=len(coords))
     # (the network solver's intervals come from the exact analysis too: the bound holds for both)
@@ -121,7 +123,7 @@ def run(args) -> int:
         # the network trains for minutes: show its epochs unless asked to be quiet
         solver = NetworkSolver(progress=not args.quiet) if args.solver == "network" else args.solver
         res = Separator(basis, disturbance=dist, solver=solver, random_state=args.seed).fit(x, y).result_
-    messages = [str(w.message) for w in caught]
+    messages = [str(w.message) for w in caught] + ([copies] if copies else [])
     if res.diagnostics.get("dof") == 0:
         # the fit is exact: every point went to the physics or the class, none is left to see the noise
         messages.append(f"no interval: the {len(y)} points are all taken by the {len(args.basis)} basis term(s) and "

@@ -194,6 +194,59 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     return x, v, (name,), None
 
 
+def copied_rows(path, x: np.ndarray, v: np.ndarray) -> str | None:
+    """Rows of a 1-D record that repeat others exactly (same x and value): an error for a block of them,
+    a warning text when they are spread out, None when there are none.
+
+    A block of copied rows (a record pasted twice) is an InputError: copies are not new readings, and
+    fitting them narrowed the intervals (by 1.41 for a record given twice). When every repeated x
+    carries the very same value but the repeats are spread out (copies sorted in, or a quantised
+    sensor read twice per time stamp), the returned warning says so. Repeated readings that differ
+    are real readings: None.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file, for the messages.
+    x, v : (n,) ndarray
+        Coordinates and values in file order.
+
+    Returns
+    -------
+    str or None
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For a block of copied rows.
+
+    Examples
+    --------
+    >>> x = np.arange(4.0)
+    >>> copied_rows("a.csv", np.r_[x, 1.0], np.r_[x, 5.0]) is None       # x = 1 read twice, differently
+    True
+    >>> print(copied_rows("a.csv", np.repeat(x, 2), np.repeat(x, 2))[:58])
+    'a.csv' repeats 4 row(s) exactly (the same x and value; fi
+    >>> copied_rows("a.csv", np.r_[x, x], np.r_[x, x])
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: 'a.csv' repeats 4 row(s) exactly (the same x and value; first at data row 5), as one block: copies are not new readings and would narrow the intervals as if they were; remove the copied rows
+    """
+    order = np.lexsort((v, x))
+    xs, vs = x[order], v[order]
+    same_x = xs[1:] == xs[:-1]
+    if not same_x.any() or not (vs[1:][same_x] == vs[:-1][same_x]).all():
+        return None
+    rows = np.sort(order[1:][same_x])
+    what = (f"{str(path)!r} repeats {rows.size} row(s) exactly (the same x and value; first at data row "
+            f"{int(rows[0]) + 1})")
+    if rows.size > 1 and rows[-1] - rows[0] + 1 == rows.size:
+        raise InputError(f"{what}, as one block: copies are not new readings and would narrow the intervals as if "
+                         "they were; remove the copied rows")
+    return (f"{what}, and no repeated x has two different values: if they are copies, the intervals are too "
+            "narrow; remove them")
+
+
 def _time_stamps(p, name, n, col):
     """Column ``col`` (x) of a CSV whose cells are not all numbers, read by :func:`odnn_sep.io_read.time_values`."""
     from odnn_sep.io_read import time_values
