@@ -8,6 +8,7 @@ compare two versions (the command line is run as ``python -m odnn_sep.cli``).
 - three points for an even class (no point left for the noise), and the API's ``as_dict()`` as JSON;
 - a field whose z is boolean (a mask saved in place of the data);
 - the parts CSV (``-o``) of a record in epoch seconds, fitted again;
+- a record pasted twice; the parts CSV of a 2-D field given back;
 - a basis column of a far larger size than another (``x**10`` on [0, 10]);
 - a convex class on data in small units (a coefficient of 2e-9);
 - 48 hourly samples with a daily periodic class;
@@ -81,6 +82,18 @@ def cases(d: Path):
     xs = np.genfromtxt(d / "parts.csv", delimiter=",", names=True)["x"]
     rows.append(("-o parts of epoch-second x: distinct x", 0, f"{np.unique(xs).size} of 400"))
     rows.append(("  ... parts fitted again", *_cli("separate", str(d / "parts.csv"), *opts)))
+
+    xr = np.linspace(-1, 1, 200)
+    yr = 2 * np.sin(5 * xr) + np.cos(2 * xr) + 0.02 * rng.standard_normal(200)
+    _csv(d / "once.csv", xr, yr)
+    _csv(d / "twice.csv", np.r_[xr, xr], np.r_[yr, yr])
+    rows.append(("a record of 200 rows", *_cli("separate", str(d / "once.csv"), "--basis", "sin(5*x)")))
+    rows.append(("  ... pasted twice (400 rows)", *_cli("separate", str(d / "twice.csv"), "--basis", "sin(5*x)")))
+
+    Xf, Yf = np.meshgrid(np.linspace(-1, 1, 31), np.linspace(-1, 1, 21))
+    np.savez(d / "field.npz", x=Xf[0], y=Yf[:, 0], z=2 * Xf * Yf**2 + np.cos(Xf) + np.cos(2 * Yf))
+    _cli("separate", str(d / "field.npz"), "--basis", "x*y**2", "--disturbance", "even", "-o", str(d / "fp.csv"))
+    rows.append(("-o parts of a field, given back (--basis x)", *_cli("separate", str(d / "fp.csv"), "--basis", "x")))
 
     x10 = np.linspace(0, 10, 500)
     _csv(d / "poly.csv", x10, 2 * np.sin(3 * x10) + 3e-10 * x10**10 + 0.01 * rng.standard_normal(500))
