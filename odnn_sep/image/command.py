@@ -311,6 +311,28 @@ def _check_reference_size(path, photo_shape) -> None:
                          f"or scale the logo to at most the photo's size")
 
 
+def _copies_text(copy: dict | None) -> str:
+    """The clause on copies of the mark the removal left (``residual_copies.copies_left``), or "".
+
+    Examples
+    --------
+    >>> _copies_text({"at": [302, -49], "score": 1.64, "contrast_levels": 81.1, "count": 2,
+    ...               "positions": [[302, -49], [91, 340]]})[:80]
+    '; 2 other copies of the mark left, at x 302, y -49; x 91, y 340 (cut by the bord'
+    >>> _copies_text(None)
+    ''
+    """
+    if not copy:
+        return ""
+    at = copy.get("positions") or [copy["at"]]
+    n = copy.get("count", len(at))
+    where = "; ".join(f"x {x}, y {y}" for x, y in at)
+    what = "another copy of the mark left" if n == 1 else f"{n} other copies of the mark left"
+    return (f"; {what}, at {where} (cut by the border or not found, top-left corners; best detection score "
+            f"{copy['score']:.3f}, contrast {copy['contrast_levels']:.1f} grey levels; a tiled mark: give --mask "
+            f"over every copy)")
+
+
 def _residual_text(residual: dict) -> str:
     """One clause saying how much of the mark is left (text marks: edges and score; logos: edge correlation).
 
@@ -340,10 +362,7 @@ def _residual_text(residual: dict) -> str:
         beside = (f"; a second colour (outline or shadow, {second['shape']}) left beside the letters at "
                   f"{second['contrast_levels']:.1f} grey levels, which one opacity and colour cannot remove"
                   if second else "")
-        copy = residual.get("copies_left")
-        beside += (f"; another copy of the mark left at x {copy['at'][0]}, y {copy['at'][1]} (cut by the border or "
-                   f"not found; detection score {copy['score']:.3f}, contrast {copy['contrast_levels']:.1f} grey "
-                   f"levels)" if copy else "")
+        beside += _copies_text(residual.get("copies_left"))
         rims = (f", {residual['rim_levels']:.1f} grey levels of rims along the letters' contours "
                 f"({100 * residual['rim_left']:.0f} % of the mark's)" if "rim_levels" in residual else "")
         return (f"{100 * residual['edge_left']:.0f} % of its edge energy left{rims}, detection score on the output "
