@@ -6,8 +6,10 @@ Pipeline (all passes stream in blocks, so memory does not grow with the file len
 1. detection on a Welch spectrum: fundamental (50/60 Hz or given), harmonics present, tones;
 2. pass 1: demodulated 10 ms chunk sums -> block length (blocklen.py) and per-block fundamental
    track (track.py); gaps in the comb looked at again on the tracked baseband (baseband.py);
-   further steady combs near the main one (combs.py); whole-input amplitudes of the harmonics by
-   generalised least squares on the same chunk sums (amplitude.py);
+   further steady combs near the main one (combs.py); steady content lines within a cell or two
+   of a hum line (a drum loop's line at exactly 60 Hz under a 60.045 Hz hum) fitted with the hum,
+   taken out of the chunk sums and of pass 2's input, and kept (hostlines.py); whole-input
+   amplitudes of the harmonics by generalised least squares on the same chunk sums (amplitude.py);
 3. pass 2 (blockfit.py): per 50 %-overlapping block, weighted least squares of the samples on the
    tracked harmonic basis plus the fixed lines (fit.py, fullblock.py), amplitudes pooled across
    blocks where the lines are steady, fitted hum windowed by sin^2 (the windows sum to one, so
@@ -32,6 +34,7 @@ from odnn_sep.audio import combs as _combs
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import envelope as _envelope
 from odnn_sep.audio import finetrack as _finetrack
+from odnn_sep.audio import hostlines as _hostlines
 from odnn_sep.audio import humspans as _humspans
 from odnn_sep.audio import inputclip as _inputclip
 from odnn_sep.audio import lockcomb as _lockcomb
@@ -52,6 +55,8 @@ SMOOTH_BLOCKS = 4   # line amplitudes pooled over up to this many blocks on each
 POOL_MAIN = True    # pool the tracked comb too (in the track's common phase reference), not only fixed lines
 MAX_COMBS = 3       # the main comb and at most this many less one further combs
 MIN_S = 0.2         # shortest input (s)
+HOST_LINES = True   # steady content lines right beside a hum line fitted with it and kept (hostlines.py)
+HOST_BAND_BLOCKS = 2.0   # ... looked for within this many cells of a block (2 / block_s Hz: the block window's main lobe)
 
 
 def run(source, sink, opts: DenoiseOptions, *, after_source_fn):
@@ -122,6 +127,7 @@ class _Found:
     envelope: object = None
     hum_spans: list | None = None   # hum over part of the input only (humspans.py)
     second_hum: dict | None = None  # a weaker hum of the other mains family, left in (lockcomb._second_hum)
+    host_lines: list | None = None  # steady content lines beside hum lines, kept (hostlines.py)
 
 
 def _run_inner(source, sink, opts: DenoiseOptions, after_source_fn):
@@ -228,11 +234,11 @@ def _analyse(source, opts: DenoiseOptions):
         # the finer spectrum of the further-comb search depends on the input only: it is computed
         # (from a second handle on the file) while the track and amplitudes are made
         fine = bg.spectrum(source, keep_hz) if further else None
-        plan, trk, h_amp, main_amps, env = _plan_and_track(source, opts, det, comb, bg)
+        plan, trk, h_amp, main_amps, env, host = _plan_and_track(source, opts, det, comb, bg)
         if ks and _off_nominal(trk, comb.nominal_hz, N / sr):
             comb, ks, further = None, [], False
             det.harmonics = []
-            plan, trk, h_amp, main_amps, env = _plan_and_track(source, opts, det, None, bg)
+            plan, trk, h_amp, main_amps, env, host = _plan_and_track(source, opts, det, None, bg)
         # the finest spectrum at hand: the high-resolution one when the comb is looked at again
         combs, f_med, spec_fine = [], det.mains_hz, spec_before
         if further:
@@ -251,7 +257,7 @@ def _analyse(source, opts: DenoiseOptions):
             log.warning("every line removed (%s) is a harmonic of %g Hz as well%s",
                         ", ".join(f"h{k} at {k * f_med:.1f} Hz" for k in ks), 110.0 - opts.mains, hint)
     return _Found(spec_before, spec_fine, det, plan, trk, lines, f_med, h_amp, main_amps, env,
-                  second_hum=second), bar
+                  second_hum=second, host_lines=host or None), bar
 
 
 def _on_other_grid(f: float, opts: DenoiseOptions) -> bool:
@@ -336,8 +342,10 @@ def _off_nominal(trk, nominal: float, duration_s: float) -> bool:
 
 def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
     """Block plan, track (all zeros without hum), whole-input harmonic amplitudes (one of the
-    computations from the chunk sums in ``bg``'s thread), amplitude paths and the shared hum
-    level (envelope.py); the locked comb's family and lock statistics go into ``det``."""
+    computations from the chunk sums in ``bg``'s thread), amplitude paths, the shared hum
+    level (envelope.py) and the steady content lines beside the hum lines (hostlines.py, taken
+    out of the chunk sums before the amplitudes); the locked comb's family and lock statistics go
+    into ``det``."""
     sr, N = source.sr, source.frames
     block_s = opts.block_s
     if opts.auto_block and (comb is None or N < 3 * _blocklen.CANDIDATES_S[-1] * sr):
@@ -347,7 +355,7 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
         z = np.zeros(plan.count)
         trk = _track.Track(t=plan.centres_s, f0=z, rate=z, curv=z, confident=np.zeros(plan.count, bool),
                            strength=z)
-        return plan, trk, {}, None, None
+        return plan, trk, {}, None, None, []
     ks = comb.harmonics
     det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
     det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
@@ -357,19 +365,35 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
         block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
     plan = BlockPlan.from_block_s(block_s, sr, N)
     trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan, comb.jumps)
-    # whole-input amplitudes of the harmonics, by line (pass 1's chunk sums are at hand here)
+    amps = _comb_amplitudes(comb, sr, ks, trk, plan, bg)
+    # steady content lines beside the hum lines, where the hum's level holds (the joint fit takes
+    # one hum amplitude for the whole input: a level that steps leaves sidebands like lines)
+    host = (_hostlines.find(comb.D, sr, comb.f_ref, ks, comb.psi, HOST_BAND_BLOCKS / plan.block_s,
+                            weighted=plan.count >= _steadypath.MIN_BLOCKS)
+            if HOST_LINES and not comb.jumps and amps[2] is None else [])
+    if host:
+        log.info("content lines beside the hum kept: %s", ", ".join(f"{h.freq_hz:.3f} Hz (by h{h.harmonic})"
+                                                                   for h in host))
+        comb.D = comb.D - _hostlines.chunk_sums(host, comb.D.shape[0], sr, comb.f_ref, ks)
+        amps = _comb_amplitudes(comb, sr, ks, trk, plan, bg)
+    h_amp, main_amps, env = amps
+    if env is not None:
+        log.info("the hum level changes within the blocks: followed at %.1f s (gain %.2f-%.2f)",
+                 env.width_s, float(env.gain.min()), float(env.gain.max()))
+    comb.D = None
+    return plan, trk, h_amp, main_amps, env, host
+
+
+def _comb_amplitudes(comb, sr: int, ks, trk, plan: BlockPlan, bg: Background):
+    """From the comb's chunk sums: the whole-input amplitudes of the harmonics (by line, in ``bg``'s
+    thread), the amplitude paths and the shared hum level (envelope.py, or None)."""
     steady = bg.submit(_amplitude.steady_amplitudes, comb.D, comb.f_ref, ks, trk, plan)
     means = _steadypath.block_means(comb.D, sr, ks, comb.psi, plan, keep_power=True)
     main_amps = _steadypath.comb_block_amplitudes(comb.D, sr, comb.f_ref, ks, comb.psi, plan, means=means,
                                                   jumps=comb.jumps)
     env = _envelope.shared_envelope(comb.D, sr, comb.f_ref, ks, comb.psi, plan, main_amps, means[4],
                                     jumps=comb.jumps)
-    if env is not None:
-        log.info("the hum level changes within the blocks: followed at %.1f s (gain %.2f-%.2f)",
-                 env.width_s, float(env.gain.min()), float(env.gain.max()))
-    h_amp = dict(zip(ks, steady.result().T, strict=True))
-    comb.D = None
-    return plan, trk, h_amp, main_amps, env
+    return dict(zip(ks, steady.result().T, strict=True)), main_amps, env
 
 
 def _further_combs(source, opts: DenoiseOptions, det, trk, plan: BlockPlan, ks, ks_spec, spec_fine):
@@ -411,6 +435,9 @@ def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
                                      main_psd=main_psd if POOL_MAIN else None, smooth_blocks=SMOOTH_BLOCKS,
                                      main_amps=found.main_amps, envelope=found.envelope)
     release_freed_memory()
+    if found.host_lines:
+        # the hum is fitted on the input less the content lines beside it; the output keeps them
+        source, sink = _hostlines.WithoutLines(source, found.host_lines), _read_again(source, sink)
     amps, phs, valid, overall = _blockfit.fit_pass(source, sink, found.plan, found.trk, lines, settings, tick=tick)
     if found.h_amp:
         # harmonics: the generalised least-squares amplitudes (amplitude.py) replace the pooled ones
@@ -418,6 +445,19 @@ def _fit(source, sink, opts: DenoiseOptions, found: _Found, tick):
             overall = np.full((source.channels, len(lines.names)), np.nan)
         overall[:, : len(ks)] = np.stack([found.h_amp[k] for k in ks], axis=1)
     return amps, phs, valid, overall
+
+
+def _read_again(source, sink):
+    """A sink that hands ``sink`` the input's own samples (read again from ``source``, in order)
+    with the hum removed: the pieces pass 2 read had the content lines taken out."""
+    pos = [0]
+
+    def back(piece, removed):
+        n = piece.shape[0]
+        sink(source.read(pos[0], n), removed)
+        pos[0] += n
+
+    return back
 
 
 def release_freed_memory():
