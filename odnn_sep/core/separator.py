@@ -246,6 +246,7 @@ class Separator:
     def _with_phi_uncertainty(self, out: dict, problem: Problem, phi: dict, phi_info: dict) -> dict:
         """``out`` with theta's errors and intervals widened by the uncertainty of the fitted phi
         (:func:`odnn_sep.core.phi.theta_stderr_with_phi`); theta itself is unchanged."""
+        import warnings
         from dataclasses import replace
 
         from odnn_sep.core.linalg import intervals
@@ -256,7 +257,9 @@ class Separator:
 
         def theta_at(v):
             F = self.basis.evaluate(problem.x, dict(zip(keys, v)))
-            return ExactSolver().solve(replace(problem, F=F))["theta"]
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")       # the fit itself has said what there is to say
+                return ExactSolver().solve(replace(problem, F=F))["theta"]
 
         stderr = theta_stderr_with_phi(theta_at, np.array([phi[k] for k in keys]), phi_info["cov"], out["stderr"])
         # t on the degrees of freedom left after phi as well
