@@ -6,12 +6,14 @@ away is measured too (`--src` points the cases at another checkout, e.g. the cod
     python recipes/bench_mismatch_long.py --timing                      # time vs length
     python recipes/bench_mismatch_long.py --timing --src /path/to/old   # the same, another checkout
     python recipes/bench_mismatch_long.py --consistency --seeds 100-104 # natural length vs 20 000 points
+    python recipes/bench_mismatch_long.py --coverage --seeds 110-129    # nulls at 20 000 points only
 
 `--timing` analyses each system (null record) at its natural length and at 2 000, 5 000, 20 000 and
 100 000 samples over the same span (CPU seconds, ODE right-hand-side calls, samples fitted, verdict).
 `--consistency` analyses each system with and without its effect at its natural length and at
 20 000 samples, and reports whether the verdicts agree and how often the 95 % intervals of the base
-parameters cover the truth.
+parameters cover the truth. `--coverage` analyses null records of 20 000 samples only (more seeds
+for the same money) and reports the coverage and false physics per system.
 """
 from __future__ import annotations
 
@@ -101,6 +103,25 @@ def consistency(args):
                   f"{sum(c)}/{len(c)} = {100 * sum(c) / len(c):.0f} %")
 
 
+def coverage(args):
+    print("| system | seeds | 95 % intervals covering the truth | false physics | median CPU s | worst CPU s |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for system in args.systems:
+        rows = [run(system, 20000, seed, False, args.src, args.timeout) for seed in args.seed_list]
+        ok = [r for r in rows if r["status"] == "ok"]
+        c = [v for r in ok for v in r["covers"].values() if v is not None]
+        cpu = sorted(r["cpu_s"] for r in ok)
+        false = sum(bool(r["named"]) for r in ok)
+        cov = f"{sum(c)}/{len(c)} = {100 * sum(c) / max(len(c), 1):.0f} %"
+        med = f"{cpu[len(cpu) // 2]:.1f}" if cpu else "-"
+        worst = f"{cpu[-1]:.1f}" if cpu else "-"
+        print(f"| {system} | {len(ok)}/{len(rows)} | {cov} | {false} | {med} | {worst} |", flush=True)
+        if args.rows:
+            with open(args.rows, "a") as fh:
+                for r in rows:
+                    fh.write(json.dumps(r) + "\n")
+
+
 def _seeds(text):
     if "-" in text:
         a, b = text.split("-")
@@ -112,6 +133,7 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--timing", action="store_true", help="time vs length")
     p.add_argument("--consistency", action="store_true", help="natural length vs 20 000 samples")
+    p.add_argument("--coverage", action="store_true", help="nulls of 20 000 samples: coverage and false physics")
     p.add_argument("--systems", default=",".join(SYSTEMS), help="comma-separated, of: " + ", ".join(SYSTEMS))
     p.add_argument("--seed", type=int, default=100, help="seed of the timing records")
     p.add_argument("--seeds", default="100-102", help="seeds of the consistency run (evaluation seeds: 100+)")
@@ -124,12 +146,14 @@ def main(argv=None):
     if unknown:
         p.error(f"unknown system(s) {unknown}; known: {', '.join(SYSTEMS)}")
     args.seed_list = _seeds(args.seeds)
-    if not (args.timing or args.consistency):
-        p.error("give --timing and/or --consistency")
+    if not (args.timing or args.consistency or args.coverage):
+        p.error("give --timing, --consistency and/or --coverage")
     if args.timing:
         timing(args)
     if args.consistency:
         consistency(args)
+    if args.coverage:
+        coverage(args)
 
 
 if __name__ == "__main__":
