@@ -182,10 +182,60 @@ def explain_on_subsample(model, t, y, options):
         res = explain(model, np.asarray(t)[keep], np.asarray(y)[keep], **opts)
     finally:
         _ON_SUBSAMPLE.reset(token)
+    full = full_record_rms(res, np.asarray(t, float), np.asarray(y, float), with_inputs=bool(opts.get("inputs")))
+    if full is not None:
+        res.notes.insert(0, f"residual RMS over all {n} samples of the record: {full:.4g} (over the {len(res.y)} "
+                            f"fitted: {(res.final_fit or res.calibration.fit).rms:.4g})")
     res.notes.insert(0, f"long record: fitted on one sample in {q} ({len(keep)} of {n}; the limit is "
                         f"ODNN_SEP_MAX_FIT_SAMPLES), whose intervals and tests are those of the subsample; the "
                         f"record's content lies below the subsample's Nyquist frequency, so nothing is aliased")
     return res
+
+
+def full_record_rms(res, t, y, *, with_inputs=False):
+    """RMS residual of a subsample's final fit over every sample of the record, or None where it is not cheap.
+
+    The model is evaluated at every time (one evaluation) and its fitted disturbance, smooth and
+    resolved by the subsample, is carried to every time by a cubic spline. Not done when the
+    analysed record does not start with the record's first sample (its initial state refers to
+    another time) or when measured inputs drive the model (known at the subsample only).
+
+    Parameters
+    ----------
+    res : MismatchResult
+        The result of the subsample.
+    t, y : ndarray
+        The whole record.
+    with_inputs : bool
+        Whether inputs drove the model.
+
+    Returns
+    -------
+    float or None
+
+    Examples
+    --------
+    >>> from odnn_sep.mismatch import explain
+    >>> t = np.linspace(0, 100, 3000); y = 20 + 70 * np.exp(-0.03 * t) + 0.1 * np.random.default_rng(0).normal(size=3000)
+    >>> res = explain("cooling", t[::2], y[::2])
+    >>> round(full_record_rms(res, t, y), 2)
+    0.1
+    """
+    from odnn_sep.errors import ModelIntegrationError
+    fit = res.final_fit or res.calibration.fit
+    t_fit = np.asarray(res.t, float)
+    if with_inputs or np.ndim(t_fit) != 1 or len(t_fit) < 4 or t_fit[0] != t[0]:
+        return None
+    try:
+        pred = np.asarray(fit.model.predict(t, fit.params), float)
+    except ModelIntegrationError:
+        return None
+    d = np.asarray(fit.disturbance, float) if fit.disturbance is not None else np.zeros(0)
+    if d.shape == t_fit.shape and np.any(d):
+        from scipy.interpolate import CubicSpline
+        pred = pred + CubicSpline(t_fit, d)(t)
+    r = y - pred
+    return float(np.sqrt(np.mean(r[np.isfinite(r)] ** 2))) if np.any(np.isfinite(r)) else None
 
 
 def _step(model, t, y, options):

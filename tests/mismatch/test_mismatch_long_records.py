@@ -37,6 +37,10 @@ def test_long_record_is_fitted_on_a_bounded_subsample_that_covers_the_truth(limi
     assert res.t[0] == t[0] and np.all(np.isin(res.t, t))            # real samples, evenly spaced
     assert len(set(np.round(np.diff(res.t), 9))) == 1
     assert res.notes[0].startswith("long record: fitted on one sample in 10 (400 of 4000")
+    # the whole record is still compared with the final model: the samples between the fitted ones agree
+    assert res.notes[1].startswith("residual RMS over all 4000 samples of the record: ")
+    full_rms = float(res.notes[1].split(": ")[1].split(" ")[0])
+    assert 0.09 < full_rms < 0.11
     assert res.effects == []
     lo, hi = res.final_intervals["h"]
     assert lo <= 0.02 <= hi
