@@ -32,6 +32,8 @@ STROKE_PX = 3.0
 # correlation they need first.
 N_PEAKS = 6
 MIN_CORR = 0.2
+# Refined candidates checked with the detection statistic (the best by their edge correlation).
+N_CHECKS = 10
 # Multiples of a copy's shift looked at (a tiled mark's lattice), each way.
 LATTICE_STEPS = 6
 
@@ -154,10 +156,11 @@ def _output_crop(y, out_box, box, sy0, sy1, sx0, sx1) -> np.ndarray:
     return crop
 
 
-def _refine(y, out_box, box, foot, Tf, a0, b0, dy, dx, r) -> tuple[int, int]:
+def _refine(y, out_box, box, foot, Tf, a0, b0, dy, dx, r) -> tuple[int, int, float]:
     """The full-resolution shift (dy, dx) within ``r`` px of the given one where the output's edges best
     match the copy's edge template ``Tf`` (the reduced search places a copy only to 1 / f px, and the
-    detection statistic needs it to a pixel: 0.76 at the copy, 0.01 two pixels off)."""
+    detection statistic needs it to a pixel: 0.76 at the copy, 0.01 two pixels off), and the normalised
+    correlation there."""
     import cv2
 
     H, W = foot.shape
@@ -166,14 +169,14 @@ def _refine(y, out_box, box, foot, Tf, a0, b0, dy, dx, r) -> tuple[int, int]:
     gy1, gx1 = a0 + dy + th + r + 2, b0 + dx + tw + r + 2
     sy0, sy1, sx0, sx1 = max(0, gy0), min(H, gy1), max(0, gx0), min(W, gx1)
     if sy1 - sy0 < 3 or sx1 - sx0 < 3:
-        return dy, dx
+        return dy, dx, 0.0
     g = _output_crop(y, out_box, box, sy0, sy1, sx0, sx1).mean(axis=2).astype(np.float32)
     E = np.zeros((gy1 - gy0, gx1 - gx0), np.float32)
     E[sy0 - gy0:sy1 - gy0, sx0 - gx0:sx1 - gx0] = np.where(foot[sy0:sy1, sx0:sx1], 0.0, _edges(g))
     R = cv2.matchTemplate(E[2:-2, 2:-2], Tf.astype(np.float32), cv2.TM_CCORR_NORMED)
     R[~np.isfinite(R)] = -1.0
     i, j = np.unravel_index(int(np.argmax(R)), R.shape)
-    return dy + int(i) - r, dx + int(j) - r
+    return dy + int(i) - r, dx + int(j) - r, float(R[i, j])
 
 
 def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, copy_box: tuple | None = None,
@@ -265,14 +268,24 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, copy_box: 
     # each candidate refined within the reduction's rounding, and within a quarter of the copy: the peak
     # of a copy cut by the border lies up to 16 px off it (a quarter of the template's smaller side)
     radii = sorted({int(np.ceil(1.5 / f)) + 1, max(int(np.ceil(1.5 / f)) + 1, min(th, tw) // 4)})
-    # (full-resolution shift of the copy from the removed one, search radius around it)
-    queue = [(round(top / f) - a0, round(left / f) - b0, r) for _corr, top, left in cands for r in radii]
+    # the candidates refined first, and only the best ``N_CHECKS`` by their refined edge correlation
+    # checked with the detection statistic (0.1 s each on a 12-megapixel photo)
+    refined: list[tuple[float, int, int]] = []
+    for _corr, top, left in cands:
+        for rr in radii:
+            dy, dx, corr = _refine(y, out_box, box, foot, Tf, a0, b0, round(top / f) - a0, round(left / f) - b0, rr)
+            if not any(abs(dy - p) <= 3 and abs(dx - q) <= 3 for _c, p, q in refined):
+                refined.append((corr, dy, dx))
+    refined.sort(key=lambda c: -c[0])
+    # (full-resolution shift of the copy from the removed one, search radius around it; 0: refined)
+    queue = [(dy, dx, 0) for _c, dy, dx in refined[:N_CHECKS]]
     found: list[dict] = []
     tried: list[tuple[int, int]] = []
     mass = float(Mc.sum())
     while queue:
         dy, dx, rr = queue.pop(0)
-        dy, dx = _refine(y, out_box, box, foot, Tf, a0, b0, dy, dx, rr)
+        if rr:
+            dy, dx, _corr = _refine(y, out_box, box, foot, Tf, a0, b0, dy, dx, rr)
         if any(abs(dy - p) <= 3 and abs(dx - q) <= 3 for p, q in tried) or \
                 any(abs(dy - c["shift"][0]) < th / 2 and abs(dx - c["shift"][1]) < tw / 2 for c in found):
             continue                                              # looked at already, or a copy found
@@ -306,4 +319,4 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, copy_box: 
     return {**best, "count": len(found), "positions": [c["at"] for c in found]}
 
 
-__all__ = ["copies_left", "LATTICE_STEPS", "STROKE_PX", "TEMPLATE_PX", "WORK_PX", "MIN_OVERLAP", "N_PEAKS", "MIN_CORR"]
+__all__ = ["copies_left", "LATTICE_STEPS", "STROKE_PX", "TEMPLATE_PX", "WORK_PX", "MIN_OVERLAP", "N_PEAKS", "N_CHECKS", "MIN_CORR"]
