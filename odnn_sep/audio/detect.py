@@ -543,9 +543,10 @@ def detect_hum(spec: Spectrum, sr: int, *, mains="auto", harmonics="auto", tones
     tone_list = refine_tones(spec, tones)
     for t in tone_list:
         st = line_level(spec, t, band_halfwidth(spec, 0), [])
+        # a tone the user named is tested on its own: its p-value is not corrected for other lines
         candidates.append({"family_hz": None, "harmonic": None, "freq_hz": t,
                            "level_db": [float(v) for v in st["level_db"]], "pooled_db": st["pooled_db"],
-                           "p_value_bonferroni": st["p_value"], "significant": bool(st["p_value"] < alpha)})
+                           "p_value": st["p_value"], "significant": bool(st["p_value"] < alpha)})
         floors[("tone", t)] = st["floor"]
     det = Detection(mains_hz=f0 if chosen else None, nominal_hz=nom if chosen else None, harmonics=chosen,
                     tones=tone_list, candidates=candidates, floors=floors, alpha=alpha)

@@ -358,8 +358,10 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
         return plan, trk, {}, None, None, []
     ks = comb.harmonics
     det.mains_hz, det.nominal_hz = comb.f_ref, comb.nominal_hz
+    # the lock test's own p-value: the bar it passed depends on the family and on what the comb
+    # already held (combpattern.py, lockcomb._test_count), so it is not reported as corrected
     det.candidates += [{"family_hz": comb.nominal_hz, "harmonic": k, "freq_hz": k * comb.f_ref,
-                        "p_value_bonferroni": p, "lock_index": ix, "significant": k in ks,
+                        "p_value": p, "lock_index": ix, "significant": k in ks,
                         "look": "phase lock"} for k, (p, ix, _) in sorted(comb.lock.items())]
     if block_s == "auto":
         block_s = _blocklen.choose_block_phase(comb.D, comb.psi, sr, N, comb.f_ref, ks)
