@@ -267,7 +267,8 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, copy_box: 
     Tf = _edges(Mc)
     # each candidate refined within the reduction's rounding, and within a quarter of the copy: the peak
     # of a copy cut by the border lies up to 16 px off it (a quarter of the template's smaller side)
-    radii = sorted({int(np.ceil(1.5 / f)) + 1, max(int(np.ceil(1.5 / f)) + 1, min(th, tw) // 4)})
+    # (and where it was found: the output's edges can match better a few pixels off a copy than on it)
+    radii = sorted({0, int(np.ceil(1.5 / f)) + 1, max(int(np.ceil(1.5 / f)) + 1, min(th, tw) // 4)})
     # the candidates refined first, and only the best ``N_CHECKS`` by their refined edge correlation
     # checked with the detection statistic (0.1 s each on a 12-megapixel photo)
     refined: list[tuple[float, int, int]] = []
@@ -286,7 +287,7 @@ def copies_left(y, out_box: np.ndarray, M: np.ndarray, box: tuple, *, copy_box: 
         dy, dx, rr = queue.pop(0)
         if rr:
             dy, dx, _corr = _refine(y, out_box, box, foot, Tf, a0, b0, dy, dx, rr)
-        if any(abs(dy - p) <= 3 and abs(dx - q) <= 3 for p, q in tried) or \
+        if (dy, dx) in tried or \
                 any(abs(dy - c["shift"][0]) < th / 2 and abs(dx - c["shift"][1]) < tw / 2 for c in found):
             continue                                              # looked at already, or a copy found
         tried.append((dy, dx))
