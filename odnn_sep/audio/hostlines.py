@@ -54,7 +54,16 @@ MAX_FFT = 1 << 16    # ... up to this length (long inputs: twice their length; t
 class HostLine:
     """A steady line of the content: frequency (Hz) and complex peak amplitude per channel
     (``Re(amp exp(2 pi i freq t))``, ``t`` from the input's first sample), and the harmonic it sits
-    beside."""
+    beside.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> line = HostLine(freq_hz=60.0, amp=np.array([0.1 + 0.0j]), harmonic=1)
+    >>> t = np.arange(4) / 480.0
+    >>> np.round(np.real(line.amp[0] * np.exp(2j * np.pi * line.freq_hz * t)), 4).tolist()
+    [0.1, 0.0707, 0.0, -0.0707]
+    """
 
     freq_hz: float
     amp: np.ndarray
