@@ -5,14 +5,18 @@ has copies the search does not place: those cut by the border (``Prev`` at the r
 at the left) do not match the whole rendering. The output keeps them as they were, and a removal
 that calls itself complete is then wrong.
 
-The output's edge map (gradient magnitude, on a copy reduced so that the mark is at most
-``TEMPLATE_PX`` high) is correlated with the edge map of one removed copy's coverage, every placement
-overlapping the image by at least ``MIN_OVERLAP`` of the template's edge energy (copies cut by the
-border included; the image is padded with zeros, the removed copies are blanked). A tiled mark of
-which only some copies were found is caught the same way. The best ``N_PEAKS`` distinct placements are then checked with the detection statistic
-itself (``detect.detection_score``, the same held-out blend test and threshold that find the mark) and
-a contrast of at least ``residual.VISIBLE_LEVELS``: a copy counts as left only when the data there
-hold a blend of the mark's shape, so a photo that happens to have edges like the letters does not.
+The output's edge map (gradient magnitude, on a copy reduced so that the mark is about ``TEMPLATE_PX``
+high, but its strokes at least ``STROKE_PX`` wide) is correlated with the edge map of one removed
+copy's coverage, every placement overlapping the image by at least ``MIN_OVERLAP`` of the template's
+edge energy (copies cut by the border included; the image is padded with zeros, the removed copies
+are blanked), over the whole template window and over its part inside the image. A tiled mark of
+which only some copies were found is caught the same way. The best ``N_PEAKS`` placements of each are
+refined on the full-resolution output, and the best ``N_CHECKS`` are checked with the detection
+statistic itself (``detect.detection_score``, the same held-out blend test and threshold that find
+the mark) and a contrast of at least ``residual.VISIBLE_LEVELS``: a copy counts as left only when the
+data there hold a blend of the mark's shape, so a photo that happens to have edges like the letters
+does not. A copy found at a shift d from the removed one puts the tile's lattice at k d: those
+places are checked too, and every copy found is counted.
 """
 from __future__ import annotations
 
