@@ -736,8 +736,7 @@ def _locked_where_on(fam: _Family, ks, i: int, psi_k) -> list[int]:
 def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     """Harmonics the spectrum did not show, tested once against the settled track (they never
     steer it). Each must be phase-locked (a steady non-zero mean on the tracked baseband, which is
-    itself a significance test; Bonferroni-corrected over every line tested, except the lowest
-    harmonics of a comb that is hum: :func:`_test_count`) and reach -50 dB of
+    itself a significance test; Bonferroni-corrected over every line tested) and reach -50 dB of
     the strongest locked line: below that, the sharp onsets of a host with no noise floor
     (broadband, so in phase across harmonics, and followed a little by the track) read as weak
     locked lines, and removing such lines would gain nothing (40 of them sum to -34 dB). A further
@@ -752,18 +751,17 @@ def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     for k, col in zip(others, fam.cols(others), strict=True):
         info.update(_lock.locked(fam.D[:, :, col: col + 1], sr, [k], psi, alpha=fam.alpha)[1])
     top_amp = max(info[k][2] for k in ks)
-    out = [int(k) for k in others
-           if info[k][0] * _test_count(fam, ks, k) < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp]
+    out = [int(k) for k in others if info[k][0] * fam.n_tests < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp]
     # the rest up to twice the locked comb's reach once more, every moment weighted by the content
     # near the line (lock.py): a weak harmonic under speech or notes shows in their pauses (same
-    # Bonferroni count, _test_count, -50 dB of the strongest locked line by the same weighted mean)
+    # Bonferroni count, -50 dB of the strongest locked line by the same weighted mean)
     rest = [k for k in others if k not in out and k <= WEIGHTED_REACH * max(ks)]
     return sorted(out + _weighted_pass(fam, ks, rest, psi))
 
 
 def _weighted_pass(fam: _Family, ks, rest, psi, presence=None) -> list[int]:
     """The lines of ``rest`` that pass the weighted lock test (lock.weighted_locked, with the
-    ``presence`` factor where given) against ``psi``: Bonferroni over :func:`_test_count` and at least
+    ``presence`` factor where given) against ``psi``: Bonferroni over ``fam.n_tests`` and at least
     -50 dB of the strongest locked line of ``ks`` by the same weighted mean."""
     if not rest:
         return []
@@ -772,26 +770,7 @@ def _weighted_pass(fam: _Family, ks, rest, psi, presence=None) -> list[int]:
         fam.winfo.update({k: v[0] for k, v in w_inf.items()})
     top = max(ks, key=lambda k: fam.info.get(k, (1.0, 0.0, 0.0))[2])
     top_w = _weighted_info(fam, [top], psi, presence)[top][1]
-    return [int(k) for k in rest
-            if w_inf[k][0] * _test_count(fam, ks, k) < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
-
-
-def _test_count(fam: _Family, ks, k: int) -> int:
-    """The Bonferroni count a new line ``k`` of a comb locked on ``ks`` is tested with: 1 (its own
-    level) for harmonics 1-``LOWEST_K`` once the comb holds a locked line there, as the
-    leave-one-out weighted test does, else ``fam.n_tests``. Where the comb is hum, its lowest
-    harmonics are hum for sure, whether or not the spectrum showed them: a fundamental 20 dB under
-    the second harmonic, hidden by pink noise's low-frequency floor, was locked (p = 5e-4, lock
-    index 0.8 over 10 s) yet failed the count of 117 lines and was left whole. A comb locked only
-    above ``LOWEST_K`` keeps the full count, so a low line cannot rescue it from settle's rule.
-
-    Examples
-    --------
-    >>> fam = _Family(D=None, W=None, cand=[], sr=1, N=1, f_ref=60.0, hop=1, alpha=1e-3, n_tests=117)
-    >>> _test_count(fam, [2, 3, 4], 1), _test_count(fam, [2, 3, 4], 9), _test_count(fam, [7, 14], 1)
-    (1, 117, 117)
-    """
-    return 1 if k <= LOWEST_K and min(ks) <= LOWEST_K else fam.n_tests
+    return [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
 
 
 def _weighted_rest(fam: _Family, ks, psi) -> None:
