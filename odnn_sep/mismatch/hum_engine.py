@@ -172,13 +172,8 @@ def explain_on_audio_engine(model, t, y, options):
         opts["effects"] = [e for e in BAND_EFFECTS if e != "channel_coupling"]
     elif options.get("effects") is None:
         opts["effects"] = list(BAND_EFFECTS)
-    try:
-        from threadpoolctl import threadpool_limits  # present through scikit-learn
-    except ImportError:  # pragma: no cover
-        threadpool_limits = None
-    # many small solves on tall, thin matrices: BLAS threads only add contention here
-    with threadpool_limits(limits=1, user_api="blas") if threadpool_limits else _nothing():
-        res = explain(m, m.preset.times(), m.preset.data, aux=aux_bb or None, disturbance="none", **opts)
+    # explain() runs BLAS on one thread itself (mismatch/threads.py)
+    res = explain(m, m.preset.times(), m.preset.data, aux=aux_bb or None, disturbance="none", **opts)
     if str(options.get("disturbance", "auto")) == "slow":
         notes.append("--disturbance slow: the slow band lies outside the analysed bands (nothing to absorb)")
     res.notes[:0] = notes
@@ -260,11 +255,3 @@ def _aux_regressors(aux, t, sr, ks, mains, sigma, preset, rate):
         preset.coupling[name] = (stack(zb, sigma), hilbert_stack(zb, sigma))
         out[name] = preset.coupling[name][0]
     return out
-
-
-class _nothing:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        return False
