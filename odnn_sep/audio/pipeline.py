@@ -47,6 +47,7 @@ from odnn_sep.audio.blockplan import BlockPlan
 from odnn_sep.audio.lines import LineSet
 from odnn_sep.audio.options import DenoiseOptions, families_in_reach, progress_bar
 from odnn_sep.audio.result import DenoiseResult
+from odnn_sep.core.threads import one_blas_thread
 from odnn_sep.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -96,13 +97,8 @@ def run(source, sink, opts: DenoiseOptions, *, after_source_fn):
     # when the machine is busy), so run them single-threaded.
     # pass 2 sees every input sample: it counts the clipped ones on the way
     watch = _inputclip.ClipWatch(sink, _inputclip.full_scale(source))
-    try:
-        from threadpoolctl import threadpool_limits  # present through librosa -> scikit-learn
-    except ImportError:  # pragma: no cover
+    with one_blas_thread():
         res = _run_inner(source, watch, opts, after_source_fn)
-    else:
-        with threadpool_limits(limits=1, user_api="blas"):
-            res = _run_inner(source, watch, opts, after_source_fn)
     clipped = watch.message()
     if clipped:
         log.warning(clipped)

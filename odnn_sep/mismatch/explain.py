@@ -213,8 +213,8 @@ def explain(model, t, y, *, params=None, effects=None, disturbance="auto", aux=N
     ('quadratic_drag', 0.02)
     """
     options = {k: v for k, v in locals().items() if k not in ("model", "t", "y")}
-    from odnn_sep.mismatch.threads import one_blas_thread
-    with one_blas_thread():     # many small solves: BLAS threads only add contention (threads.py)
+    from odnn_sep.core.threads import one_blas_thread
+    with one_blas_thread():     # many small solves: BLAS threads only add contention (core/threads.py)
         return _explain(model, t, y, **options)
 
 

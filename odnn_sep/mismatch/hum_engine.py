@@ -172,7 +172,7 @@ def explain_on_audio_engine(model, t, y, options):
         opts["effects"] = [e for e in BAND_EFFECTS if e != "channel_coupling"]
     elif options.get("effects") is None:
         opts["effects"] = list(BAND_EFFECTS)
-    # explain() runs BLAS on one thread itself (mismatch/threads.py)
+    # explain() runs BLAS on one thread itself (core/threads.py)
     res = explain(m, m.preset.times(), m.preset.data, aux=aux_bb or None, disturbance="none", **opts)
     if str(options.get("disturbance", "auto")) == "slow":
         notes.append("--disturbance slow: the slow band lies outside the analysed bands (nothing to absorb)")

@@ -1,10 +1,10 @@
-"""One BLAS thread while the mismatch finder runs.
+"""One BLAS thread for the engines that solve many small problems.
 
-Its fits solve many small least-squares problems on tall, thin matrices (a Jacobian of a few
+The mismatch finder's fits solve many small least-squares problems on tall, thin matrices (a Jacobian of a few
 thousand rows and a few dozen columns, hundreds of times). BLAS threads only add spin-wait overhead
 there, and on a busy machine they collapse: a 4000-sample hum record with 10 harmonics took 68 s of
-CPU with two BLAS threads on two loaded cores and 5 s with one. The audio engine runs its solves
-single-threaded for the same reason.
+CPU with two BLAS threads on two loaded cores and 5 s with one. The audio engine's
+per-block solves are of the same kind.
 """
 from __future__ import annotations
 
