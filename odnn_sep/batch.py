@@ -23,6 +23,9 @@ TARGETS = {
     "denoise": ("-o", None, "*.wav,*.flac,*.ogg,*.oga,*.aif,*.aiff,*.mp3,*.w64,*.caf"),
     "unwatermark": ("-o", None, "*.png,*.jpg,*.jpeg,*.tif,*.tiff,*.webp,*.bmp"),
     "mismatch": ("--report", ".json", "*.csv,*.wav,*.flac,*.npz"),
+    # separate's result is its parameters and intervals: the report is the output; -o parts CSVs
+    # and --plot figures after -- are written per file beside it (batch_options.py)
+    "separate": ("--report", ".json", "*.csv,*.npz"),
 }
 
 
@@ -83,8 +86,10 @@ def register(sub) -> None:
     p = sub.add_parser(
         "batch",
         help="process every file of a folder with one command (locally or on Dask)",
-        description="Run denoise, unwatermark or mismatch on each matching file of IN_DIR, writing to OUT_DIR. "
-        "Options after -- are passed to the command, e.g.: odnn-sep batch denoise in/ -o out/ -- --mains 50. "
+        description="Run denoise, unwatermark, mismatch or separate on each matching file of IN_DIR, writing to OUT_DIR "
+        "(mismatch and separate: one JSON report per file). Options after -- are passed to the command, e.g.: "
+        "odnn-sep batch denoise in/ -o out/ -- --mains 50, or odnn-sep batch separate in/ -o out/ -- --basis "
+        "'sin(5*x)' --disturbance even. "
         "Patterns are case-insensitive; hidden files are skipped.",
     )
     p.add_argument("target", choices=sorted(TARGETS), help="the command to run on each file")
@@ -107,7 +112,8 @@ def process_one(target: str, src: str, dst: str, extra: list[str]) -> dict:
     Parameters
     ----------
     target : str
-        The command, a key of :data:`TARGETS` (``"denoise"``, ``"unwatermark"``, ``"mismatch"``).
+        The command, a key of :data:`TARGETS` (``"denoise"``, ``"unwatermark"``, ``"mismatch"``,
+        ``"separate"``).
     src, dst : str
         Input file and its output path.
     extra : list of str

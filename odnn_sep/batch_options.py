@@ -12,7 +12,8 @@ from __future__ import annotations
 from pathlib import Path
 
 # option destinations that name a file the command writes
-_SIDE = {"plot": ("plot", ".png"), "report": ("report", ".json")}
+# (separate's -o is its parts CSV: a side output there, since its report is the batch's output)
+_SIDE = {"plot": ("plot", ".png"), "report": ("report", ".json"), "output": ("parts", ".csv")}
 
 
 def _command_options(target: str) -> dict:
@@ -46,13 +47,14 @@ def per_file_options(target: str, extra: list[str], dsts, *, own_output: str) ->
     Parameters
     ----------
     target : str
-        ``"denoise"``, ``"unwatermark"`` or ``"mismatch"``.
+        ``"denoise"``, ``"unwatermark"``, ``"mismatch"`` or ``"separate"``.
     extra : list of str
         The options after ``--``.
     dsts : list of pathlib.Path
         Each file's output (planned by :func:`odnn_sep.batch.plan_outputs`).
     own_output : str
-        The option the batch gives each file its output with (``"-o"``, or ``"--report"`` for mismatch).
+        The option the batch gives each file its output with (``"-o"``, or ``"--report"`` for mismatch and
+        separate).
 
     Returns
     -------
@@ -73,6 +75,10 @@ def per_file_options(target: str, extra: list[str], dsts, *, own_output: str) ->
     ...                               [Path("out/a.json"), Path("out/b.csv.json")], own_output="--report")
     >>> opts[1], [str(p) for p in side]
     (['--model', 'cooling', '--plot', 'out/b.csv.plot.png'], ['out/a.plot.png', 'out/b.csv.plot.png'])
+    >>> opts, side = per_file_options("separate", ["--basis", "x", "-o", "parts.csv"], [Path("out/a.json")],
+    ...                               own_output="--report")
+    >>> opts[0]
+    ['--basis', 'x', '--output', 'out/a.parts.csv']
     >>> per_file_options("denoise", ["-o", "clean.wav"], [Path("out/a.wav")], own_output="-o")
     Traceback (most recent call last):
     ...
@@ -102,14 +108,14 @@ def per_file_options(target: str, extra: list[str], dsts, *, own_output: str) ->
             given = f"{token} {value}"
             k += 1
         k += 1
-        if act is own or act.dest == "output":
+        if act is own or (act.dest == "output" and own.dest == "output"):
             raise InputError(f"{given!r} after -- would send every file's output to one path; batch writes each "
                              "file's output to OUT_DIR itself: remove it")
         kind, default = _SIDE[act.dest]
         side_opts.append((act.option_strings[-1], kind, Path(value).suffix or default))
     options, side = [], []
     for d in dsts:
-        base = d.with_suffix("") if own_output == "--report" else d    # mismatch: d is the batch's own .json
+        base = d.with_suffix("") if own_output == "--report" else d    # mismatch, separate: d is the own .json
         mine = list(plain)
         for opt, kind, ext in side_opts:
             path = base.parent / f"{base.name}.{kind}{ext}"

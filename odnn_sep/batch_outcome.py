@@ -10,6 +10,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+#: Parameters of a ``separate`` fit written into the batch summary's one-line outcome (the report has all).
+_SHOWN_PARAMETERS = 4
+
 
 def outcome(target: str, report_path) -> dict:
     """``{"outcome": str, "warnings": [str]}`` from a command's report (empty when it cannot be read).
@@ -17,7 +20,7 @@ def outcome(target: str, report_path) -> dict:
     Parameters
     ----------
     target : str
-        ``"denoise"``, ``"unwatermark"`` or ``"mismatch"``.
+        ``"denoise"``, ``"unwatermark"``, ``"mismatch"`` or ``"separate"``.
     report_path : path-like
         The command's JSON report.
 
@@ -43,10 +46,33 @@ def outcome(target: str, report_path) -> dict:
         return _denoise(d)
     if target == "unwatermark":
         return {"outcome": str(d.get("outcome", "")), "warnings": []}
+    if target == "separate":
+        return _separate(d)
     v = d.get("verdict") or {}
     effects = v.get("effects") or []
     text = ("missing: " + ", ".join(e.get("effect", "?") for e in effects)) if effects else str(v.get("description", ""))
     return {"outcome": text, "warnings": list(v.get("warnings") or [])}
+
+
+def _separate(d: dict) -> dict:
+    """The fitted parameters with their intervals (the first few), and the command's warnings.
+
+    Examples
+    --------
+    >>> _separate({"parameters": {"a": {"value": 2.0, "interval": [1.9, 2.1]}, "b": {"value": 0.5,
+    ...            "interval": None}}, "identified": "point", "warnings": ["w"]})
+    {'outcome': 'fitted: a = 2 [1.9, 2.1], b = 0.5 (no interval)', 'warnings': ['w']}
+    """
+    params = d.get("parameters") or {}
+    shown = []
+    for name, p in list(params.items())[:_SHOWN_PARAMETERS]:
+        iv = p.get("interval")
+        band = f" [{iv[0]:.4g}, {iv[1]:.4g}]" if iv else " (no interval)"
+        shown.append(f"{name} = {p.get('value', float('nan')):.4g}{band}")
+    more = f", and {len(params) - _SHOWN_PARAMETERS} more" if len(params) > _SHOWN_PARAMETERS else ""
+    # convex and monotone classes give identified sets, not confidence intervals (core/cone.py)
+    kind = "" if d.get("identified", "point") == "point" else " (intervals are identified sets)"
+    return {"outcome": "fitted: " + ", ".join(shown) + more + kind, "warnings": list(d.get("warnings") or [])}
 
 
 def _denoise(d: dict) -> dict:
