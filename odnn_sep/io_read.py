@@ -470,7 +470,7 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
     odnn_sep.errors.FormatError
         For a damaged archive, a missing or non-numeric array.
     odnn_sep.errors.InputError
-        For arrays beyond the limits.
+        For arrays beyond the limits, or a boolean array.
 
     Examples
     --------
@@ -511,7 +511,14 @@ def load_npz_arrays(path, keys=("x", "y", "z"), *, max_points=None) -> dict:
                           f"found {sorted(headers)}")
     for k in keys:
         shape, dtype = headers[k]
-        if dtype.kind not in "iufb":
+        if dtype.kind == "b":
+            # True/False were read as 1/0 without a word: a mask saved in place of the data fitted a
+            # step, a boolean axis put every point at 0 or 1
+            what = "coordinates" if k in ("x", "y", "t") else "values"
+            raise InputError(f"array {k!r} in {str(p)!r} holds True/False, not numbers (a mask saved in place of the "
+                             f"{what}?); save the measured {what}, or {k}.astype(float) if 0 and 1 are what was "
+                             "measured")
+        if dtype.kind not in "iuf":
             raise FormatError(f"array {k!r} in {str(p)!r} holds {dtype} values; it must be numeric")
         n = int(np.prod(shape, dtype=np.float64))
         if max_points is not None:

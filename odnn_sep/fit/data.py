@@ -30,8 +30,7 @@ MAX_COMMENT_LINES = 50
 
 def _load_field(p: Path, value_name: list | None):
     """The NPZ branch of :func:`load_signal`: grid axes x, y and the field z (ny, nx), flattened."""
-    d = load_npz_arrays(p, max_points=True)
-    _refuse_booleans(p)
+    d = load_npz_arrays(p, max_points=True)     # boolean arrays refused there
     x, y, z = _grid_axes(d["x"], d["y"], d["z"], p)
     if x.ndim != 1 or y.ndim != 1 or z.shape != (y.size, x.size):
         raise InputError(f"z has shape {z.shape} but len(y) x len(x) is {(y.size, x.size)}; they must match "
@@ -44,23 +43,6 @@ def _load_field(p: Path, value_name: list | None):
     if value_name is not None:
         value_name.append("z")
     return np.c_[X.ravel(), Y.ravel()], z.ravel(), ("x", "y"), z.shape
-
-
-def _refuse_booleans(p: Path) -> None:
-    """InputError when x, y or z of the .npz is boolean: True/False were read as 1/0 without a word (a mask
-    saved in place of the data fitted a step; a boolean axis put every point at 0 or 1)."""
-    import zipfile
-
-    with zipfile.ZipFile(p) as zf:
-        for k in ("z", "x", "y"):
-            with zf.open(f"{k}.npy") as fh:
-                version = np.lib.format.read_magic(fh)
-                read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-                if read(fh)[2].kind == "b":
-                    what = "values" if k == "z" else "coordinates"
-                    raise InputError(f"array {k!r} in {str(p)!r} holds True/False, not numbers (a mask saved in place "
-                                     f"of the {what}?); save the measured {what}, or {k}.astype(float) if 0 and 1 "
-                                     "are what was measured")
 
 
 def _grid_axes(x, y, z, p):
