@@ -61,9 +61,25 @@ def _parse(expr: str) -> ast.Expression:
         _fail(expr, f"is nested too deeply or too large; the limit is {MAX_DEPTH} levels")
 
 
+def coordinate_names(coords) -> tuple:
+    """The names an expression may use for the coordinates: ``coords``, and ``x`` for a 1-D record's
+    coordinate named otherwise by its header.
+
+    The help and examples write the coordinate as x; a CSV whose first column is headed ``length``
+    refused ``sqrt(x)`` (the message named ``length``), so both names are taken.
+
+    Examples
+    --------
+    >>> coordinate_names(("length",)), coordinate_names(("x",)), coordinate_names(("x", "y"))
+    (('length', 'x'), ('x',), ('x', 'y'))
+    """
+    coords = tuple(coords)
+    return coords + ("x",) if len(coords) == 1 and coords[0] != "x" else coords
+
+
 def _check_tree(expr: str, tree: ast.Expression, coords) -> None:
     """Walk the tree without recursion: size, depth, and only the allowed constructs."""
-    allowed = set(coords) | set(FUNCS) | set(CONSTS)
+    allowed = set(coordinate_names(coords)) | set(FUNCS) | set(CONSTS)
     stack = [(tree.body, 1)]
     count = 0
     while stack:
@@ -126,7 +142,7 @@ def _check_name(expr: str, name: str, allowed: set, coords) -> None:
     if name not in allowed:
         hint = difflib.get_close_matches(name, sorted(allowed), n=1)
         extra = f" (did you mean {hint[0]!r}?)" if hint else ""
-        _fail(expr, f"uses unknown name {name!r}{extra}; allowed: coordinates {list(coords)}, "
+        _fail(expr, f"uses unknown name {name!r}{extra}; allowed: coordinates {list(coordinate_names(coords))}, "
               f"functions {sorted(FUNCS)}, constants pi, e")
 
 
@@ -220,7 +236,7 @@ class _Expression:
         X = np.asarray(X, dtype=float)
         env = dict(FUNCS, **CONSTS)
         if X.ndim == 1:
-            env[coords[0]] = X
+            env.update(dict.fromkeys(coordinate_names(coords[:1]), X))
         else:
             env.update({c: X[:, i] for i, c in enumerate(coords)})
         with np.errstate(all="ignore"):
