@@ -15,7 +15,7 @@ import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
 from odnn_sep.mismatch.effects import effect_param_names
-from odnn_sep.mismatch.fitting import cross_validate, fit
+from odnn_sep.mismatch.fitting import cross_validate, exact_key, finish_fit, point_fit
 from odnn_sep.mismatch.presets import ModelIntegrationError
 
 log = logging.getLogger(__name__)
@@ -140,10 +140,10 @@ def with_data_bounds(m, t, slow_hz=0.0):
     return replace(m, bounds=b)
 
 
-def _quiet_fit(model, t, y, start, G, max_nfev):
+def _quiet_finish(model, t, y, pt, G, max_nfev):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ConvergenceWarning)
-        return fit(model, t, y, start=start, G=G, max_nfev=max_nfev)
+        return finish_fit(model, t, y, pt, G=G, max_nfev=max_nfev)
 
 
 def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
@@ -192,25 +192,32 @@ def refit_robust(name, model, starts, cur, t, y, G, *, max_nfev=150):
             if not starts:
                 return None, "no instant inside the record to place the step at"
             base_start["t_step"] = starts[0]["t_step"]
-    best, errors = None, []
+    # each start needs only its point estimate; the spread and the identifiability profiles (refits
+    # of their own) are computed for the best one alone: the same Fit as fitting every start in full
+    best, errors, tried = None, [], set()
     for s in list(starts) + [base_start]:
+        key = exact_key({**model.start, **s})
+        if key is not None and key in tried:
+            continue   # the same start fits the same way (a start rule that found nothing gives the base's)
+        tried.add(key)
         try:
-            f = _quiet_fit(model, t, y, {**model.start, **s}, G, max_nfev)
+            f = (point_fit(model, t, y, start={**model.start, **s}, G=G, max_nfev=max_nfev), max_nfev)
         except ModelIntegrationError as exc:
             errors.append(str(exc))
             continue
-        if best is None or f.rss < best.rss:
+        if best is None or f[0].rss < best[0].rss:
             best = f
-    if best is None or best.rss > cur.rss * (1 + 1e-6):
+    if best is None or best[0].rss > cur.rss * (1 + 1e-6):
         # worse than the model it extends (which it contains): a failed fit; retry from that model
         try:
-            f = _quiet_fit(model, t, y, base_start, G, 4 * max_nfev)
-            if best is None or f.rss < best.rss:
+            f = (point_fit(model, t, y, start=base_start, G=G, max_nfev=4 * max_nfev), 4 * max_nfev)
+            if best is None or f[0].rss < best[0].rss:
                 best = f
         except ModelIntegrationError as exc:
             errors.append(str(exc))
     if best is None:
         return None, "the model could not be evaluated from any start" + (f" ({errors[0]})" if errors else "")
+    best = _quiet_finish(model, t, y, best[0], G, best[1])
     if _worse_than_penalty(best, cur):
         return None, (f"refit ended worse than the model without it (RSS {best.rss:.4g} > {cur.rss:.4g}) "
                       f"after a retry")

@@ -251,8 +251,163 @@ def disturbance_projector(G, rows=None):
     return Projector(G if rows is None else G[rows], **_BASIS_RULE)
 
 
-def _optimise(model, t, y, idx, P, p0, max_nfev):
-    """Bounded least squares of the free parameters from ``p0``: (parameters, Jacobian, converged)."""
+class PredictionMemo:
+    """Predictions of one model on one set of times, kept by their exact parameter values.
+
+    A model's prediction is a deterministic function of its parameters: serving a repeated one
+    from here gives bit-for-bit the result of predicting it again, without integrating an ODE
+    twice. Parameters are matched exactly (the bits of every float, and its type); a failed
+    prediction is not kept (it fails again, with its own error). Copies are handed out, so a
+    caller that changes its array cannot change what others are served. At most ``max_bytes`` are
+    kept; beyond that, predictions are made and not kept.
+
+    A built-in preset's own part (its equations with their native effects) does not read the
+    parameters of the generic effects added on top of it (a pickup's amplitude and frequency, an
+    offset, a step, a modulation): that part is kept too, by the other parameters, so the
+    Jacobian columns of those parameters, and every trial point that changes only them, apply the
+    effect to the kept integration. (Not for a time delay, which moves the times the equations are
+    solved at, nor for user models or wrapped presets, whose functions may read any parameter.)
+
+    Parameters
+    ----------
+    model : Model
+        The model (its ``predict``).
+    t : ndarray
+        The times every prediction is made at (the memo belongs to them).
+    max_bytes : int, optional
+        Memory kept at most.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> m = make_model("oscillator").with_effect("cubic_stiffness")
+    >>> t = np.linspace(0, 5, 50); memo = PredictionMemo(m, t)
+    >>> p = {**m.start, "beta": 0.1}
+    >>> a = memo.predict(t, p); b = memo.predict(t, dict(p))
+    >>> bool(np.array_equal(a, m.predict(t, p))), bool(np.array_equal(a, b)), memo.hits, memo.misses
+    (True, True, 1, 1)
+    >>> _ = memo.predict(t, {**p, "beta": float(np.nextafter(0.1, 1.0))})   # the next float: predicted anew
+    >>> memo.hits, memo.misses
+    (1, 2)
+    """
+
+    def __init__(self, model, t, max_bytes=64_000_000):
+        self.model, self.t = model, t
+        self.max_bytes = max_bytes
+        self._kept: dict = {}
+        self._inner: dict = {}
+        self._bytes = 0
+        self.hits = self.misses = self.inner_hits = 0
+        self._unread = generic_only_names(model)
+
+    def predict(self, t, p):
+        """``model.predict(t, p)``, served from the memo when these exact parameters were predicted."""
+        key = exact_key(p) if t is self.t else None
+        if key is None:
+            return self.model.predict(t, p)
+        kept = self._kept.get(key)
+        if kept is not None:
+            self.hits += 1
+            return kept.copy()
+        if self._unread:
+            out = self.model.predict_through(t, p, self._through_kept)
+        else:
+            out = self.model.predict(t, p)
+        self.misses += 1
+        self._keep(self._kept, key, out)
+        return out
+
+    def _keep(self, store, key, out):
+        if self._bytes + out.nbytes <= self.max_bytes:
+            store[key] = out.copy()
+            self._bytes += out.nbytes
+
+    def _through_kept(self, inner):
+        def served(tt, pp):
+            key = exact_key({k: v for k, v in pp.items() if k not in self._unread}) if tt is self.t else None
+            if key is None:
+                return inner(tt, pp)
+            kept = self._inner.get(key)
+            if kept is not None:
+                self.inner_hits += 1
+                return kept.copy()
+            out = np.asarray(inner(tt, pp), dtype=float)
+            self._keep(self._inner, key, out)
+            return out
+        return served
+
+
+def generic_only_names(model):
+    """Parameters of ``model`` that only its generic effects read, so its own part never does; None
+    where that is not known (a user model, a wrapped or engine preset, a time delay, no generic effect).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    frozenset or None
+
+    Examples
+    --------
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> sorted(generic_only_names(make_model("oscillator").with_effect("periodic_pickup")))
+    ['a_pk', 'b_pk', 'omega_pk']
+    >>> generic_only_names(make_model("oscillator").with_effect("periodic_forcing")) is None   # in its equations
+    True
+    """
+    from odnn_sep.mismatch.presets import PRESETS
+    pre = model.preset
+    if pre is None or type(pre) not in {type(x) for x in PRESETS.values()} or model.builder != pre.build:
+        return None
+    generic = [e for e in model.effects if e not in model.native]
+    if not generic or "time_delay" in generic:
+        return None
+    names = set().union(*(EFFECTS[e].params for e in generic)) - set(pre.params)
+    return frozenset(names) or None
+
+
+def exact_key(p):
+    """A key equal for parameter dicts with the same names (in order), value types and value bits.
+
+    None when a value is neither a string nor a real number (such parameters are not matched).
+
+    Parameters
+    ----------
+    p : dict
+        Parameters.
+
+    Returns
+    -------
+    tuple or None
+
+    Examples
+    --------
+    >>> exact_key({"k": 4.0, "n": 2}) == exact_key({"k": 4.0, "n": 2}), exact_key({"k": 4.0}) == exact_key({"k": 4})
+    (True, False)
+    >>> exact_key({"k": 0.1}) == exact_key({"k": 0.1 + 2e-17}), exact_key({"k": [1.0]})
+    (False, None)
+    """
+    items = []
+    for k, v in p.items():
+        if isinstance(v, str):
+            items.append((k, "str", v))
+        elif isinstance(v, (float, int, np.floating, np.integer)) and not isinstance(v, (bool, np.bool_)):
+            items.append((k, type(v).__name__, repr(int(v)) if isinstance(v, (int, np.integer)) else float(v).hex()))
+        else:
+            return None
+    return tuple(items)
+
+
+def _optimise(model, t, y, idx, P, p0, max_nfev, memo=None):
+    """Bounded least squares of the free parameters from ``p0``: (parameters, Jacobian, converged).
+
+    ``memo`` (a :class:`PredictionMemo` of this model and ``t``) serves predictions already made.
+    """
+    predict = model.predict if memo is None else memo.predict
     free = model.free
     yy = y[idx]
     lo = np.array([model.bounds.get(k, (-np.inf, np.inf))[0] for k in free], float)
@@ -264,12 +419,12 @@ def _optimise(model, t, y, idx, P, p0, max_nfev):
         p.update(zip(free, (float(v) for v in x), strict=True))
         return p
 
-    pred0 = model.predict(t, unpack(x0))  # raises a clear error if the start itself fails
+    pred0 = predict(t, unpack(x0))  # raises a clear error if the start itself fails
     big = 1e3 * (np.abs(yy).max() + np.abs(pred0[idx]).max() + 1.0)
 
     def resid(x):
         try:
-            r = yy - model.predict(t, unpack(x))[idx]
+            r = yy - predict(t, unpack(x))[idx]
         except ModelIntegrationError:
             return np.full(len(yy), big)
         if P is not None:
@@ -326,11 +481,84 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     >>> round(f.params["g"], 6), f.n_eff, f.converged
     (9.8, 30, True)
     """
-    free = model.free
     pt = _point_fit(model, t, y, start, G, rows, max_nfev)
+    f = finish_fit(model, t, y, pt, G=G, rows=rows, max_nfev=max_nfev)
+    if not pt.converged and warn:
+        warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
+                      f"{max_nfev} evaluations before converging; treat its numbers with care",
+                      ConvergenceWarning, stacklevel=2)
+    return f
+
+
+def point_fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300):
+    """The least-squares point estimate of :func:`fit`, without its spread; ``.rss`` as :attr:`Fit.rss`.
+
+    Choosing among several starts needs only each start's sum of squares: the standard errors and
+    the identifiability profiles (refits of their own) are computed for the chosen one alone with
+    :func:`finish_fit`, which gives exactly the :class:`Fit` that :func:`fit` gives from that start.
+
+    Parameters
+    ----------
+    model : Model
+        The model; its free parameters are fitted.
+    t, y : ndarray
+        Sample times and samples.
+    start : dict, optional
+        Starting values (default: ``model.start``).
+    G : ndarray, optional
+        Disturbance columns, projected out of the residual.
+    rows : array_like of int, optional
+        Samples to fit (default: all).
+    max_nfev : int, optional
+        Most model evaluations.
+
+    Returns
+    -------
+    _PointFit
+        Parameters, Jacobian, prediction, disturbance, residual and ``rss``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 + 0.01 * np.cos(40 * t)
+    >>> m = make_model("freefall")
+    >>> pt = point_fit(m, t, y)
+    >>> f = finish_fit(m, t, y, pt)
+    >>> f.rss == pt.rss == fit(m, t, y).rss, f.stderr == fit(m, t, y).stderr
+    (True, True)
+    """
+    return _point_fit(model, t, y, start, G, rows, max_nfev)
+
+
+def finish_fit(model, t, y, pt, *, G=None, rows=None, max_nfev=300) -> Fit:
+    """The :class:`Fit` of a :func:`point_fit` result: robust standard errors and identifiability.
+
+    ``G``, ``rows`` and ``max_nfev`` must be those of the point fit (the identifiability profiles
+    refit with them). See :func:`point_fit` for an example.
+
+    Parameters
+    ----------
+    model : Model
+        The fitted model.
+    t, y : ndarray
+        Sample times and samples.
+    pt : _PointFit
+        From :func:`point_fit`.
+    G : ndarray, optional
+        Disturbance columns.
+    rows : array_like of int, optional
+        Samples fitted.
+    max_nfev : int, optional
+        Most model evaluations of a profile refit.
+
+    Returns
+    -------
+    Fit
+    """
+    free = model.free
     idx, r = pt.idx, pt.residual
-    floor2 = resolution(np.asarray(y)[idx]) ** 2
-    rss = float(np.sum(r[idx] ** 2)) + len(idx) * floor2
+    floor2, rss = pt.floor2, pt.rss
     n_eff = len(idx) - pt.rank
     stderr, interval_dof = {}, np.inf
     if free:
@@ -341,10 +569,6 @@ def fit(model, t, y, *, start=None, G=None, rows=None, max_nfev=300, warn=True) 
     for group in unidentified:
         # the pseudo-inverse dropped this direction and left its members tight errors: they have none
         stderr.update({k: float("inf") for k in group["parameters"]})
-    if not pt.converged and warn:
-        warnings.warn(f"calibration of {model.name!r} with effects {list(model.effects)} stopped after "
-                      f"{max_nfev} evaluations before converging; treat its numbers with care",
-                      ConvergenceWarning, stacklevel=2)
     return Fit(model, pt.params, free, stderr, rss, n_eff, pt.prediction, pt.disturbance, r, pt.converged,
                interval_dof, floor2, unidentified)
 
@@ -375,20 +599,31 @@ class _PointFit:
     residual: np.ndarray
     idx: np.ndarray
     rank: int
+    floor2: float = 0.0   # as Fit.floor2
+    rss: float = np.nan   # as Fit.rss: the fitted rows' sum of squares plus their resolution floor
 
 
-def _point_fit(model, t, y, start, G, rows, max_nfev):
-    """Optimise (again from the canonical labelling when there is one); disturbance and residual at the optimum."""
+def _point_fit(model, t, y, start, G, rows, max_nfev, memo=None):
+    """Optimise (again from the canonical labelling when there is one); disturbance and residual at the optimum.
+
+    The start, its first Jacobian and the optimum are usually predictions made before (the same
+    start for every fold of a cross-validation; the optimum as a trial point): ``memo`` serves them
+    (a new one when not given).
+    """
+    memo = PredictionMemo(model, t) if memo is None else memo
     idx = np.arange(len(y)) if rows is None else np.asarray(rows)
     P = disturbance_projector(G, idx)
-    p, J, converged = _optimise(model, t, y, idx, P, dict(model.start if start is None else start), max_nfev)
+    p, J, converged = _optimise(model, t, y, idx, P, dict(model.start if start is None else start), max_nfev, memo)
     relabelled = model.canonical(p)
     if relabelled is not None:
-        p, J, converged = _optimise(model, t, y, idx, P, relabelled, max_nfev)
-    pred = model.predict(t, p)
+        p, J, converged = _optimise(model, t, y, idx, P, relabelled, max_nfev, memo)
+    pred = memo.predict(t, p)
     r_all = y - pred
     dist = G @ solve(G[idx], r_all[idx], method="lstsq") if P is not None else np.zeros_like(y)
-    return _PointFit(p, J, converged, pred, dist, r_all - dist, idx, 0 if P is None else P.rank)
+    r = r_all - dist
+    floor2 = resolution(np.asarray(y)[idx]) ** 2
+    rss = float(np.sum(r[idx] ** 2)) + len(idx) * floor2
+    return _PointFit(p, J, converged, pred, dist, r, idx, 0 if P is None else P.rank, floor2, rss)
 
 
 def t_over_normal(dof, level=0.95):
@@ -497,13 +732,14 @@ def cross_validate(model, t, y, start, *, G=None, block_id, folds=4, max_nfev=30
     """
     n_blocks = int(block_id.max()) + 1
     mse = np.full(n_blocks, np.nan)
+    memo = PredictionMemo(model, t)   # every fold starts at ``start``: its prediction and first Jacobian are shared
     for f in range(folds):
         test_blocks = [b for b in range(f, n_blocks, folds) if 0 < b < n_blocks - 1]
         if not test_blocks:
             continue
         test = np.isin(block_id, test_blocks)
         train = np.flatnonzero(~test)
-        fr = _point_fit(model, t, y, start, G, train, max_nfev)
+        fr = _point_fit(model, t, y, start, G, train, max_nfev, memo)
         err = y - fr.prediction - fr.disturbance
         for b in test_blocks:
             mse[b] = float(np.mean(err[block_id == b] ** 2))

@@ -108,11 +108,46 @@ class Model:
         >>> m.predict(np.array([0.0, 10.0])).round(3).tolist()
         [90.0, 45.752]
         """
+        return self.predict_through(t, p, None)
+
+    def predict_through(self, t, p, wrap_inner):
+        """:meth:`predict`, with the model's own part (before its generic effects) passed through ``wrap_inner``.
+
+        ``wrap_inner(inner) -> callable`` receives ``inner(t, p)``, the preset or user function with
+        its native effects, and returns what the generic effects (offset, pickups, ...) are applied
+        to; None applies them to ``inner`` itself. A caller that keeps ``inner``'s results can serve
+        a change of a generic effect's parameter without integrating the model again.
+
+        Parameters
+        ----------
+        t : ndarray
+            Sample times (or (n, 2) coordinates).
+        p : dict or None
+            Parameters (None: ``self.start``).
+        wrap_inner : callable or None
+            See above.
+
+        Returns
+        -------
+        ndarray, shape (len(t),)
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> m = make_model("freefall").with_effect("offset")
+        >>> seen = []
+        >>> def watch(inner):
+        ...     return lambda t, p: seen.append(1) or inner(t, p)
+        >>> t = np.array([0.0, 0.5])
+        >>> bool(np.array_equal(m.predict_through(t, None, watch), m.predict(t))), len(seen)
+        (True, 1)
+        """
         p = dict(self.start if p is None else p)
         t = np.asarray(t, dtype=float)
         t0 = float(t[0]) if t.ndim == 1 else 0.0
         generic = [e for e in self.effects if e not in self.native]
-        fn = apply_generic(generic, self.builder(self.effects), t0=t0)
+        inner = self.builder(self.effects)
+        fn = apply_generic(generic, inner if wrap_inner is None else wrap_inner(inner), t0=t0)
         out = np.asarray(fn(t, p), dtype=float)
         if out.shape != (len(t),):
             raise InputError(f"model {self.name!r} returned shape {out.shape}; expected ({len(t)},) to match t")
