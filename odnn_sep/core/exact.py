@@ -155,23 +155,27 @@ def fit_cone_class(problem: Problem) -> dict:
         )
     if c["noise_dof"] <= MIN_CONE_NOISE_DOF:
         exact = c["rss_min"] <= 1e-20 * max(float(problem.y @ problem.y), 1e-300)
-        warnings.warn(few_noise_dof_message(dist.describe(), problem.y.size, c["active"], c["noise_dof"], exact),
+        warnings.warn(few_noise_dof_message(dist.describe(), problem.y.size, c["active"], c["noise_dof"], exact,
+                                            from_differences=c["noise_from"] == "differences"),
                       IdentifiabilityWarning, stacklevel=5)
     return {"theta": c["theta_mid"], "stderr": width / (2 * Z95), "interval": c["interval"],
             "disturbance": c["g"],
             "diagnostics": {"theta_least_squares": c["theta_ls"].tolist(), "rss_min": c["rss_min"],
-                            "sigma": float(np.sqrt(c["sigma2"])), "active_cone_generators": c["active"],
+                            "sigma": float(np.sqrt(c["sigma2"])), "sigma_from": c["noise_from"],
+                            "active_cone_generators": c["active"],
                             "cone_generators": c["generators"], "exact_cone": c["exact_cone"],
                             "interval_relative_width": rel.tolist()}}
 
 
 #: Residual degrees of freedom of a cone fit at or below which its noise level is not trusted: on
 #: simulated convex/monotone records of 20-200 points the identified set held the truth in 77-84 % of
-#: fits with at most 2 left and 71-91 % with 3-5, against 82-100 % above.
+#: fits with at most 2 left and 71-91 % with 3-5, against 82-100 % above (noise from the residual
+#: alone; the difference-based floor of ``cone.fit_cone`` now takes over there, and the warning says so).
 MIN_CONE_NOISE_DOF = 5
 
 
-def few_noise_dof_message(desc: str, n: int, active: int, dof: int, exact: bool = False) -> str:
+def few_noise_dof_message(desc: str, n: int, active: int, dof: int, exact: bool = False, *,
+                          from_differences: bool = False) -> str:
     """The warning for a cone fit that leaves too few points to estimate the noise.
 
     Parameters
@@ -182,6 +186,9 @@ def few_noise_dof_message(desc: str, n: int, active: int, dof: int, exact: bool 
         Points, active cone generators and the residual degrees of freedom left.
     exact : bool, optional
         The fit's residual is at rounding level (noise-free data, or noise the class absorbed whole).
+    from_differences : bool, optional
+        The noise level was taken from the data's point-to-point differences (larger than what the
+        residual gave), so the set is not too narrow for that reason.
 
     Returns
     -------
@@ -192,10 +199,20 @@ def few_noise_dof_message(desc: str, n: int, active: int, dof: int, exact: bool 
     >>> few_noise_dof_message("convex", 20, 15, 2)[:74]
     'the convex fit uses 15 kinks or steps on 20 points and leaves 2 degree(s) '
     """
+    if exact and from_differences:
+        return (f"the data lie exactly in the {desc} class with the basis (residual at rounding level): the noise "
+                "level is taken from the differences between neighbouring points instead, which assumes the "
+                "disturbance changes little from one point to the next; if the data are noise-free, the exact "
+                "identified set is narrower than the one given")
     if exact:
         return (f"the data lie exactly in the {desc} class with the basis (residual at rounding level): the "
                 "identified set is exact if they are noise-free; if they hold noise, the class absorbed it "
                 f"({active} kinks or steps on {n} points) and the set is too narrow (it may miss the truth)")
+    if from_differences:
+        return (f"the {desc} fit uses {active} kinks or steps on {n} points and leaves {max(dof, 0)} degree(s) of "
+                "freedom to estimate the noise: the noise level is taken from the differences between neighbouring "
+                "points instead, which assumes the disturbance changes little from one point to the next (a "
+                "disturbance with jumps widens the set); use more points for a narrower set")
     return (f"the {desc} fit uses {active} kinks or steps on {n} points and leaves {max(dof, 0)} degree(s) of "
             "freedom to estimate the noise: unless the data are noise-free, the noise is underestimated and the "
             "identified set is too narrow (it may miss the truth); use more points")

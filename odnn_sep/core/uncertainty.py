@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike
 
 from odnn_sep.errors import InputError
 
-__all__ = ["Z95", "noise_variance", "stderr_from_cov", "standard_errors", "intervals"]
+__all__ = ["Z95", "noise_variance", "difference_noise_variance", "stderr_from_cov", "standard_errors", "intervals"]
 
 #: Two-sided 95 % standard-normal quantile, ``scipy.stats.norm.ppf(0.975)``.
 Z95 = 1.959963984540054
@@ -44,6 +44,48 @@ def noise_variance(resid: ArrayLike, dof: int, weights: ArrayLike | None = None)
     if weights is None:
         return float(r @ r / dof)
     return float((np.asarray(weights) * r * r).sum() / dof)
+
+
+def difference_noise_variance(x: ArrayLike, r: ArrayLike) -> float:
+    """Noise variance of ``r`` from its local curvature alone (Gasser, Sroka and Jennen-Steinmetz, 1986).
+
+    Each point is compared with the straight line through its two neighbours in x; a smooth trend
+    cancels, the noise does not. It needs no fitted model, so it cannot be fooled by a fit that absorbs
+    the noise (a monotone or convex class with many steps or kinks, whose residual sum of squares
+    underestimated the variance by half). Triples whose outer points share an x are skipped; NaN when
+    fewer than 3 triples remain.
+
+    Parameters
+    ----------
+    x : array_like
+        Coordinates, (n,), any order.
+    r : array_like
+        Values at ``x``, (n,): data, or data less a fitted part that is not smooth.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> x = np.linspace(0, 1, 4000)
+    >>> v = difference_noise_variance(x, np.exp(2 * x) + 0.1 * rng.standard_normal(x.size))
+    >>> round(float(np.sqrt(v)), 2)
+    0.1
+    """
+    x, r = np.asarray(x, dtype=float), np.asarray(r, dtype=float)
+    order = np.argsort(x, kind="stable")
+    x, r = x[order], r[order]
+    span = x[2:] - x[:-2]
+    ok = span > 0
+    if ok.sum() < 3:
+        return float("nan")
+    span = span[ok]
+    a = (x[2:][ok] - x[1:-1][ok]) / span
+    b = (x[1:-1][ok] - x[:-2][ok]) / span
+    e = a * r[:-2][ok] + b * r[2:][ok] - r[1:-1][ok]
+    return float(np.mean(e**2 / (a**2 + b**2 + 1.0)))
 
 
 def stderr_from_cov(cov_unscaled: ArrayLike, sigma2: float) -> np.ndarray:
