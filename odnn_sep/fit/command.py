@@ -38,6 +38,9 @@ def register(sub) -> None:
                    "(default: orthogonal)")
     p.add_argument("--column", help="value column of a CSV: a header name, or an index counted from 0 where 0 is "
                    "x (default 1, the second column); the same rule as mismatch")
+    p.add_argument("--x-column", metavar="COLUMN", help="coordinate column of a CSV, a header name or an index from "
+                   "0 (default: the first); --column then defaults to the first other column, and indices count "
+                   "the file's columns as they stand")
     p.add_argument("--solver", choices=["exact", "network"], default="exact",
                    help="exact projection (default, milliseconds) or the paper's constrained network (torch, the "
                         "'network' extra): 1500 Adam epochs plus L-BFGS, seconds for 1000 points on one "
@@ -111,7 +114,7 @@ def run(args) -> int:
     if args.seed < 0:
         raise InputError(f"--seed must be >= 0; got {args.seed}")
     value_name: list = []
-    x, y, coords, grid = load_signal(args.data, args.column, value_name=value_name)
+    x, y, coords, grid = load_signal(args.data, args.column, value_name=value_name, x_column=args.x_column)
     # a record pasted twice: refused; copies spread out: a warning (see copied_rows)
     copies = copied_rows(args.data, x, y) if grid is None else None
     basis = basis_from_expressions(args.basis, coords, args.name)

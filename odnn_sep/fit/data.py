@@ -58,11 +58,13 @@ def _grid_axes(x, y, z, p):
                      "grid axes x (nx,), y (ny,) and z (ny, nx)")
 
 
-def load_signal(path, column: str | int | None = None, *, value_name: list | None = None):
+def load_signal(path, column: str | int | None = None, *, value_name: list | None = None,
+                x_column: str | int | None = None):
     """Return (coords, values, coord_names, grid_shape).
 
     CSV: header row, first column is x, the value column is ``column`` (name, or index counted from
-    0 where 0 is x; default 1). NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the
+    0 where 0 is x; default 1). With ``x_column`` (name or index) that column is x instead, and
+    ``column`` defaults to the first other column. NPZ: arrays ``x`` (nx,), ``y`` (ny,), ``z`` (ny, nx); coords are the
     (ny*nx, 2) points. Sizes are limited (:mod:`odnn_sep.limits`, ``points``). If ``value_name``
     is a list, the value column's name is appended to it (for labels).
 
@@ -74,6 +76,9 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
         Value column of a CSV: header name or index (0 is x); default 1.
     value_name : list, optional
         Receives the value column's name.
+    x_column : str or int, optional
+        Coordinate column of a CSV (a lab table: velocity and force among other columns); default
+        the first.
 
     Returns
     -------
@@ -105,6 +110,9 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
     """
     p = check_input_path(path)
     if p.suffix.lower() == ".npz":
+        if x_column is not None:
+            raise InputError(f"--x-column is for a CSV; {str(p)!r} is a field whose coordinates are its arrays x "
+                             "and y: leave --x-column out")
         if column is not None:     # it was ignored: the field's values are always its array z
             raise InputError(f"--column is for the value column of a CSV; {str(p)!r} is a field whose values are "
                              "its array z: leave --column out")
@@ -155,11 +163,14 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
         raise InputError(f"{str(p)!r} is the parts CSV of a 2-D field (columns x, y, z, physics, ...): its values are "
                          "column z, on a grid of x and y; fit the field's .npz again, or give --column z (or "
                          "--column residual) to read it as a 1-D record along x")
-    j = pick_column(header if len(header) == data.shape[1] else [f"col{k}" for k in range(data.shape[1])],
-                    column, path=p)
-    x, v = data[:, 0], data[:, j]
+    names = header if len(header) == data.shape[1] else [f"col{k}" for k in range(data.shape[1])]
+    if x_column is None:
+        ix, j = 0, pick_column(names, column, path=p)
+    else:
+        ix, j = _x_and_value_columns(names, x_column, column, p)
+    x, v = data[:, ix], data[:, j]
     label = header[j] if j < len(header) else str(j)
-    if np.isnan(x).any():
+    if np.isnan(x).any() and ix == 0:
         # date-times (a logger's time stamps) as seconds since the first, as mismatch reads them; a
         # cell that is neither is named by its line
         x = _time_stamps(p, header[0] if header else "x", x.size, first_col)
@@ -170,10 +181,38 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
                              f"(first on data row {k + 1}); fix or remove those rows")
         check_finite(name, a)
         limits.check_magnitude(name, a)
-    name = header[0] if header and header[0].isidentifier() else "x"
+    name = header[ix] if ix < len(header) and header[ix].isidentifier() else "x"
     if value_name is not None:
         value_name.append(label)
     return x, v, (name,), None
+
+
+def _x_and_value_columns(names, x_column, column, p) -> tuple[int, int]:
+    """Indices of the coordinate column ``x_column`` and the value column (``column``, or the first other)."""
+    import difflib
+
+    where = f"{str(p)!r} has columns {', '.join(f'{k}={n!r}' for k, n in enumerate(names))}"
+
+    def index(given, option):
+        text = str(given).strip()
+        if text in names:
+            return names.index(text)
+        try:
+            k = int(text)
+        except ValueError:
+            close = difflib.get_close_matches(text, names, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise InputError(f"{option} {text!r} is not a column of the CSV; {hint}{where}") from None
+        if not 0 <= k < len(names):
+            raise InputError(f"{option} {text!r} is out of range; {where}")
+        return k
+
+    ix = index(x_column, "--x-column")
+    j = (1 if ix == 0 else 0) if column is None else index(column, "--column")
+    if j == ix:
+        raise InputError(f"--column and --x-column both name column {j} ({names[j]!r}); the values must be another "
+                         f"column: {where}")
+    return ix, j
 
 
 def copied_rows(path, x: np.ndarray, v: np.ndarray) -> str | None:
