@@ -91,7 +91,7 @@ def _attribute():
             f = f.f_back
         purpose = next((x for x in PURPOSES if x in names), "other")
         purpose += effect if purpose == "refit_robust" else ""
-        kind = "Jacobian" if ("jac" in names[:6] or "difference_jacobian" in names) else "evaluation"
+        kind = "Jacobian" if ("jac" in names[:12] or "difference_jacobian" in names) else "evaluation"
         calls = [0]
 
         def counted(tt, st):
