@@ -555,6 +555,16 @@ def finish_fit(model, t, y, pt, *, G=None, rows=None, max_nfev=300) -> Fit:
     Returns
     -------
     Fit
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from odnn_sep.mismatch.model import make_model
+    >>> t = np.linspace(0, 1, 60); y = 5.0 - 4.9 * t ** 2 + 0.01 * np.cos(40 * t)
+    >>> m = make_model("freefall")
+    >>> f = finish_fit(m, t, y, point_fit(m, t, y))
+    >>> sorted(f.stderr) == sorted(m.free), f.unidentified
+    (True, [])
     """
     free = model.free
     idx, r = pt.idx, pt.residual
