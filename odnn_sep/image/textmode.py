@@ -379,8 +379,8 @@ def best_match(y, text, fonts, region, angle_range, random_state, reduced=False,
         # alignment can beat a faint real mark; the out-of-sample score is what decides detection.
         scores = {id(p): placement_score(y, p, random_state=random_state)
                   for p, _ in refined}
-        if tried is not None:
-            tried.extend(p for p, _ in refined)
+        if tried is not None:  # best held-out score first (``layoutlook`` moves the first few)
+            tried.extend(sorted((p for p, _ in refined), key=lambda p: -scores[id(p)]))
         best, best_nc = max(refined, key=lambda t: scores[id(t[0])])
         # the font (and size) at the chosen place: by the likelihood on the same pixels
         rivals = [(p, c) for p, c in refined if _overlap(p.box, best.box) > 0.5]
