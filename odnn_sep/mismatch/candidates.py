@@ -15,7 +15,8 @@ import numpy as np
 
 from odnn_sep.errors import ConvergenceWarning
 from odnn_sep.mismatch.effects import effect_param_names
-from odnn_sep.mismatch.fitting import cross_validate, exact_key, finish_fit, point_fit
+from odnn_sep.mismatch.fitting import cross_validate, finish_fit, point_fit
+from odnn_sep.mismatch.prediction_memo import exact_key
 from odnn_sep.mismatch.presets import ModelIntegrationError
 
 log = logging.getLogger(__name__)

@@ -9,7 +9,7 @@ with the path that does every integration and completes every start.
 import numpy as np
 import pytest
 
-import odnn_sep.mismatch.fitting as fitting
+import odnn_sep.mismatch.prediction_memo as prediction_memo
 from odnn_sep.mismatch import make_model
 from odnn_sep.mismatch.candidates import refit_robust
 from odnn_sep.mismatch.fitting import PredictionMemo, cross_validate, cv_folds, fit
@@ -50,8 +50,8 @@ def test_memo_serves_repeated_predictions_bit_for_bit():
     again = memo.predict(t, dict(p))
     assert np.array_equal(again, m.predict(t, p)) and memo.hits == 1
     # an int and a float of the same value are different parameters to a model
-    assert fitting.exact_key({"a": 1}) != fitting.exact_key({"a": 1.0})
-    assert fitting.exact_key({"a": np.array([1.0])}) is None
+    assert prediction_memo.exact_key({"a": 1}) != prediction_memo.exact_key({"a": 1.0})
+    assert prediction_memo.exact_key({"a": np.array([1.0])}) is None
     # other times than the memo's: predicted, not served
     assert np.array_equal(memo.predict(t[:10], p), m.predict(t[:10], p)) and memo.hits == 1
 
@@ -128,7 +128,7 @@ def test_generic_effect_on_an_integrated_model_reuses_the_integration(monkeypatc
     y = y + 0.05 * np.cos(7.0 * t)
     m = make_model("oscillator", {"k": 4.0, "c": 0.05, "x0": 1.0, "v0": 0.0}).with_effect(
         "cubic_stiffness", {"beta": 0.3}).with_effect("periodic_pickup", {"omega_pk": 7.01, "a_pk": 0.04})
-    assert fitting.generic_only_names(m) == {"a_pk", "b_pk", "omega_pk"}
+    assert prediction_memo.generic_only_names(m) == {"a_pk", "b_pk", "omega_pk"}
     memo = PredictionMemo(m, t)
     p = dict(m.start)
     memo.predict(t, p)
@@ -145,7 +145,7 @@ def test_generic_effect_on_an_integrated_model_reuses_the_integration(monkeypatc
 def test_no_reuse_where_the_model_may_read_every_parameter():
     from odnn_sep.mismatch import custom_model
     user = custom_model(lambda t, a: a * t, {"a": 1.0}).with_effect("periodic_pickup")
-    assert fitting.generic_only_names(user) is None
+    assert prediction_memo.generic_only_names(user) is None
     delayed = make_model("freefall").with_effect("time_delay").with_effect("periodic_pickup")
-    assert fitting.generic_only_names(delayed) is None
-    assert fitting.generic_only_names(make_model("oscillator").with_effect("cubic_stiffness")) is None
+    assert prediction_memo.generic_only_names(delayed) is None
+    assert prediction_memo.generic_only_names(make_model("oscillator").with_effect("cubic_stiffness")) is None
