@@ -92,6 +92,7 @@ class MismatchResult:
     unit: str = ""
     warnings: list = field(default_factory=list)     # non-physical fitted values, in words
     notes: list = field(default_factory=list)        # how the data were analysed (decimation, ...)
+    subsample: dict | None = None                    # a long record fitted on every step-th sample: step, record
 
     @property
     def verdict(self):

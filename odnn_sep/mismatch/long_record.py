@@ -182,6 +182,7 @@ def explain_on_subsample(model, t, y, options):
         res = explain(model, np.asarray(t)[keep], np.asarray(y)[keep], **opts)
     finally:
         _ON_SUBSAMPLE.reset(token)
+    res.subsample = {"step": q, "record": n}
     full = full_record_rms(res, np.asarray(t, float), np.asarray(y, float), with_inputs=bool(opts.get("inputs")))
     if full is not None:
         res.notes.insert(0, f"residual RMS over all {n} samples of the record: {full:.4g} (over the {len(res.y)} "

@@ -491,7 +491,8 @@ def _plot_series(plt, res, added, unit):
     import numpy as np
 
     base = res.calibration.fit
-    after = res.final_fit or base
+    # nothing added: the final fit is the calibrated model refitted; one curve, not a "+ " with no name
+    after = (res.final_fit or base) if added else base
     t, y = res.t, res.y
     fig, ax = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
     ax[0].plot(t, y, ".", ms=2, color="0.5", label="data")
@@ -500,8 +501,9 @@ def _plot_series(plt, res, added, unit):
         ax[0].plot(t, after.prediction + after.disturbance, lw=1, label="+ " + ", ".join(added))
     ax[0].set_ylabel("value" + unit)
     ax[0].legend(loc="best", fontsize=8)
-    ax[1].plot(t, base.residual, lw=0.7, label=f"before (rms {base.rms:.3g})")
-    ax[1].plot(t, after.residual, lw=0.7, label=f"after (rms {after.rms:.3g})")
+    fits = ((base, "before"), (after, "after")) if after is not base else ((base, "calibrated model"),)
+    for fit_, lab in fits:
+        ax[1].plot(t, fit_.residual, lw=0.7, label=f"{lab} (rms {fit_.rms:.3g})")
     ax[1].set_ylabel("residual" + unit)
     shaded = False
     for w in res.where:
@@ -515,7 +517,7 @@ def _plot_series(plt, res, added, unit):
     sigma = res.noise_sigma or 1.0
     nw = int(np.clip(len(t) // 50, 4, 20))
     edges = np.linspace(0, len(t), nw + 1).astype(int)
-    for fit_, lab in ((base, "before"), (after, "after")):
+    for fit_, lab in fits:
         vals = [np.sqrt(np.mean(fit_.residual[a:b] ** 2)) / sigma for a, b in zip(edges[:-1], edges[1:],
                                                                                  strict=True)]
         ax[2].step(np.r_[t[edges[:-1]], t[-1]], vals + vals[-1:], where="post", label=lab)
@@ -531,5 +533,9 @@ def _plot_series(plt, res, added, unit):
                            else "nothing missing")
     if res.disturbances:
         title += "; disturbances: " + ", ".join(d["effect"] for d in res.disturbances)
-    ax[0].set_title(title)
+    if res.subsample:
+        # a long record was fitted on a subsample: the panels show the samples that were fitted
+        title += (f"\n(a long record: fitted on one sample in {res.subsample['step']}, {len(t)} of "
+                  f"{res.subsample['record']}; those are shown)")
+    ax[0].set_title(title, fontsize=10 if res.subsample else None)
     return fig
