@@ -301,7 +301,6 @@ def pick_column(header, column, *, path) -> int:
     >>> pick_column(["t", "left", "right"], "right", path="rec.csv"), pick_column(["t", "v"], None, path="rec.csv")
     (2, 1)
     """
-    import difflib
 
     names = [str(h).strip() for h in header]
     where = f"{str(path)!r} has columns {', '.join(f'{k}={n!r}' for k, n in enumerate(names))}"
@@ -311,20 +310,64 @@ def pick_column(header, column, *, path) -> int:
                               f"found {names}")
         return 1
     col = str(column).strip()
-    if col in names:
-        j = names.index(col)
-    else:
-        try:
-            j = int(col)
-        except ValueError:
-            close = difflib.get_close_matches(col, names, n=1)
-            hint = f"did you mean {close[0]!r}? " if close else ""
-            raise InputError(f"--column {col!r} is not a column of the CSV; {hint}{where}") from None
+    j = column_index(names, col, "--column", path=path, check_range=False)
     if j == 0:
         raise InputError(f"--column {col!r} is the coordinate column (time or x); pick a value column: {where}")
     if not 0 < j < len(names):
         raise InputError(f"--column {col!r} is out of range; {where}")
     return j
+
+
+def column_index(names, given, option: str, *, path, check_range: bool = True) -> int:
+    """Index of the CSV column ``given`` (a header name, or an index counted from 0) for ``option``.
+
+    Parameters
+    ----------
+    names : list of str
+        The CSV's column names.
+    given : str or int
+        What the user gave.
+    option : str
+        The option's name, for the messages (``--column``, ``--x-column``).
+    path : str or path-like
+        The CSV, for the messages.
+    check_range : bool, optional
+        Refuse an index outside the columns (the caller may word that itself).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    odnn_sep.errors.InputError
+        For an unknown name (with the closest one) or an index out of range.
+
+    Examples
+    --------
+    >>> column_index(["time", "velocity", "force"], "force", "--column", path="drag.csv")
+    2
+    >>> column_index(["time", "velocity"], "veloc", "--x-column", path="drag.csv")
+    Traceback (most recent call last):
+    ...
+    odnn_sep.errors.InputError: --x-column 'veloc' is not a column of the CSV; did you mean 'velocity'? 'drag.csv' has columns 0='time', 1='velocity'
+    """
+    import difflib
+
+    names = [str(h).strip() for h in names]
+    where = f"{str(path)!r} has columns {', '.join(f'{k}={n!r}' for k, n in enumerate(names))}"
+    text = str(given).strip()
+    if text in names:
+        return names.index(text)
+    try:
+        k = int(text)
+    except ValueError:
+        close = difflib.get_close_matches(text, names, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise InputError(f"{option} {text!r} is not a column of the CSV; {hint}{where}") from None
+    if check_range and not 0 <= k < len(names):
+        raise InputError(f"{option} {text!r} is out of range; {where}")
+    return k
 
 
 # Date-times of one column differ by less than this many years: a longer span is a misread column.

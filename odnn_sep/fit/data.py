@@ -12,6 +12,7 @@ from odnn_sep.errors import FormatError, InputError, check_finite
 from odnn_sep.io_paths import check_input_path
 from odnn_sep.io_read import (
     check_header,
+    column_index,
     count_lines,
     leading_comments,
     load_npz_arrays,
@@ -189,27 +190,10 @@ def load_signal(path, column: str | int | None = None, *, value_name: list | Non
 
 def _x_and_value_columns(names, x_column, column, p) -> tuple[int, int]:
     """Indices of the coordinate column ``x_column`` and the value column (``column``, or the first other)."""
-    import difflib
-
-    where = f"{str(p)!r} has columns {', '.join(f'{k}={n!r}' for k, n in enumerate(names))}"
-
-    def index(given, option):
-        text = str(given).strip()
-        if text in names:
-            return names.index(text)
-        try:
-            k = int(text)
-        except ValueError:
-            close = difflib.get_close_matches(text, names, n=1)
-            hint = f"did you mean {close[0]!r}? " if close else ""
-            raise InputError(f"{option} {text!r} is not a column of the CSV; {hint}{where}") from None
-        if not 0 <= k < len(names):
-            raise InputError(f"{option} {text!r} is out of range; {where}")
-        return k
-
-    ix = index(x_column, "--x-column")
-    j = (1 if ix == 0 else 0) if column is None else index(column, "--column")
+    ix = column_index(names, x_column, "--x-column", path=p)
+    j = (1 if ix == 0 else 0) if column is None else column_index(names, column, "--column", path=p)
     if j == ix:
+        where = f"{str(p)!r} has columns {', '.join(f'{k}={n!r}' for k, n in enumerate(names))}"
         raise InputError(f"--column and --x-column both name column {j} ({names[j]!r}); the values must be another "
                          f"column: {where}")
     return ix, j
