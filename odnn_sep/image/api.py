@@ -117,10 +117,10 @@ def color_report(color, planes) -> dict:
     return out
 
 
-def _estimate(y, text, font, mask, mask_invert, min_score, angle_range, max_marks, random_state):
+def _estimate(y, text, font, mask, mask_invert, min_score, angle_range, max_marks, random_state, near=None):
     """(y, M, alpha, colour, report fields, registered rendering or None) of text or mask mode.
 
-    Why long (9 parameters): it forwards ``unwatermark``'s options to the mode that uses them."""
+    Why long (10 parameters): it forwards ``unwatermark``'s options to the mode that uses them."""
     H, W = y.shape[:2]
     region = prepared = prior = None
     if mask is not None:
@@ -132,7 +132,7 @@ def _estimate(y, text, font, mask, mask_invert, min_score, angle_range, max_mark
         if max(H, W) <= WORK_MAX_PX:
             y = y.full()
         M, alpha, color, info, prior = text_mode(y, str(text), font, region, min_score, angle_range,
-                                                  max_marks, random_state)
+                                                  max_marks, random_state, near=near)
     else:
         from odnn_sep.image.maskmode import mask_mode
 
@@ -203,10 +203,10 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
                 mask: np.ndarray | None = None, min_score: float | None = None, angle_range: float = 45.0,
                 max_marks: int = 64, inpaint_lost: bool = True, random_state: int | None = 0,
                 mask_invert: bool | None = None, reference: np.ndarray | None = None,
-                check_beside: bool = True) -> UnwatermarkResult:
+                check_beside: bool = True, near: float | None = None) -> UnwatermarkResult:
     """Remove a visible (alpha-blended) text watermark.
 
-    Why long (12 parameters): the public keyword API, one option per command-line flag.
+    Why long (13 parameters): the public keyword API, one option per command-line flag (and ``near``).
 
     Parameters
     ----------
@@ -226,6 +226,9 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
         ``residual_mark`` says whether the mark is still visible in the output
     check_beside : text mode: look for text of the mark's colour and opacity beside the line removed
         (another line of the mark, not given: a warning and ``residual_mark.text_beside``)
+    near : text mode: the angle (degrees) of another line of the same mark, found already; the text
+        is searched near that angle first (``textmode.near_match``), and at every angle only when
+        nothing is found there. Given by ``textlines`` for a mark's later lines.
     min_score : detection threshold of text mode (``detect.detection_score``: mean log-ratio of the
         edge patches' photo-only residual to their residual under the mark, predicted out of
         sample); default ``MIN_SCORE``, just above the best chance score on clean photos
@@ -270,7 +273,7 @@ def unwatermark(image: np.ndarray, *, text: str | None = None, font: str | None 
     report: dict = {"mode": "text" if text else "mask", "image_size": [W, H], "channels": int(y.shape[2])
                     + (1 if planes.alpha is not None else 0), "bit_depth": int(planes.dtype.itemsize * 8)}
     y, M, alpha, color, info, prior = _estimate(y, text, font, mask, mask_invert, min_score, angle_range,
-                                                max_marks, random_state)
+                                                max_marks, random_state, near=near)
     copy_box = info.pop("_copy_box", None)  # one copy's box (text mode), not a report field
     report.update(info)
     from concurrent.futures import ThreadPoolExecutor

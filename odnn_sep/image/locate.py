@@ -111,10 +111,10 @@ def _corner(cx, cy, t, f):
 def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float = 45.0,
            min_height_px: float = 8.0, max_hypotheses: int = 8, per_size_bin: int = 1,
            peaks_per_map: int = 2, coarse_factor: int = 4, coarse_font: Path | None = None,
-           coarse_height: float = COARSE_H) -> list[Match]:
+           coarse_height: float = COARSE_H, angle_center: float = 0.0) -> list[Match]:
     """Coarse-to-fine search for ``text`` (any of ``fonts``); returns distinct hypotheses, best first.
 
-    Why long (11 parameters): the image, text and fonts, then keyword options of the grids.
+    Why long (12 parameters): the image, text and fonts, then keyword options of the grids.
 
     ``coarse_factor`` x ``max_hypotheses`` coarse places get one step of the finer grid; the best
     ``max_hypotheses`` (per font kept, at most two) get the last step. The coarse grid uses the
@@ -142,6 +142,8 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
         Font of the coarse grid's templates (default the first font).
     coarse_height : float
         Glyph height of the coarse grid, px.
+    angle_center : float, default 0.0
+        The coarse grid's angles are ``angle_center`` +- ``angle_range``.
 
     Returns
     -------
@@ -162,7 +164,8 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     pyr = Pyramid(img)
     f0 = str(coarse_font or fonts[0])
     w100 = _ink(text, f0)[0]
-    cands = _coarse(pyr, img.shape[:2], text, f0, angle_range, min_height_px, peaks_per_map, coarse_height)
+    cands = _coarse(pyr, img.shape[:2], text, f0, (angle_center, angle_range), min_height_px, peaks_per_map,
+                    coarse_height)
     if not cands:
         return []
     # Many more coarse places than are finally kept: at the coarse level (glyphs ~10 px) a faint
@@ -172,10 +175,12 @@ def search(img: np.ndarray, text: str, fonts: list[Path], *, angle_range: float 
     return _finer(pyr, text, fonts, f0, top, w100, max_hypotheses)
 
 
-def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coarse_height) -> list[tuple]:
+def _coarse(pyr, shape, text, f0, angles_around, min_height_px, peaks_per_map, coarse_height) -> list[tuple]:
     """Coarse grid of ``search``: (score, size, angle, cx, cy) of the best places of every (size, angle).
 
+    ``angles_around``: (centre, range) of the angles, degrees.
     Why long (8 parameters): ``search``'s options of the coarse grid, passed on."""
+    angle_center, angle_range = angles_around
     H, W = shape
     w100, h100 = _ink(text, f0)
     h100 = max(h100, 1.0)
@@ -196,6 +201,8 @@ def _coarse(pyr, shape, text, f0, angle_range, min_height_px, peaks_per_map, coa
     sizes = np.exp(np.arange(np.log(s_min), np.log(s_max) + 1e-9, np.log(ratio)))
     n_a = int(np.ceil(angle_range / da))
     angles = np.linspace(-angle_range, angle_range, 2 * n_a + 1) if n_a else np.zeros(1)
+    if angle_center:  # (only then: the angles of a level search stay bit for bit the same)
+        angles = angles + float(angle_center)
     # levels first (their spectra are computed once each), then the sizes on a few threads
     # (OpenCV's transforms release the GIL and run single-threaded at these sizes).
     # Every colour channel counts at the coarse level too: a coloured mark can differ from the photo

@@ -69,7 +69,7 @@ def unwatermark_lines(image, lines, **options):
     current, first, masks, lost, per_line = image, None, [], [], []
     for line in lines:
         try:
-            r = unwatermark(current, text=line, check_beside=False, **options)
+            r = unwatermark(current, text=line, check_beside=False, near=_near(first), **options)
         except MarkNotFoundError as exc:
             per_line.append({"text": line, "outcome": "not found", "why": str(exc)})
             continue
@@ -93,6 +93,18 @@ def unwatermark_lines(image, lines, **options):
     report["lost_pixels"] = int(np.logical_or.reduce(lost).sum())
     return UnwatermarkResult(current, first.alpha, first.color, np.maximum.reduce(masks),
                              np.logical_or.reduce(lost), report)
+
+
+def _near(first) -> float | None:
+    """The angle of the first found line, for the later lines' search (the lines of one mark share
+    it); None before a line is found, so a line not found constrains nothing.
+
+    Examples
+    --------
+    >>> _near(None) is None
+    True
+    """
+    return None if first is None else float(first.report["angle_deg"])
 
 
 def _combined_residual(per_line) -> dict:
