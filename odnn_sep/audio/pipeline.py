@@ -364,26 +364,16 @@ def _plan_and_track(source, opts: DenoiseOptions, det, comb, bg: Background):
     plan = BlockPlan.from_block_s(block_s, sr, N)
     trk = _finetrack.track_from_phase(comb.psi, comb.f_ref, plan, comb.jumps)
     amps = _comb_amplitudes(comb, sr, ks, trk, plan, bg)
-    # steady content lines beside the hum lines (the joint fit takes one hum amplitude for the whole
-    # input: a level that steps leaves sidebands like lines). Where the hum's level seemed to move,
-    # they are looked for too, and kept only where the level holds once they are out: the "change"
-    # was then the beat of a steady line with a drifting harmonic that passes it (a drum loop's
-    # line at 120.000 Hz crossed by a ramping h2), which kept the line out of the joint fit and put
-    # the beat into the hum's level
+    # steady content lines beside the hum lines, where the hum's level holds (the joint fit takes
+    # one hum amplitude for the whole input: a level that steps leaves sidebands like lines)
     host = (_hostlines.find(comb.D, sr, comb.f_ref, ks, comb.psi, HOST_BAND_BLOCKS / plan.block_s,
                             weighted=plan.count >= _steadypath.MIN_BLOCKS)
-            if HOST_LINES and not comb.jumps else [])
-    if host:
-        D_with = comb.D
-        comb.D = comb.D - _hostlines.chunk_sums(host, comb.D.shape[0], sr, comb.f_ref, ks)
-        without = _comb_amplitudes(comb, sr, ks, trk, plan, bg)
-        if amps[2] is not None and without[2] is not None:
-            comb.D, host = D_with, []
-        else:
-            amps = without
+            if HOST_LINES and not comb.jumps and amps[2] is None else [])
     if host:
         log.info("content lines beside the hum kept: %s", ", ".join(f"{h.freq_hz:.3f} Hz (by h{h.harmonic})"
                                                                    for h in host))
+        comb.D = comb.D - _hostlines.chunk_sums(host, comb.D.shape[0], sr, comb.f_ref, ks)
+        amps = _comb_amplitudes(comb, sr, ks, trk, plan, bg)
     h_amp, main_amps, env = amps
     if env is not None:
         log.info("the hum level changes within the blocks: followed at %.1f s (gain %.2f-%.2f)",
