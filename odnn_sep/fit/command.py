@@ -39,8 +39,7 @@ def register(sub) -> None:
     p.add_argument("--column", help="value column of a CSV: a header name, or an index counted from 0 where 0 is "
                    "x (default 1, the second column); the same rule as mismatch")
     p.add_argument("--x-column", metavar="COLUMN", help="coordinate column of a CSV, a header name or an index from "
-                   "0 (default: the first); --column then defaults to the first other column, and indices count "
-                   "the file's columns as they stand")
+                   "0 (default: the first); --column then defaults to the first other column")
     p.add_argument("--solver", choices=["exact", "network"], default="exact",
                    help="exact projection (default, milliseconds) or the paper's constrained network (torch, the "
                         "'network' extra): 1500 Adam epochs plus L-BFGS, seconds for 1000 points on one "
