@@ -260,7 +260,7 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
     >>> round(best.size), score > 0.19
     (18, True)
     """
-    from odnn_sep.image.layoutlook import keep_better, layout_look
+    from odnn_sep.image.layoutlook import layout_look
     from odnn_sep.image.locate import least_alike
     from odnn_sep.image.render import SLANTED_FONT_NAMES, default_fonts, spaced
 
@@ -271,10 +271,7 @@ def find(y, text, fonts, region, angle_range, random_state, min_score, reduced=F
     tried = [[]]  # the registered placements of every look, one list per look
     first = best_match(y, text, fonts, region, angle_range, random_state, reduced, tried=tried[0])
     if first[0] is not None and first[2] >= min_score:
-        if len(fonts) > 1 and not reduced:  # the font is a guess: its glyphs may sit elsewhere
-            best, score = keep_better(y, text, first[0], first[2], random_state)
-            return (best, _as_match(best, score, first[3]), score) + first[3:]
-        return first
+        return first if reduced else _glyphs_checked(y, text, fonts, first, random_state)
     looks = [(fonts, {"coarse_font": least_alike(text, fonts)})] if len(fonts) > 1 else []
     if len(fonts) > 1:
         # letter-spaced marks: the first two fonts spaced out (the others only cost time here)
@@ -323,15 +320,22 @@ def near_match(y, text, fonts, region, random_state, min_score, angle):
     >>> near_match(y / 255.0, "Hi", f, None, 0, 0.19, -20.0) is None
     True
     """
-    from odnn_sep.image.layoutlook import keep_better
-
     got = best_match(y, text, fonts, region, NEAR_ANGLE, random_state, angle_center=float(angle))
     if got[0] is None or got[2] < min_score:
         return None
-    if len(fonts) > 1:  # the font is a guess: its glyphs may sit elsewhere
-        best, score = keep_better(y, text, got[0], got[2], random_state)
-        return (best, _as_match(best, score, got[3]), score) + got[3:]
-    return got
+    return _glyphs_checked(y, text, fonts, got, random_state)
+
+
+def _glyphs_checked(y, text, fonts, got, random_state):
+    """``got`` (a found :func:`best_match`), with its glyphs moved where that explains the mark clearly
+    better (``layoutlook.keep_better``) when several fonts were tried: the font is then a guess, and
+    its glyphs may sit elsewhere."""
+    if len(fonts) <= 1:
+        return got
+    from odnn_sep.image.layoutlook import keep_better
+
+    best, score = keep_better(y, text, got[0], got[2], random_state)
+    return (best, _as_match(best, score, got[3]), score) + got[3:]
 
 
 def _as_match(p, score, off):
