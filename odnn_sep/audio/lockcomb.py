@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from odnn_sep.audio import chunkalias as _chunkalias
 from odnn_sep.audio import combpattern as _combpattern
 from odnn_sep.audio import detect as _detect
 from odnn_sep.audio import finetrack as _finetrack
@@ -41,6 +42,7 @@ HIGH_REACH = 4        # a comb locked to within this many harmonics of the candi
 MAX_SUMS_MB = 120     # chunk sums held for the comb's lines at most (an hour of 44.1 kHz mono: 43 lines)
 EXTEND_BATCH = 16     # further harmonics demodulated per pass over the input
 RETRY_LINE = 4.0      # least peak over its floor of a line that places the fundamental in the retry
+ALIAS_MARGIN = 3.0     # a line added by a lock test stands this far above the comb's own leak there (_leak_floor)
 SIDE_PROMINENCE = 20.0  # a host's sideband pair over the baseband's median (noise alone: 3-4)
 
 
@@ -541,6 +543,7 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
         if not cand:
             break
         strongest = max(comb.lock[k][2] for k in ks if k in comb.lock)
+        leak = _leak_floor(comb.lock, ks, comb.psi, comb.f_ref, sr)
         new, cols = [], []
         # a few lines per pass over the input, keeping only the locked ones' chunk sums: the
         # range's sums at once, beside the comb's, would double what is held
@@ -549,7 +552,8 @@ def _extend_high(source, spec, comb: Comb, *, alpha: float, max_hz, n_first: int
             D = _track.demodulate(source, comb.f_ref, batch)
             _, info = _lock.locked(D, sr, batch, comb.psi, alpha=alpha)
             comb.lock.update(info)
-            ok = [k for k in batch if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest]
+            ok = [k for k in batch if info[k][0] * (n_first + new_top) < alpha and info[k][2] > NUMERICAL_REL * strongest
+                  and info[k][2] > leak(k)]
             new += ok
             # the weighted test's p-value of the others, for the second family (combpattern.py)
             others = [k for k in batch if k not in ok]
@@ -580,6 +584,8 @@ def _add_pattern_lines(source, spec, comb: Comb, *, alpha: float) -> None:
     new = _combpattern.pattern_lines(comb.harmonics, comb.lock, comb.lock_w, alpha=alpha, floor_rel=NUMERICAL_REL)
     # the lines the periodic-host test took out stay out: locked as they are, they are the host's
     new = [k for k in new if k not in comb.host_lines]
+    leak = _leak_floor(comb.lock, comb.harmonics, comb.psi, comb.f_ref, source.sr)
+    new = [k for k in new if comb.lock[k][2] > leak(k)]
     J, C, K = comb.D.shape
     # the strongest first, within the chunk sums' bound of the whole comb (_extend_high's)
     new = sorted(sorted(new, key=lambda k: -comb.lock[k][2])[: max(_sums_room(J, C) - K, 0)])
@@ -751,7 +757,9 @@ def _new_lines(fam: _Family, seen, ks, psi) -> list[int]:
     for k, col in zip(others, fam.cols(others), strict=True):
         info.update(_lock.locked(fam.D[:, :, col: col + 1], sr, [k], psi, alpha=fam.alpha)[1])
     top_amp = max(info[k][2] for k in ks)
-    out = [int(k) for k in others if info[k][0] * fam.n_tests < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp]
+    leak = _leak_floor(info, ks, psi, fam.f_ref, sr)
+    out = [int(k) for k in others if info[k][0] * fam.n_tests < fam.alpha and info[k][2] > NUMERICAL_REL * top_amp
+           and info[k][2] > leak(k)]
     # the rest up to twice the locked comb's reach once more, every moment weighted by the content
     # near the line (lock.py): a weak harmonic under speech or notes shows in their pauses (same
     # Bonferroni count, -50 dB of the strongest locked line by the same weighted mean)
@@ -770,7 +778,11 @@ def _weighted_pass(fam: _Family, ks, rest, psi, presence=None) -> list[int]:
         fam.winfo.update({k: v[0] for k, v in w_inf.items()})
     top = max(ks, key=lambda k: fam.info.get(k, (1.0, 0.0, 0.0))[2])
     top_w = _weighted_info(fam, [top], psi, presence)[top][1]
-    return [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w]
+    # the leak in the weighted mean's units: scaled by the strongest line's two amplitudes
+    leak = _leak_floor(fam.info, ks, psi, fam.f_ref, fam.sr)
+    scale = top_w / max(fam.info[top][2], 1e-300) if top in fam.info else 0.0
+    return [int(k) for k in rest if w_inf[k][0] * fam.n_tests < fam.alpha and w_inf[k][1] > NUMERICAL_REL * top_w
+            and w_inf[k][1] > scale * leak(k)]
 
 
 def _weighted_rest(fam: _Family, ks, psi) -> None:
@@ -790,6 +802,16 @@ def _weighted_info(fam: _Family, lines, psi, presence=None) -> dict:
     for k, col in zip(lines, fam.cols(lines), strict=True):
         out.update(_lock.weighted_locked(fam.D[:, :, col: col + 1], fam.sr, [k], psi, presence=presence))
     return out
+
+
+def _leak_floor(lock: dict, ks, psi, f_ref: float, sr: int):
+    """``k -> ALIAS_MARGIN`` times the standing leak of the lines ``ks`` (amplitudes ``lock[j][2]``)
+    at harmonic ``k`` of chunk sums at ``f_ref`` tracked by ``psi`` (chunkalias.py): a line added by
+    a lock test must stand above it. Zero where the reference is the track's mean fundamental."""
+    f_mean = _chunkalias.mean_fundamental(psi, f_ref, sr)
+    amps = {j: lock[j][2] for j in ks if j in lock}
+    seconds = len(psi) * _track.chunk_length(sr) / sr
+    return lambda k: ALIAS_MARGIN * _chunkalias.alias_amplitude(k, amps, f_ref, f_mean, sr, seconds)
 
 
 def _intermittent_lines(fam: _Family, ks, psi) -> list[int]:
