@@ -66,9 +66,12 @@ def main(argv=None) -> int:
     ap.add_argument("variant", choices=VARIANTS)
     ap.add_argument("--seed0", type=int, default=2000, help="first seed (2000-4999 development, 5000+ evaluation)")
     ap.add_argument("--cases", type=int, default=12)
-    ap.add_argument("--anchors", action="store_true", help="also run MNE spectrum_fit and iirnotch")
+    ap.add_argument("--anchors", action="store_true", help="also run MNE spectrum_fit, iirnotch and pactools")
+    ap.add_argument("--no-pactools", action="store_true", help="with --anchors: leave pactools out (40-80 s a case)")
     a = ap.parse_args(argv)
     apply(a.variant)
+    if a.no_pactools:
+        population.PACTOOLS_MAX_SR = 0
     rows, stats = population.run_population(a.cases, a.seed0, quick=False, anchors=a.anchors,
                                             log=lambda s: print(s, flush=True))
     g = np.array(stats["odnn-sep"]["gain"])
