@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from odnn_sep.audio import finetrack as _finetrack
 from odnn_sep.audio import track as _track
 
 STILL_CYCLES = 2.0    # a leak turning less than this over the input counts as standing still
@@ -43,9 +44,9 @@ def mean_fundamental(psi: np.ndarray, f_ref: float, sr: int) -> float:
     >>> round(mean_fundamental(0.09 * t, 49.91, 8000), 6)
     50.0
     """
-    m = _track.chunk_length(sr)
-    tc = (np.arange(len(psi)) + 0.5) * m / sr
-    return float(f_ref + np.polyfit(tc, np.asarray(psi, float), 1)[0]) if len(psi) > 1 else float(f_ref)
+    if len(psi) < 2:
+        return float(f_ref)
+    return float(f_ref + np.polyfit(_finetrack.chunk_times(len(psi), sr), np.asarray(psi, float), 1)[0])
 
 
 def alias_amplitude(k: int, amps: dict, f_ref: float, f_mean: float, sr: int, seconds: float) -> float:
